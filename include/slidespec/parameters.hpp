@@ -1,0 +1,104 @@
+// Model parameters, the named cases of MODEL.md section 2, and their validation.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace slidespec {
+
+/// Thrown for any bad user input. The message is one line that names the key
+/// (or option) and what is wrong with it; the CLI prints it and exits with status 2.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class ChainEnds { open, ring };
+enum class Renewal { poisson, periodic };
+
+const char* to_string(ChainEnds chain);
+const char* to_string(Renewal renewal);
+
+/// The spring-block model of MODEL.md section 1 in SI units.
+/// Exactly one of `v` and `eta1` is an input; the other is derived from
+/// v = (F_drive - F_kin) / (N m eta1). Use ParameterBuilder to get a consistent set.
+struct Parameters {
+  int N = 30;             ///< number of miniblocks
+  double M = 1.0;         ///< big block mass [kg]
+  double m = 1e-5;        ///< miniblock mass [kg]
+  double k0 = 1e4;        ///< miniblock-block spring [N/m]
+  double k1 = 1e2;        ///< miniblock-miniblock spring [N/m]
+  double eta0 = 0.8e4;    ///< miniblock-block damping rate [1/s]
+  double eta1 = 0.0;      ///< miniblock-substrate damping rate [1/s] (derived when v is given)
+  double v = 0.5e-3;      ///< mean sliding speed [m/s]
+  double a = 1e-3;        ///< mean renewal distance [m]
+  double alpha = 1.0;     ///< noise strength [-]
+  double F_drive = 10.0;  ///< driving force [N]
+  double F_kin = 5.0;     ///< total kinetic friction N f_kin [N]
+  ChainEnds chain = ChainEnds::open;
+  Renewal renewal = Renewal::poisson;
+
+  /// Kinetic friction on one miniblock, f_kin = F_kin / N [N].
+  double friction_per_miniblock() const { return F_kin / N; }
+  /// Variance of one random force, s2 = alpha^2 f_kin^2 / 12 [N^2].
+  double random_force_variance() const;
+  /// Renewal rate per miniblock, lambda = v / a [1/s].
+  double renewal_rate() const { return v / a; }
+  /// Mean offset of a miniblock from the big block, u_bar = -F_drive / (N k0) [m].
+  double mean_miniblock_offset() const { return -F_drive / (N * k0); }
+};
+
+/// Landmarks of MODEL.md section 4 that follow from the parameters.
+struct Landmarks {
+  double renewal_rate;       ///< v/a [1/s]
+  double omega_c;            ///< sqrt(N k0 / M) [rad/s]
+  double diffusion;          ///< D = alpha^2 F_kin^2 a v / (12 N (F_drive-F_kin)^2) [m^2/s]
+  double eq1_prefactor;      ///< C_x ~ prefactor / omega^4 for v/a << omega << omega_c [m^2 rad^4/s^3]
+  double coupling_eps;       ///< eps = alpha F_kin / ((F_drive-F_kin) sqrt(6 N)) [-]
+  bool forces_can_stall;     ///< alpha F_kin >= 2 (F_drive - F_kin)
+  /// True when MODEL.md section 4 says the first-order theory may not hold.
+  bool outside_first_order() const { return coupling_eps > 0.3 || forces_can_stall; }
+};
+
+Landmarks landmarks(const Parameters& p);
+
+/// A named case of MODEL.md section 2: the reference case with some keys changed.
+struct Case {
+  std::string name;
+  std::string description;
+  std::vector<std::pair<std::string, std::string>> changes;  ///< KEY=VALUE over the reference
+};
+
+const std::vector<Case>& cases();
+
+/// Every parameter key a user may set, in display order.
+const std::vector<std::string>& parameter_keys();
+
+/// Builds a validated parameter set: a case, then KEY=VALUE overrides.
+class ParameterBuilder {
+ public:
+  /// Starts from a named case; throws InputError for an unknown name.
+  explicit ParameterBuilder(const std::string& case_name = "reference");
+
+  /// Applies one "KEY=VALUE" override; throws InputError naming the key if malformed.
+  ParameterBuilder& set(const std::string& assignment);
+  ParameterBuilder& set(const std::string& key, const std::string& value);
+
+  /// Derives eta1 or v and checks every rule of MODEL.md; throws InputError.
+  Parameters build() const;
+
+ private:
+  Parameters params_;
+  bool user_set_v_ = false;
+  bool user_set_eta1_ = false;
+};
+
+/// Reads overrides from a JSON object file {"KEY": value, ...}; returns "KEY=VALUE" strings.
+std::vector<std::string> read_parameter_file(const std::string& path);
+
+/// The parameters as ordered (key, value) text pairs, for output headers.
+std::vector<std::pair<std::string, std::string>> describe(const Parameters& p);
+
+}  // namespace slidespec

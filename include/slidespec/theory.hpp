@@ -1,0 +1,24 @@
+// The exact first-order (linear-response) spectrum of MODEL.md section 4.
+#pragma once
+
+#include <vector>
+
+#include "slidespec/parameters.hpp"
+
+namespace slidespec {
+
+/// Points evenly spaced in log omega from omega_min to omega_max inclusive (when
+/// the span is a whole number of steps), `points_per_decade` per decade [rad/s].
+std::vector<double> log_spaced_omegas(double omega_min, double omega_max, int points_per_decade);
+
+/// Spectrum of one miniblock's random force S_f(omega) [N^2 s], two-sided, angular.
+double random_force_spectrum(const Parameters& p, double omega);
+
+/// The paper's Eq. (1) asymptote, prefactor / omega^4 [m^2 s].
+double eq1_asymptote(const Parameters& p, double omega);
+
+/// C_x(omega) = S_f(omega) sum_i |G_0i(omega)|^2 [m^2 s] at each omega, from a sparse
+/// complex solve per frequency over the full structure (O(N) for a chain).
+std::vector<double> exact_spectrum(const Parameters& p, const std::vector<double>& omegas);
+
+}  // namespace slidespec

@@ -1,0 +1,57 @@
+// The model's linear structure: mass, damping and stiffness about the steady sliding state.
+//
+// Everything downstream (exact theory, stepper) works from this description, not from
+// the chain itself, so that other contact geometries (MODEL.md section 6: blocks on
+// blocks) only need to build another LinearStructure.
+#pragma once
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <vector>
+
+#include "slidespec/parameters.hpp"
+
+namespace slidespec::model {
+
+/// A coordinate that touches the substrate: it feels -(f_kin + f_j) with f_j renewed
+/// every renewal distance.
+struct Contact {
+  int coordinate;               ///< index into the coordinates (0 is the big block)
+  double random_force_variance; ///< s2 = alpha^2 f_kin^2 / 12 [N^2]
+  double renewal_distance;      ///< a [m]
+};
+
+/// M q'' + D q' + K q = (random forces on the contacts), for the fluctuation q of the
+/// coordinates about their steady sliding motion. Coordinate 0 is the big block, so
+/// q_0 = xi. Stiffness annihilates a common translation (all springs are relative).
+struct LinearStructure {
+  Eigen::SparseMatrix<double> mass;
+  Eigen::SparseMatrix<double> damping;
+  Eigen::SparseMatrix<double> stiffness;
+  std::vector<Contact> contacts;
+
+  int coordinates() const { return static_cast<int>(mass.rows()); }
+};
+
+/// The flat model of MODEL.md section 1: the big block and N miniblocks in a chain.
+LinearStructure flat_structure(const Parameters& p);
+
+/// The same structure in class-mean coordinates of an equitable partition (coordinates
+/// in one class are interchangeable: every row of M, D, K sums the same over each class).
+/// The block is a class of its own, so xi is exact; the random forces enter as class sums.
+struct LumpedStructure {
+  Eigen::MatrixXd mass;       ///< P^T M P
+  Eigen::MatrixXd damping;    ///< P^T D P
+  Eigen::MatrixXd stiffness;  ///< P^T K P
+  /// class_of_contact[j]: which lumped coordinate contact j's force is added to.
+  std::vector<int> class_of_contact;
+};
+
+/// Lumps `structure` over `class_of` (class 0 must be the block alone); throws
+/// std::invalid_argument if the partition is not equitable.
+LumpedStructure lump(const LinearStructure& structure, const std::vector<int>& class_of);
+
+/// The coarsest exact lumping of the flat model: block, and the mean of the miniblocks.
+LumpedStructure lumped_flat_structure(const Parameters& p);
+
+}  // namespace slidespec::model

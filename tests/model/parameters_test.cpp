@@ -1,0 +1,100 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "slidespec/parameters.hpp"
+
+using namespace slidespec;
+
+TEST(Parameters, ReferenceCaseDerivesEta1FromSpeed) {
+  const Parameters p = ParameterBuilder("reference").build();
+  EXPECT_EQ(p.N, 30);
+  EXPECT_NEAR(p.eta1, 3.333333e7, 1e2);  // (F_drive - F_kin) / (N m v)
+  EXPECT_DOUBLE_EQ(p.v, 0.5e-3);
+}
+
+TEST(Parameters, GivingEta1DerivesSpeed) {
+  const Parameters p = ParameterBuilder("reference").set("eta1=1e7").build();
+  EXPECT_NEAR(p.v, 5.0 / (30 * 1e-5 * 1e7), 1e-15);
+}
+
+TEST(Parameters, EveryCaseBuildsAndChangesOnlyItsKeys) {
+  const Parameters ref = ParameterBuilder("reference").build();
+  for (const Case& c : cases()) {
+    const Parameters p = ParameterBuilder(c.name).build();
+    EXPECT_EQ(c.name == "many-contacts" ? 100 : 30, p.N) << c.name;
+    EXPECT_DOUBLE_EQ(c.name == "fast" ? 5e-3 : 0.5e-3, p.v) << c.name;
+    EXPECT_DOUBLE_EQ(c.name == "short-renewal" ? 1e-4 : 1e-3, p.a) << c.name;
+    EXPECT_DOUBLE_EQ(p.k0, ref.k0) << c.name;
+  }
+}
+
+TEST(Parameters, ReferenceLandmarksMatchModelSection4) {
+  const Landmarks l = landmarks(ParameterBuilder("reference").build());
+  EXPECT_NEAR(l.omega_c, 547.7, 0.1);
+  EXPECT_NEAR(l.diffusion, 1.39e-9, 0.01e-9);
+  EXPECT_NEAR(l.coupling_eps, 0.0745, 0.0005);
+  EXPECT_FALSE(l.outside_first_order());
+  // Eq. (1) prefactor with the paper's forces equals alpha^2 v^3 / (12 pi N a).
+  EXPECT_NEAR(l.eq1_prefactor, 0.5e-3 * 0.5e-3 * 0.5e-3 / (12 * M_PI * 30 * 1e-3), 1e-22);
+}
+
+TEST(Parameters, StallRegionIsFlagged) {
+  const Landmarks l = landmarks(
+      ParameterBuilder().set("N=7").set("F_drive=8").set("F_kin=6").set("a=3e-4").build());
+  EXPECT_NEAR(l.coupling_eps, 0.46, 0.01);
+  EXPECT_TRUE(l.outside_first_order());
+}
+
+// Each bad input is refused with an InputError whose one-line message names the key.
+struct BadInput {
+  const char* name;
+  std::vector<const char*> assignments;
+  const char* must_mention;
+};
+
+class RefusesBadInput : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(RefusesBadInput, WithMessageNamingTheKey) {
+  const BadInput& bad = GetParam();
+  try {
+    ParameterBuilder builder;
+    for (const char* a : bad.assignments) builder.set(a);
+    builder.build();
+    FAIL() << "accepted " << bad.name;
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(bad.must_mention), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "not one line: " << message;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Parameters, RefusesBadInput,
+    ::testing::Values(BadInput{"DriveNotAboveFriction", {"F_drive=5"}, "F_drive"},
+                      BadInput{"DriveBelowFriction", {"F_drive=4"}, "F_drive"},
+                      BadInput{"NoMiniblocks", {"N=0"}, "N"},
+                      BadInput{"FractionalN", {"N=2.5"}, "N"},
+                      BadInput{"ZeroBlockMass", {"M=0"}, "M"},
+                      BadInput{"NegativeMiniblockMass", {"m=-1e-5"}, "m"},
+                      BadInput{"NegativeSpring", {"k0=-1"}, "k0"},
+                      BadInput{"NegativeChainSpring", {"k1=-1"}, "k1"},
+                      BadInput{"ZeroRenewalDistance", {"a=0"}, "parameter a"},
+                      BadInput{"NegativeNoise", {"alpha=-0.1"}, "alpha"},
+                      BadInput{"NotANumber", {"v=fast"}, "parameter v"},
+                      BadInput{"Infinite", {"M=inf"}, "M"},
+                      BadInput{"NaN", {"k0=nan"}, "k0"},
+                      BadInput{"UnknownKey", {"mass=3"}, "mass"},
+                      BadInput{"MissingEquals", {"N30"}, "N30"},
+                      BadInput{"EmptyValue", {"N="}, "N"},
+                      BadInput{"BothSpeedAndEta1", {"v=1e-3", "eta1=1e7"}, "eta1"},
+                      BadInput{"RingTooShort", {"chain=ring", "N=2"}, "ring"},
+                      BadInput{"UnknownChain", {"chain=loop"}, "chain"},
+                      BadInput{"UnknownRenewal", {"renewal=gamma"}, "renewal"}),
+    [](const auto& param_info) { return std::string(param_info.param.name); });
+
+TEST(Parameters, UnknownCaseIsRefused) {
+  EXPECT_THROW(ParameterBuilder("slow"), InputError);
+}
+
+TEST(Parameters, K1ZeroIsAllowed) { EXPECT_NO_THROW(ParameterBuilder().set("k1=0").build()); }

@@ -1,0 +1,111 @@
+#include "slidespec/theory.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace slidespec;
+
+namespace {
+double theory_at(const Parameters& p, double omega) { return exact_spectrum(p, {omega})[0]; }
+
+double local_slope(const Parameters& p, double omega_lo, double omega_hi) {
+  return std::log(theory_at(p, omega_hi) / theory_at(p, omega_lo)) / std::log(omega_hi / omega_lo);
+}
+}  // namespace
+
+TEST(Theory, DefaultAxisHasEightPointsPerDecadeFromPointOneTo1e5) {
+  const auto omegas = log_spaced_omegas(0.1, 1e5, 8);
+  ASSERT_EQ(omegas.size(), 49u);
+  EXPECT_DOUBLE_EQ(omegas.front(), 0.1);
+  EXPECT_NEAR(omegas.back(), 1e5, 1e-6);
+}
+
+TEST(Theory, WithinOnePercentOfEq1Between10And40RadPerSecond) {
+  const Parameters p = ParameterBuilder("reference").build();
+  for (double omega = 10; omega <= 40; omega *= 1.1)
+    EXPECT_NEAR(theory_at(p, omega) / eq1_asymptote(p, omega), 1.0, 0.01) << omega;
+}
+
+TEST(Theory, LowFrequencyLimitIsBrownianWithReferenceDiffusion) {
+  const Parameters p = ParameterBuilder("reference").build();
+  const double D = landmarks(p).diffusion;
+  EXPECT_NEAR(D, 1.39e-9, 0.0139e-9);
+  // Far below v/a the spectrum is D / (pi omega^2).
+  const double omega = 1e-4;
+  EXPECT_NEAR(theory_at(p, omega) * M_PI * omega * omega / D, 1.0, 0.01);
+}
+
+TEST(Theory, ResonancePeakSitsAtOmegaC) {
+  for (const char* n : {"N=30", "N=100"}) {
+    const Parameters p = ParameterBuilder().set(n).build();
+    const double omega_c = landmarks(p).omega_c;
+    // The peak of omega^4 C_x (which removes the omega^-4 background) is at omega_c.
+    double best_omega = 0, best = 0;
+    for (double omega = 0.5 * omega_c; omega < 2 * omega_c; omega *= 1.001) {
+      const double value = std::pow(omega, 4) * theory_at(p, omega);
+      if (value > best) best = value, best_omega = omega;
+    }
+    EXPECT_NEAR(best_omega / omega_c, 1.0, 0.01) << n;
+  }
+  EXPECT_NEAR(landmarks(ParameterBuilder().set("N=100").build()).omega_c, 1000.0, 1e-9);
+}
+
+TEST(Theory, FallsAsOmegaToTheMinusEightAboveResonance) {
+  const Parameters p = ParameterBuilder("reference").build();
+  EXPECT_NEAR(local_slope(p, 2e3, 2e4), -8.0, 0.3);
+}
+
+TEST(Theory, FallsAboutThirtyFiveDecadesFromPointOneTo1e5) {
+  const Parameters p = ParameterBuilder("reference").build();
+  const double decades = std::log10(theory_at(p, 0.1) / theory_at(p, 1e5));
+  EXPECT_GT(decades, 30);
+  EXPECT_LT(decades, 40);
+}
+
+TEST(Theory, PeriodicRenewalForceSpectrumIsSincSquared) {
+  const Parameters p = ParameterBuilder().set("renewal=periodic").build();
+  const double T = p.a / p.v;
+  const double s2 = p.random_force_variance();
+  EXPECT_NEAR(random_force_spectrum(p, 0.0), s2 * T / (2 * M_PI), 1e-15);
+  // Zeros at omega = 2 pi k / T; half height where sinc^2 = 1/2 (omega T/2 = 1.39156).
+  EXPECT_NEAR(random_force_spectrum(p, 2 * M_PI / T), 0.0, 1e-20);
+  EXPECT_NEAR(random_force_spectrum(p, 2 * 1.391557 / T) / random_force_spectrum(p, 0), 0.5, 1e-6);
+  // The total variance is the same as for Poisson renewal: integral of S_f = s2.
+  double integral = 0;
+  const double step = 1e-3 / T;
+  for (double omega = step / 2; omega < 2e4 / T; omega += step)
+    integral += 2 * random_force_spectrum(p, omega) * step;
+  EXPECT_NEAR(integral / s2, 1.0, 1e-3);
+}
+
+TEST(Theory, PoissonForceSpectrumIntegratesToTheForceVariance) {
+  const Parameters p = ParameterBuilder("reference").build();
+  const double lambda = p.renewal_rate();
+  EXPECT_NEAR(random_force_spectrum(p, lambda) / random_force_spectrum(p, 0), 0.5, 1e-12);
+  EXPECT_NEAR(random_force_spectrum(p, 0), p.random_force_variance() / (M_PI * lambda), 1e-18);
+}
+
+TEST(Theory, OpenChainEqualsRingWhenK1IsZero) {
+  const auto omegas = log_spaced_omegas(0.1, 1e5, 4);
+  const auto open = exact_spectrum(ParameterBuilder().set("k1=0").build(), omegas);
+  const auto ring = exact_spectrum(ParameterBuilder().set("k1=0").set("chain=ring").build(), omegas);
+  for (size_t k = 0; k < omegas.size(); ++k) EXPECT_NEAR(open[k] / ring[k], 1.0, 1e-9);
+}
+
+TEST(Theory, ChainSpringsDoNotReachTheBlock) {
+  // Every miniblock pulls on the block through the same spring, so the chain's internal
+  // modes (which have zero mean) are invisible in xi: C_x does not depend on k1 or the ends.
+  const auto omegas = log_spaced_omegas(0.1, 1e5, 4);
+  const auto base = exact_spectrum(ParameterBuilder().build(), omegas);
+  const auto stiff = exact_spectrum(ParameterBuilder().set("k1=1e5").set("chain=ring").build(), omegas);
+  for (size_t k = 0; k < omegas.size(); ++k) EXPECT_NEAR(stiff[k] / base[k], 1.0, 1e-8);
+}
+
+TEST(Theory, StaysFastForAThousandMiniblocks) {
+  // Not a timing assertion: the structured solve must simply complete for large N.
+  const Parameters p = ParameterBuilder().set("N=1000").build();
+  const auto spectrum = exact_spectrum(p, log_spaced_omegas(0.1, 1e5, 8));
+  EXPECT_TRUE(std::all_of(spectrum.begin(), spectrum.end(), [](double c) { return c > 0; }));
+}
