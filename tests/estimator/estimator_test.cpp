@@ -1,0 +1,5 @@
+#include <gtest/gtest.h>
+
+#include "slidespec/estimator.hpp"
+
+TEST(Estimator, HeaderCompiles) { SUCCEED(); }
