@@ -1,0 +1,85 @@
+// The batch stepper: many independent realizations of the model, one per SIMD lane,
+// advanced by the exact discretization of the model's linear part with the renewal of
+// the random forces fused into the same loop. See docs/numerics.md for why it is exact.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "slidespec/parameters.hpp"
+
+namespace slidespec {
+
+/// Instruction-set paths of the stepper. All give bitwise the same numbers.
+enum class SimdPath { automatic, scalar, sse2, avx2, avx512 };
+
+const char* to_string(SimdPath path);
+/// Parses scalar|sse2|avx2|avx512|auto; throws InputError.
+SimdPath parse_simd_path(const std::string& name);
+/// The paths this CPU can run, narrowest first (scalar is always there).
+std::vector<SimdPath> available_simd_paths();
+/// `automatic` becomes the widest available path; an unavailable path is an InputError.
+SimdPath resolve_simd_path(SimdPath requested);
+/// Realizations advanced together by one kernel call on `path`.
+int lane_width(SimdPath path);
+
+struct StepperConfig {
+  double dt = 1e-5;             ///< time step [s]; the discretization is exact for any dt
+  std::uint64_t seed = 1;       ///< keys the random numbers
+  std::uint64_t stream = 0;     ///< independent sub-run index (e.g. one per frequency band)
+  SimdPath simd = SimdPath::automatic;
+};
+
+/// What one realization did, for diagnostics and tests.
+struct RealizationSummary {
+  std::uint64_t realization = 0;
+  double duration = 0;            ///< simulated time [s]
+  double xi_end = 0;              ///< xi at the end [m]; mean speed = v + xi_end / duration
+  double mean_offset = 0;         ///< time average of the miniblocks' mean offset from u_bar [m]
+  std::uint64_t renewals = 0;     ///< renewals of all miniblocks together
+};
+
+/// Receives the increments xi_{n+1} - xi_n of every realization of a batch, chunk by
+/// chunk: data[step * realizations + k] for realization first + k.
+using IncrementSink = std::function<void(const double* data, std::size_t steps)>;
+
+/// A batch of consecutive realizations [first, first + count), advanced together.
+/// Realization r follows the same trajectory whatever the batch, lane width or thread.
+class Stepper {
+ public:
+  Stepper(const Parameters& params, const StepperConfig& config, std::uint64_t first_realization,
+          int count);
+  ~Stepper();
+  Stepper(Stepper&&) noexcept;
+  Stepper& operator=(Stepper&&) noexcept;
+
+  int count() const;
+  SimdPath simd_path() const;
+  /// Steps taken so far.
+  std::int64_t steps_done() const;
+
+  /// Advances every realization by `steps`, handing the increments to `sink` (may be empty).
+  void advance(std::int64_t steps, const IncrementSink& sink = {});
+
+  std::vector<RealizationSummary> summaries() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Runs `realizations` realizations from `first` for `steps` steps each on `threads`
+/// threads (0 = all cores), in batches of `batch_size`. `make_sink(first, count)` gives
+/// each batch its sink; `done(batch_index, summaries)` is called as batches finish, in
+/// any order: combine their results by batch index to stay independent of scheduling.
+void run_batches(const Parameters& params, const StepperConfig& config, std::uint64_t first,
+                 std::uint64_t realizations, std::int64_t steps, int threads, int batch_size,
+                 const std::function<IncrementSink(std::uint64_t first, int count)>& make_sink,
+                 const std::function<void(std::size_t batch, std::vector<RealizationSummary>)>& done);
+
+}  // namespace slidespec

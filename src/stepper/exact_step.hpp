@@ -1,0 +1,34 @@
+// Exact discretization of the model's linear part over one time step.
+#pragma once
+
+#include <vector>
+
+
+namespace slidespec::model {
+struct LumpedStructure;
+}
+
+namespace slidespec::stepper {
+
+/// Over a step dt with the random forces constant (they change only at renewals, which
+/// the stepper applies between steps), the lumped system is solved exactly:
+///   z_{n+1} = transition z_n + forcing g_n,   xi_{n+1} - xi_n = increment . z_n + increment_forcing . g_n
+/// where z = (relative offsets of the lumped coordinates from the block, all velocities)
+/// and g_k is the sum of the random forces f_j of the contacts in input class k.
+/// xi itself is left out of z: nothing depends on it (every spring is relative), and
+/// keeping it out means the increments are never computed as differences of large numbers.
+struct ExactStep {
+  int dimension = 0;                     ///< size of z
+  int inputs = 0;                        ///< number of input classes
+  std::vector<double> transition;        ///< dimension x dimension, row-major
+  std::vector<double> forcing;           ///< dimension x inputs, row-major
+  std::vector<double> increment;         ///< dimension
+  std::vector<double> increment_forcing; ///< inputs
+  std::vector<double> initial_response;  ///< dimension x inputs: z in equilibrium with g
+  std::vector<int> offset_component;     ///< components of z that are miniblock offsets
+};
+
+/// Builds the exact step for dt > 0 (matrix exponentials in long double).
+ExactStep exact_step(const model::LumpedStructure& lumped, double dt);
+
+}  // namespace slidespec::stepper

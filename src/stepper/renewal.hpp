@@ -1,0 +1,66 @@
+// Renewal of the random forces: marks on the sliding distance, counter-based random numbers.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "slidespec/parameters.hpp"
+
+namespace slidespec::stepper {
+
+// Exact sums of up to 2^74 forces in units of 2^-53 alpha f_kin.
+__extension__ using WideSum = __int128;
+
+/// Uniform [0, 1) doubles for (realization, contact, renewal count), keyed by (seed, stream):
+/// Philox4x64-10, so every number is a pure function of its indices and no stream state
+/// has to be carried or split between lanes, batches or threads.
+struct RenewalDraw {
+  double force_uniform;    ///< r in f = alpha f_kin (r - 0.5); exact multiple of 2^-53
+  std::int64_t force_units;///< r * 2^53 - 2^52: the force in units of alpha f_kin 2^-53
+  double spacing_uniform;  ///< for the distance to the next mark
+};
+RenewalDraw draw_renewal(std::uint64_t seed, std::uint64_t stream, std::uint64_t realization,
+                         std::uint64_t contact, std::uint64_t renewal_count);
+
+/// The renewal state of a batch of lanes, laid out contact-major (structure of arrays:
+/// contact i of every lane is contiguous). The sums of the forces per input class are
+/// kept exactly, as integers, so they never drift however many renewals happen.
+class RenewalState {
+ public:
+  /// `class_of_contact[j]` in 1..inputs; `lanes` lanes of which lane k is realization first + k.
+  RenewalState(const Parameters& p, std::uint64_t seed, std::uint64_t stream,
+               std::uint64_t first_realization, int lanes, const std::vector<int>& class_of_contact);
+
+  /// Renews every contact of `lane` whose mark the block has passed (x >= mark), in order
+  /// of the marks, and refreshes the lane's input sums and next mark.
+  void renew_passed(int lane, double x);
+
+  int lanes() const { return lanes_; }
+  int inputs() const { return inputs_; }
+  /// Sum of the random forces of input class k in each lane [N]: inputs()*lanes(), class-major.
+  const double* input_forces() const { return input_forces_.data(); }
+  /// The nearest mark ahead of each lane [m].
+  const double* next_marks() const { return next_mark_.data(); }
+  std::uint64_t renewals(int lane) const { return renewals_[lane]; }
+
+ private:
+  void update_tree(int lane, int contact);
+  void refresh_inputs(int lane);
+
+  double force_unit_;      // alpha f_kin 2^-53 [N]
+  double renewal_distance_;
+  bool poisson_;
+  std::uint64_t seed_, stream_, first_;
+  int lanes_, contacts_, inputs_, leaves_;
+  std::vector<int> class_of_contact_;
+  std::vector<std::int64_t> force_units_;   // contact-major
+  std::vector<double> mark_;                // contact-major
+  std::vector<std::uint64_t> count_;        // contact-major
+  std::vector<WideSum> input_units_;         // class-major
+  std::vector<double> input_forces_;        // class-major
+  std::vector<double> next_mark_;
+  std::vector<std::uint64_t> renewals_;
+  std::vector<int> tree_;                   // per lane: tournament tree of the earliest mark
+};
+
+}  // namespace slidespec::stepper

@@ -1,0 +1,220 @@
+#include "slidespec/stepper.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <xsimd/xsimd.hpp>
+
+#include "model/linear_structure.hpp"
+#include "stepper/exact_step.hpp"
+#include "stepper/kernel.hpp"
+#include "stepper/renewal.hpp"
+
+namespace slidespec {
+
+const char* to_string(SimdPath path) {
+  switch (path) {
+    case SimdPath::automatic: return "auto";
+    case SimdPath::scalar: return "scalar";
+    case SimdPath::sse2: return "sse2";
+    case SimdPath::avx2: return "avx2";
+    case SimdPath::avx512: return "avx512";
+  }
+  return "?";
+}
+
+SimdPath parse_simd_path(const std::string& name) {
+  for (SimdPath p : {SimdPath::automatic, SimdPath::scalar, SimdPath::sse2, SimdPath::avx2,
+                     SimdPath::avx512})
+    if (name == to_string(p)) return p;
+  throw InputError("--simd: '" + name + "' is not one of scalar, sse2, avx2, avx512, auto");
+}
+
+std::vector<SimdPath> available_simd_paths() {
+  const auto cpu = xsimd::available_architectures();
+  std::vector<SimdPath> paths = {SimdPath::scalar};
+  if (cpu.sse2) paths.push_back(SimdPath::sse2);
+  if (cpu.avx2) paths.push_back(SimdPath::avx2);
+  if (cpu.avx512f) paths.push_back(SimdPath::avx512);
+  return paths;
+}
+
+SimdPath resolve_simd_path(SimdPath requested) {
+  const auto paths = available_simd_paths();
+  if (requested == SimdPath::automatic) return paths.back();
+  if (std::find(paths.begin(), paths.end(), requested) == paths.end())
+    throw InputError(std::string("--simd: this CPU cannot run the ") + to_string(requested) + " path");
+  return requested;
+}
+
+int lane_width(SimdPath path) {
+  switch (resolve_simd_path(path)) {
+    case SimdPath::sse2: return 2;
+    case SimdPath::avx2: return 4;
+    case SimdPath::avx512: return 8;
+    default: return 1;
+  }
+}
+
+namespace {
+stepper::GroupKernel kernel_for(SimdPath path, int dimension, int inputs) {
+  switch (path) {
+    case SimdPath::sse2: return stepper::sse2_kernel(dimension, inputs);
+    case SimdPath::avx2: return stepper::avx2_kernel(dimension, inputs);
+    case SimdPath::avx512: return stepper::avx512_kernel(dimension, inputs);
+    default: return stepper::scalar_kernel(dimension, inputs);
+  }
+}
+}  // namespace
+
+struct Stepper::Impl {
+  Impl(const Parameters& p, const StepperConfig& c, std::uint64_t first_realization, int n)
+      : params(p),
+        config(c),
+        path(resolve_simd_path(c.simd)),
+        width(lane_width(path)),
+        first(first_realization),
+        count(n),
+        padded((n + width - 1) / width * width),
+        lumped(model::lumped_flat_structure(p)),
+        step(stepper::exact_step(lumped, c.dt)),
+        kernel(kernel_for(path, step.dimension, step.inputs)),
+        renewal(p, c.seed, c.stream, first_realization, padded, lumped.class_of_contact) {
+    if (!(c.dt > 0) || !std::isfinite(c.dt)) throw InputError("time step dt must be > 0");
+    if (n < 1) throw InputError("a batch needs at least one realization");
+    if (kernel == nullptr) throw std::logic_error("stepper: no kernel for this model shape");
+    z.assign(static_cast<size_t>(step.dimension) * padded, 0.0);
+    xi.assign(padded, 0.0);
+    offset_sum.assign(padded, 0.0);
+    // Start in equilibrium with the initial forces (MODEL.md section 1: steady sliding),
+    // computed in plain scalar code so that every path starts from the same bits.
+    for (int lane = 0; lane < padded; ++lane)
+      for (int r = 0; r < step.dimension; ++r) {
+        double value = 0.0;
+        for (int k = 0; k < step.inputs; ++k)
+          value += step.initial_response[r * step.inputs + k] *
+                   renewal.input_forces()[static_cast<size_t>(k) * padded + lane];
+        z[static_cast<size_t>(r) * padded + lane] = value;
+      }
+    // A chunk of increments of about 256 KiB: big enough to amortize the kernel call,
+    // small enough to stay in L2 while the sink reads it.
+    chunk_steps = std::max<std::int64_t>(64, 32768 / padded);
+    increments.assign(static_cast<size_t>(chunk_steps) * padded, 0.0);
+    if (padded != count) compact.assign(static_cast<size_t>(chunk_steps) * count, 0.0);
+  }
+
+  Parameters params;
+  StepperConfig config;
+  SimdPath path;
+  int width;
+  std::uint64_t first;
+  int count, padded;
+  model::LumpedStructure lumped;
+  stepper::ExactStep step;
+  stepper::GroupKernel kernel;
+  stepper::RenewalState renewal;
+  std::vector<double> z, xi, offset_sum, increments, compact;
+  std::int64_t chunk_steps = 0;
+  std::int64_t steps_done = 0;
+};
+
+Stepper::Stepper(const Parameters& params, const StepperConfig& config,
+                 std::uint64_t first_realization, int count)
+    : impl_(std::make_unique<Impl>(params, config, first_realization, count)) {}
+Stepper::~Stepper() = default;
+Stepper::Stepper(Stepper&&) noexcept = default;
+Stepper& Stepper::operator=(Stepper&&) noexcept = default;
+
+int Stepper::count() const { return impl_->count; }
+SimdPath Stepper::simd_path() const { return impl_->path; }
+std::int64_t Stepper::steps_done() const { return impl_->steps_done; }
+
+void Stepper::advance(std::int64_t steps, const IncrementSink& sink) {
+  Impl& s = *impl_;
+  stepper::KernelArgs args{};
+  args.step = &s.step;
+  args.advance_per_step = s.params.v * s.config.dt;
+  args.stride = s.padded;
+  args.z = s.z.data();
+  args.xi = s.xi.data();
+  args.offset_sum = s.offset_sum.data();
+  args.renewal = &s.renewal;
+  args.increments = s.increments.data();
+  while (steps > 0) {
+    const std::int64_t chunk = std::min(steps, s.chunk_steps);
+    args.first_step = s.steps_done;
+    args.steps = chunk;
+    for (int lane0 = 0; lane0 < s.padded; lane0 += s.width) {
+      args.lane0 = lane0;
+      s.kernel(args);
+    }
+    if (sink) {
+      if (s.padded == s.count) {
+        sink(s.increments.data(), static_cast<std::size_t>(chunk));
+      } else {
+        for (std::int64_t t = 0; t < chunk; ++t)
+          std::copy_n(s.increments.data() + t * s.padded, s.count, s.compact.data() + t * s.count);
+        sink(s.compact.data(), static_cast<std::size_t>(chunk));
+      }
+    }
+    s.steps_done += chunk;
+    steps -= chunk;
+  }
+}
+
+std::vector<RealizationSummary> Stepper::summaries() const {
+  const Impl& s = *impl_;
+  std::vector<RealizationSummary> out(s.count);
+  for (int k = 0; k < s.count; ++k) {
+    out[k].realization = s.first + static_cast<std::uint64_t>(k);
+    out[k].duration = static_cast<double>(s.steps_done) * s.config.dt;
+    out[k].xi_end = s.xi[k];
+    out[k].mean_offset = s.steps_done > 0 ? s.offset_sum[k] / static_cast<double>(s.steps_done) : 0.0;
+    out[k].renewals = s.renewal.renewals(k);
+  }
+  return out;
+}
+
+void run_batches(const Parameters& params, const StepperConfig& config, std::uint64_t first,
+                 std::uint64_t realizations, std::int64_t steps, int threads, int batch_size,
+                 const std::function<IncrementSink(std::uint64_t first, int count)>& make_sink,
+                 const std::function<void(std::size_t, std::vector<RealizationSummary>)>& done) {
+  if (batch_size < 1) throw InputError("batch size must be at least 1");
+  const std::size_t batches = (realizations + batch_size - 1) / batch_size;
+  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  threads = static_cast<int>(std::min<std::size_t>(threads, std::max<std::size_t>(batches, 1)));
+
+  std::atomic<std::size_t> next_batch{0};
+  std::mutex callbacks;  // make_sink and done need not be thread-safe themselves
+  std::exception_ptr failure;
+  auto worker = [&] {
+    try {
+      for (std::size_t b = next_batch++; b < batches; b = next_batch++) {
+        const std::uint64_t batch_first = first + b * batch_size;
+        const int count = static_cast<int>(std::min<std::uint64_t>(batch_size, first + realizations - batch_first));
+        Stepper stepper(params, config, batch_first, count);
+        IncrementSink sink;
+        {
+          std::lock_guard<std::mutex> lock(callbacks);
+          if (make_sink) sink = make_sink(batch_first, count);
+        }
+        stepper.advance(steps, sink);
+        std::lock_guard<std::mutex> lock(callbacks);
+        if (done) done(b, stepper.summaries());
+      }
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(callbacks);
+      if (!failure) failure = std::current_exception();
+      next_batch = batches;  // let the others stop early
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& thread : pool) thread.join();
+  if (failure) std::rethrow_exception(failure);
+}
+
+}  // namespace slidespec
