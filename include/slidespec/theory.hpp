@@ -1,6 +1,7 @@
 // The exact first-order (linear-response) spectrum of MODEL.md section 4.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "slidespec/parameters.hpp"
@@ -20,5 +21,15 @@ double eq1_asymptote(const Parameters& p, double omega);
 /// C_x(omega) = S_f(omega) sum_i |G_0i(omega)|^2 [m^2 s] at each omega, from a sparse
 /// complex solve per frequency over the full structure (O(N) for a chain).
 std::vector<double> exact_spectrum(const Parameters& p, const std::vector<double>& omegas);
+
+/// The same C_x from the lumped structure (block and mean miniblock, see docs/numerics.md):
+/// a 2x2 solve per frequency, for the dense sampling that interval averages need.
+std::vector<double> lumped_spectrum(const Parameters& p, const std::vector<double>& omegas);
+
+/// The mean of C_x over each interval [low, high] of omega (uniform measure, as FFT bins
+/// are), resolving features as narrow as the resonance at omega_c. A Welch estimate
+/// averaged over a band of bins estimates this, not C_x at the band's centre.
+std::vector<double> interval_averaged_spectrum(const Parameters& p,
+                                               const std::vector<std::pair<double, double>>& intervals);
 
 }  // namespace slidespec

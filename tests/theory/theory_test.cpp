@@ -109,3 +109,35 @@ TEST(Theory, StaysFastForAThousandMiniblocks) {
   const auto spectrum = exact_spectrum(p, log_spaced_omegas(0.1, 1e5, 8));
   EXPECT_TRUE(std::all_of(spectrum.begin(), spectrum.end(), [](double c) { return c > 0; }));
 }
+
+TEST(Theory, LumpedStructureGivesTheFullSpectrum) {
+  // The block sees only the miniblocks' mean: the 2-coordinate lumped system must give
+  // the full (N+1)-coordinate answer at every frequency, for both chain kinds.
+  const auto omegas = log_spaced_omegas(0.1, 1e5, 16);
+  for (const char* chain : {"chain=open", "chain=ring"}) {
+    const Parameters p = ParameterBuilder("many-contacts").set(chain).set("renewal=periodic").build();
+    const auto full = exact_spectrum(p, omegas);
+    const auto lumped = lumped_spectrum(p, omegas);
+    for (size_t k = 0; k < omegas.size(); ++k) EXPECT_NEAR(lumped[k] / full[k], 1.0, 1e-9) << omegas[k];
+  }
+}
+
+TEST(Theory, IntervalAverageCatchesTheWholeResonance) {
+  const Parameters p = ParameterBuilder("reference").build();
+  const double omega_c = landmarks(p).omega_c;
+  // Across the peak the average must be its true mean (brute force over the full structure).
+  const double low = 0.9 * omega_c, high = 1.1 * omega_c;
+  std::vector<double> fine;
+  for (int k = 0; k < 20000; ++k) fine.push_back(low + (high - low) * (k + 0.5) / 20000);
+  double brute = 0;
+  for (double c : exact_spectrum(p, fine)) brute += c / fine.size();
+  const auto peak = interval_averaged_spectrum(p, {{low, high}});
+  EXPECT_NEAR(peak[0] / brute, 1.0, 1e-3);
+  EXPECT_GT(peak[0], 2 * exact_spectrum(p, {high})[0] + exact_spectrum(p, {low})[0]);
+  const auto smooth = interval_averaged_spectrum(p, {{20.0, 20.2}});
+  EXPECT_NEAR(smooth[0] / exact_spectrum(p, {20.1})[0], 1.0, 1e-3);
+  // Power law omega^-4 over [10, 20]: mean = (10^-3 - 20^-3) / (3 * 10) in units of C(1).
+  const double c1 = landmarks(p).eq1_prefactor;
+  const auto wide = interval_averaged_spectrum(p, {{10.0, 20.0}});
+  EXPECT_NEAR(wide[0] / (c1 * (1e-3 - 1.0 / 8000) / 30.0), 1.0, 0.01);
+}
