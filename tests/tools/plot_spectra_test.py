@@ -1,0 +1,234 @@
+#!/usr/bin/env python3
+"""Tests of tools/plot_spectra.py: PNGs from real theory tables and simulated-looking
+tables, legend text from metadata, and the error contract (exit 2, one line, no file).
+
+Run: SLIDESPEC=build/slidespec python3 tests/tools/plot_spectra_test.py
+Without SLIDESPEC the tests that need a theory table are skipped, saying so.
+"""
+
+import importlib.util
+import os
+import pathlib
+import random
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.image  # noqa: E402
+import numpy as np  # noqa: E402
+
+TOOL = pathlib.Path(__file__).resolve().parents[2] / "tools" / "plot_spectra.py"
+SLIDESPEC = os.environ.get("SLIDESPEC")
+NO_SLIDESPEC = "SLIDESPEC is not set: cannot generate theory tables (set it to the binary)"
+PNG_SIZE = (750, 1050)  # rows, columns: 7 x 5 inches at 150 dpi
+
+
+def load_tool():
+    spec = importlib.util.spec_from_file_location("plot_spectra", TOOL)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+plot_spectra = load_tool()
+
+
+def run_tool(*arguments):
+    return subprocess.run([sys.executable, str(TOOL), *map(str, arguments)],
+                          capture_output=True, text=True, timeout=120)
+
+
+def theory_table(directory, case):
+    """A theory table from the real binary: `slidespec theory --case CASE`."""
+    prefix = pathlib.Path(directory) / case
+    subprocess.run([SLIDESPEC, "theory", "--case", case, "--out", str(prefix)], check=True,
+                   capture_output=True, timeout=120)
+    return prefix.with_suffix(".tsv")
+
+
+def simulated_table(theory_path, out_path, extra_metadata=(), seed=1):
+    """A simulated-looking table: theory times (1 + 0.05 gaussian), stderr 5 %, and the
+    columns of `slidespec run` (written in a shuffled order: tools must go by name)."""
+    generator = random.Random(seed)
+    metadata, rows = [], []
+    for line in theory_path.read_text().splitlines():
+        if line.startswith("#"):
+            if not line.startswith("# columns:"):
+                metadata.append(line)
+        elif line.startswith("omega"):
+            continue
+        else:
+            omega, c_x, c_eq1 = map(float, line.split("\t"))
+            noisy = c_x * (1 + 0.05 * generator.gauss(0, 1))
+            rows.append({"omega": omega, "C_x": noisy, "stderr": 0.05 * noisy, "theory": c_x,
+                         "n_avg": 64, "bandwidth": 0.1 * omega, "C_v": omega ** 2 * noisy,
+                         "C_F": omega ** 4 * noisy, "C_eq1": c_eq1})
+    metadata += [f"# {line}" for line in ("seed = 7", "realizations = 8", *extra_metadata)]
+    names = ["theory", "omega", "stderr", "C_x", "n_avg", "bandwidth", "C_v", "C_F", "C_eq1"]
+    body = ["\t".join(names)] + ["\t".join(f"{row[name]:.9e}" for name in names) for row in rows]
+    out_path.write_text("\n".join(metadata + body) + "\n")
+    return out_path
+
+
+def spectrum(metadata, path="run.tsv"):
+    return plot_spectra.Spectrum(path, dict(metadata), {})
+
+
+class PictureTest(unittest.TestCase):
+    def setUp(self):
+        if not SLIDESPEC:
+            self.skipTest(NO_SLIDESPEC)
+        self.directory = tempfile.TemporaryDirectory()
+        self.addCleanup(self.directory.cleanup)
+        self.path = pathlib.Path(self.directory.name)
+
+    def assert_picture(self, png):
+        """Exists, has the promised size, and holds a real drawing, not a blank canvas."""
+        self.assertTrue(png.is_file(), f"{png} was not written")
+        image = matplotlib.image.imread(png)
+        self.assertEqual(image.shape[:2], PNG_SIZE)
+        colours = np.unique(image[:, :, :3].reshape(-1, 3), axis=0)
+        self.assertGreater(len(colours), 50, "the picture looks blank")
+        self.assertEqual([p.name for p in self.path.glob(".plot_spectra.*")], [],
+                         "temporary file left behind")
+
+    def test_theory_table_every_kind(self):
+        table = theory_table(self.path, "reference")
+        for kind in ("displacement", "velocity", "force"):
+            png = self.path / f"theory_{kind}.png"
+            result = run_tool(table, "-o", png, "--kind", kind, "--title", "reference case")
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.assert_picture(png)
+
+    def test_simulated_table_every_kind(self):
+        table = simulated_table(theory_table(self.path, "reference"), self.path / "run.tsv",
+                                ["case = reference", "complete = false"])
+        for kind in ("displacement", "velocity", "force"):
+            png = self.path / f"run_{kind}.png"
+            result = run_tool(table, "-o", png, "--kind", kind)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.assert_picture(png)
+
+    def test_overlay_of_three_files(self):
+        files = [theory_table(self.path, "reference"),
+                 simulated_table(theory_table(self.path, "fast"), self.path / "fast_run.tsv",
+                                 ["case = fast"]),
+                 theory_table(self.path, "many-contacts")]
+        png = self.path / "overlay.png"
+        result = run_tool(*files, "-o", png, "--labels", "reference,fast (run),N = 100",
+                          "--omega-min", "0.3", "--omega-max", "3e4")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assert_picture(png)
+
+    def test_non_positive_values_are_skipped(self):
+        table = simulated_table(theory_table(self.path, "reference"), self.path / "run.tsv")
+        lines = table.read_text().splitlines()
+        header = lines[[i for i, l in enumerate(lines) if l.startswith("theory")][0]].split("\t")
+        for row in (-1, -2, -5):
+            fields = lines[row].split("\t")
+            fields[header.index("C_x")] = "0" if row == -1 else "-1e-30"
+            fields[header.index("stderr")] = "nan"
+            lines[row] = "\t".join(fields)
+        table.write_text("\n".join(lines) + "\n")
+        png = self.path / "gaps.png"
+        result = run_tool(table, "-o", png)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assert_picture(png)
+
+
+class LegendTest(unittest.TestCase):
+    def test_label_metadata_wins(self):
+        labels = plot_spectra.legend_labels([spectrum({"label": "rubber on concrete",
+                                                       "case": "concrete-fit"})])
+        self.assertEqual(labels, ["rubber on concrete"])
+
+    def test_case_plus_differing_parameters(self):
+        common = {"N": "30", "a": "0.001", "eta1": "33333333.3", "chain": "open"}
+        reference = spectrum({**common, "case": "reference", "v": "0.00050000000000000001"})
+        fast = spectrum({**common, "case": "fast", "v": "5e-3", "eta1": "3333333.3"})
+        self.assertEqual(plot_spectra.legend_labels([reference, fast]),
+                         ["reference, v = 5e-4", "fast, v = 5e-3"])
+
+    def test_equal_numbers_written_differently_do_not_differ(self):
+        labels = plot_spectra.legend_labels([spectrum({"case": "reference", "v": "5e-4"}),
+                                             spectrum({"case": "again", "v": "0.0005"})])
+        self.assertEqual(labels, ["reference", "again"])
+
+    def test_file_name_without_case(self):
+        labels = plot_spectra.legend_labels([spectrum({}, "/some/dir/ref.tsv")])
+        self.assertEqual(labels, ["ref.tsv"])
+
+    def test_incomplete_runs_are_marked(self):
+        labels = plot_spectra.legend_labels([spectrum({"case": "fast", "complete": "false"}),
+                                             spectrum({"label": "mine", "complete": "false"}),
+                                             spectrum({"case": "reference", "complete": "true"})])
+        self.assertEqual(labels, ["fast (incomplete)", "mine (incomplete)", "reference"])
+
+    def test_metadata_parsing_strips_trailing_comments(self):
+        with tempfile.TemporaryDirectory() as directory:
+            path = pathlib.Path(directory) / "t.tsv"
+            path.write_text("# slidespec 0.1.0\n# omega_c = 5.4e+02  # sqrt(N k0/M) [rad/s]\n"
+                            "# label = run #3\n# columns: omega, C_x\nC_x\tomega\n2e-20\t1\n")
+            parsed = plot_spectra.read_spectrum(str(path))
+        self.assertEqual(parsed.metadata, {"omega_c": "5.4e+02", "label": "run #3"})
+        self.assertEqual(parsed.columns["C_x"].tolist(), [2e-20])
+
+
+class ErrorTest(unittest.TestCase):
+    """Every unusable input: exit status 2, one line on stderr naming file and problem,
+    and no output file (nor a temporary one) left behind."""
+
+    def setUp(self):
+        self.directory = tempfile.TemporaryDirectory()
+        self.addCleanup(self.directory.cleanup)
+        self.path = pathlib.Path(self.directory.name)
+        self.good = self.path / "good.tsv"
+        self.good.write_text("# v = 5e-4\nomega\tC_x\n1\t1e-10\n10\t1e-14\n")
+
+    def assert_refused(self, bad, problem):
+        png = self.path / "out.png"
+        result = run_tool(self.good, bad, "-o", png)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        lines = result.stderr.splitlines()
+        self.assertEqual(len(lines), 1, result.stderr)
+        self.assertIn(str(bad), lines[0])
+        self.assertIn(problem, lines[0])
+        self.assertEqual(list(self.path.glob("*.png")) + list(self.path.glob(".plot*")), [])
+
+    def test_missing_file(self):
+        self.assert_refused(self.path / "absent.tsv", "cannot read")
+
+    def test_no_c_x_column(self):
+        bad = self.path / "no_cx.tsv"
+        bad.write_text("# N = 30\nomega\tC_v\n1\t2\n")
+        self.assert_refused(bad, "no 'C_x' column")
+
+    def test_text_in_a_number(self):
+        bad = self.path / "text.tsv"
+        bad.write_text("omega\tC_x\n1\t1e-10\n10\tabc\n")
+        self.assert_refused(bad, "line 3: 'abc' is not a number")
+
+    def test_nothing_in_the_omega_range(self):
+        png = self.path / "out.png"
+        result = run_tool(self.good, "-o", png, "--omega-min", "1e3")
+        self.assertEqual(result.returncode, 2)
+        self.assertEqual(result.stderr.splitlines(),
+                         ["plot_spectra: nothing to plot: no positive values in the omega range"])
+        self.assertFalse(png.exists())
+
+    def test_force_without_mass(self):
+        png = self.path / "out.png"
+        result = run_tool(self.good, "-o", png, "--kind", "force")
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("no 'M' metadata", result.stderr)
+        self.assertFalse(png.exists())
+
+
+if __name__ == "__main__":
+    if not SLIDESPEC:
+        print(f"plot_spectra_test: {NO_SLIDESPEC}", file=sys.stderr)
+    unittest.main()
