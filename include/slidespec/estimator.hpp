@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,6 +30,14 @@ struct EstimatorConfig {
   SampleKind input = SampleKind::value;
 };
 
+/// What an output point's C stands for.
+enum class PointValue {
+  bin_average,  ///< average of C over the point's FFT bins, [omega_low, omega_high]:
+                ///< compare with the exact C averaged over that interval
+  centre,       ///< C at the point's omega: the bin average corrected for the local slope
+                ///< and curvature of ln C (for smooth spectra; see docs/estimator.md)
+};
+
 /// One output point.
 struct SpectrumPoint {
   double omega;      ///< centre of the output bin [rad/s]
@@ -36,6 +45,8 @@ struct SpectrumPoint {
   double standard_error;  ///< its statistical standard error [unit^2 s]
   double n_avg;      ///< number of periodogram values (segments x FFT bins) averaged
   double bandwidth;  ///< resolution bandwidth behind the point [rad/s]
+  double omega_low;  ///< lower edge of the FFT bins averaged [rad/s]
+  double omega_high; ///< upper edge of the FFT bins averaged [rad/s]
 };
 
 /// The additive statistics of one or more realizations. Merging two accumulators gives
@@ -50,11 +61,29 @@ class SpectrumAccumulator {
   SpectrumAccumulator(SpectrumAccumulator&&) noexcept;
   SpectrumAccumulator& operator=(SpectrumAccumulator&&) noexcept;
 
-  /// Adds `other`; throws std::invalid_argument if it was made with another configuration.
+  /// Adds `other`; throws InputError (one line) if it was made with another configuration.
   void merge(const SpectrumAccumulator& other);
 
-  /// The estimate, points with no data yet left out.
-  std::vector<SpectrumPoint> spectrum() const;
+  /// The estimate. Points whose band has fewer than 12 segments (too few for an error
+  /// bar) are left out; so are points of a log bin narrower than one FFT bin.
+  std::vector<SpectrumPoint> spectrum(PointValue value = PointValue::bin_average) const;
+
+  /// What spectrum(value) reports on average for a process whose true spectrum is
+  /// `true_spectrum(omega)`: the window's exact smoothing and every transfer function of
+  /// the cascade applied to it. Compare an estimate with this, point by point, to test it
+  /// against a theory without the bin averaging or the smoothing in the way.
+  std::vector<SpectrumPoint> expected(const std::function<double(double)>& true_spectrum,
+                                      PointValue value = PointValue::bin_average) const;
+
+  /// Raw statistics of every output point, for callers that combine realizations
+  /// themselves: the sum over segments of each segment's bin-averaged periodogram (before
+  /// the smoothing correction of spectrum()), and the segments behind it.
+  struct PointSum {
+    double omega;
+    double sum;
+    std::uint64_t segments;
+  };
+  std::vector<PointSum> point_sums() const;
 
   /// Versioned binary form; `load` throws InputError for another version or a corrupt file.
   std::string save() const;
@@ -87,6 +116,10 @@ class SpectrumEstimator {
 
   /// All lanes merged in lane order.
   SpectrumAccumulator merged() const;
+
+  /// Duration of one segment of the band that serves `omega` [s]: a lane contributes
+  /// its first segment there after this long, then one more every quarter of it.
+  double segment_duration(double omega) const;
 
   struct Impl;
 

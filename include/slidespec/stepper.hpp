@@ -41,6 +41,7 @@ struct RealizationSummary {
   double xi_end = 0;              ///< xi at the end [m]; mean speed = v + xi_end / duration
   double mean_offset = 0;         ///< time average of the miniblocks' mean offset from u_bar [m]
   std::uint64_t renewals = 0;     ///< renewals of all miniblocks together
+  double jump_energy = 0;         ///< sum over renewals of (f_new - f_old)^2 [N^2]
 };
 
 /// Receives the increments xi_{n+1} - xi_n of every realization of a batch, chunk by

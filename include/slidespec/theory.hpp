@@ -22,6 +22,19 @@ double eq1_asymptote(const Parameters& p, double omega);
 /// complex solve per frequency over the full structure (O(N) for a chain).
 std::vector<double> exact_spectrum(const Parameters& p, const std::vector<double>& omegas);
 
+/// C_x(omega) prepared once for a parameter set and evaluated many times: the lumped
+/// structure (block and mean miniblock, docs/numerics.md) makes each value a 2x2 solve.
+class LumpedTheory {
+ public:
+  explicit LumpedTheory(const Parameters& p);
+  double operator()(double omega) const;
+
+ private:
+  Parameters params_;
+  double mass_[2][2], damping_[2][2], stiffness_[2][2];
+  double contacts_;
+};
+
 /// The same C_x from the lumped structure (block and mean miniblock, see docs/numerics.md):
 /// a 2x2 solve per frequency, for the dense sampling that interval averages need.
 std::vector<double> lumped_spectrum(const Parameters& p, const std::vector<double>& omegas);

@@ -1,13 +1,24 @@
 // slidespec command line: a thin layer over the core library.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "cli/plot.hpp"
+#include "cli/progress.hpp"
 #include "io/atomic_file.hpp"
+#include "io/tables.hpp"
 #include "slidespec/parameters.hpp"
+#include "slidespec/run.hpp"
 #include "slidespec/theory.hpp"
 
 namespace {
@@ -34,26 +45,6 @@ struct ModelOptions {
     return builder.build();
   }
 };
-
-std::string format_number(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.9e", x);
-  return text;
-}
-
-std::string header_lines(const Parameters& p) {
-  std::ostringstream out;
-  out << "# slidespec " << SLIDESPEC_VERSION << "\n";
-  for (const auto& [key, value] : describe(p)) out << "# " << key << " = " << value << "\n";
-  const Landmarks l = landmarks(p);
-  out << "# renewal_rate = " << format_number(l.renewal_rate) << "  # v/a [1/s]\n"
-      << "# omega_c = " << format_number(l.omega_c) << "  # sqrt(N k0/M) [rad/s]\n"
-      << "# diffusion_D = " << format_number(l.diffusion) << "  # [m^2/s], C_x -> D/(pi omega^2)\n"
-      << "# eq1_prefactor = " << format_number(l.eq1_prefactor)
-      << "  # [m^2 rad^4/s^3], C_x ~ prefactor/omega^4 for v/a << omega << omega_c\n"
-      << "# coupling_eps = " << format_number(l.coupling_eps) << "\n";
-  return out.str();
-}
 
 void warn_if_outside_first_order(const Parameters& p) {
   const Landmarks l = landmarks(p);
@@ -90,15 +81,121 @@ int command_theory(const ModelOptions& model, const TheoryOptions& options) {
   const std::vector<double> spectrum = exact_spectrum(p, omegas);
 
   std::ostringstream table;
-  table << header_lines(p) << "# columns: omega [rad/s], C_x [m^2 s] exact first-order theory, "
-                              "C_eq1 [m^2 s] the paper's Eq. (1)\n"
+  table << io::metadata_lines(p, model.case_name)
+        << "# columns: omega [rad/s], C_x [m^2 s] exact first-order theory, "
+           "C_eq1 [m^2 s] the paper's Eq. (1)\n"
         << "omega\tC_x\tC_eq1\n";
   for (size_t k = 0; k < omegas.size(); ++k)
-    table << format_number(omegas[k]) << "\t" << format_number(spectrum[k]) << "\t"
-          << format_number(eq1_asymptote(p, omegas[k])) << "\n";
+    table << io::format_number(omegas[k]) << "\t" << io::format_number(spectrum[k]) << "\t"
+          << io::format_number(eq1_asymptote(p, omegas[k])) << "\n";
   if (options.out.empty()) std::cout << table.str();
   else io::write_atomically(options.out + ".tsv", table.str());
   return 0;
+}
+
+std::atomic<bool> stop_requested{false};
+std::atomic<int> stop_signal{0};
+extern "C" void request_stop(int signal) {
+  stop_signal = signal;
+  stop_requested = true;
+}
+
+struct RunOptions {
+  RunRequest request;
+  std::string simd = "auto";
+  std::string out = "spectrum";
+  bool quiet = false;
+  bool no_plot = false;
+};
+
+/// Runs one parameter set and writes PREFIX.tsv, .json (and .png); returns the result.
+RunResult run_and_write(const Parameters& p, const std::string& case_name, const RunOptions& options,
+                        const std::string& out) {
+  cli::Progress progress(options.quiet);
+  const RunResult result = run_spectrum(
+      p, options.request, [&](double f, const std::string& what) { progress.update(f, what); },
+      &stop_requested);
+  progress.finish();
+  io::write_atomically(out + ".tsv", io::run_table(p, case_name, options.request, result));
+  io::write_atomically(out + ".json", io::run_json(p, case_name, options.request, result));
+  const bool plotted = !options.no_plot && cli::plot({out + ".tsv"}, out + ".png", "") == 0;
+  if (!options.no_plot && !plotted) std::cerr << "slidespec: warning: " << out << ".png not drawn\n";
+  if (!options.quiet) {
+    std::cerr << "slidespec: " << (result.complete ? "wrote " : "interrupted; wrote what accumulated to ")
+              << out << ".tsv, .json" << (plotted ? ", .png" : "") << " (" << result.points.size()
+              << " points, largest relative error " << io::format_number(result.reached_precision)
+              << ", measured mean speed " << io::format_number(result.mean_speed) << " m/s, "
+              << result.wall_seconds << " s)\n";
+  }
+  return result;
+}
+
+void catch_stop_signals() {
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+}
+
+int command_run(const ModelOptions& model, RunOptions options) {
+  const Parameters p = model.build();
+  options.request.simd = parse_simd_path(options.simd);
+  resolve_simd_path(options.request.simd);
+  plan_sub_bands(p, options.request);  // validates the band and precision before any work
+  io::check_output_prefix(options.out);
+  if (!options.quiet) warn_if_outside_first_order(p);
+  catch_stop_signals();
+  const RunResult result = run_and_write(p, model.case_name, options, options.out);
+  if (!result.complete && stop_requested) return 128 + stop_signal;
+  return 0;
+}
+
+struct PlotOptions {
+  std::vector<std::string> tables;
+  std::string out;
+  std::string title;
+};
+
+int command_plot(const PlotOptions& options) {
+  io::check_output_prefix(options.out);
+  return cli::plot(options.tables, options.out, options.title);
+}
+
+/// The paper's figures: which cases each overlays.
+const std::vector<std::pair<std::string, std::vector<std::string>>>& paper_figures() {
+  static const std::vector<std::pair<std::string, std::vector<std::string>>> figures = {
+      {"fig2", {"reference", "fast", "short-renewal", "many-contacts"}},
+      {"fig3", {"reference", "medium-noise", "weak-noise"}},
+      {"fig6", {"concrete-fit"}},
+  };
+  return figures;
+}
+
+int command_paper(const std::string& figure, RunOptions options, const std::string& directory) {
+  const auto& figures = paper_figures();
+  const auto found = std::find_if(figures.begin(), figures.end(), [&](const auto& f) { return f.first == figure; });
+  if (found == figures.end()) throw InputError("paper: unknown figure '" + figure + "' (known: fig2, fig3, fig6)");
+  options.request.simd = parse_simd_path(options.simd);
+  resolve_simd_path(options.request.simd);
+  io::check_output_prefix(directory + "/" + figure);
+  std::vector<Parameters> params;
+  for (const std::string& name : found->second) {
+    params.push_back(ParameterBuilder(name).build());
+    plan_sub_bands(params.back(), options.request);
+  }
+  catch_stop_signals();
+  std::vector<std::string> tables;
+  for (std::size_t k = 0; k < params.size(); ++k) {
+    const std::string out = directory + "/" + figure + "_" + found->second[k];
+    RunOptions single = options;
+    single.no_plot = true;
+    const RunResult result = run_and_write(params[k], found->second[k], single, out);
+    tables.push_back(out + ".tsv");
+    if (!result.complete && stop_requested) return 128 + stop_signal;
+  }
+  const std::string title = figure == "fig6" ? "concrete-fit model (alpha = 0.4), Fig. 6 of the paper"
+                                             : "the paper's " + figure.substr(0, 3) + ". " + figure.substr(3);
+  const int status = cli::plot(tables, directory + "/" + figure + ".png", title);
+  if (status == 0 && !options.quiet) std::cerr << "slidespec: drew " << directory << "/" << figure << ".png\n";
+  return status == 0 ? 0 : 1;
 }
 
 }  // namespace
@@ -113,17 +210,60 @@ int main(int argc, char** argv) {
   ModelOptions theory_model;
   TheoryOptions theory_options;
   CLI::App* theory_command =
-      app.add_subcommand("theory", "exact first-order spectrum C_x(omega) of MODEL section 4");
+      app.add_subcommand("theory", "exact first-order spectrum C_x(omega) (docs/model.md)");
   theory_model.add_to(*theory_command);
   theory_command->add_option("--omega-min", theory_options.omega_min, "lowest omega [rad/s]");
   theory_command->add_option("--omega-max", theory_options.omega_max, "highest omega [rad/s]");
   theory_command->add_option("--points", theory_options.points_per_decade, "points per decade");
   theory_command->add_option("--out", theory_options.out, "write PREFIX.tsv instead of stdout");
 
+  ModelOptions run_model;
+  RunOptions run_options;
+  CLI::App* run_command = app.add_subcommand("run", "simulated spectrum with error bars, beside the theory");
+  run_model.add_to(*run_command);
+  RunRequest& request = run_options.request;
+  run_command->add_option("--omega-min", request.omega_min, "lowest omega [rad/s] (default 0.1)");
+  run_command->add_option("--omega-max", request.omega_max, "highest omega [rad/s] (default 1e5)");
+  run_command->add_option("--points", request.points_per_decade, "points per decade (default 8)");
+  auto* precision = run_command->add_option(
+      "--precision", request.precision, "target relative standard error at every point (default 0.05)");
+  auto* duration = run_command->add_option(
+      "--duration", request.duration, "simulated seconds per realization of the lowest sub-band");
+  duration->excludes(precision);
+  run_command->add_option("--realizations", request.realizations, "realizations per sub-band");
+  run_command->add_option("--seed", request.seed, "random seed (default 1)");
+  run_command->add_option("--threads", request.threads, "threads (default: all cores)");
+  run_command->add_option("--simd", run_options.simd, "scalar|sse2|avx2|avx512|auto (default auto)");
+  run_command->add_option("--out", run_options.out, "output prefix: PREFIX.tsv, .json, .png (default spectrum)");
+  run_command->add_flag("--quiet", run_options.quiet, "no progress, no summary");
+  run_command->add_flag("--no-plot", run_options.no_plot, "skip PREFIX.png");
+
+  PlotOptions plot_options;
+  CLI::App* plot_command = app.add_subcommand("plot", "overlay spectrum tables in one picture");
+  plot_command->add_option("tables", plot_options.tables, "TSV files from run or theory")->required();
+  plot_command->add_option("-o,--out", plot_options.out, "the PNG to write")->required();
+  plot_command->add_option("--title", plot_options.title, "title of the picture");
+
+  std::string figure, paper_directory = ".";
+  RunOptions paper_options;
+  CLI::App* paper_command = app.add_subcommand("paper", "run the paper's cases and draw its figure");
+  paper_command->add_option("figure", figure, "fig2 | fig3 | fig6")->required();
+  paper_command->add_option("--out-dir", paper_directory, "directory for the tables and the figure");
+  paper_command->add_option("--precision", paper_options.request.precision, "target relative standard error");
+  paper_command->add_option("--omega-min", paper_options.request.omega_min, "lowest omega [rad/s]");
+  paper_command->add_option("--omega-max", paper_options.request.omega_max, "highest omega [rad/s]");
+  paper_command->add_option("--seed", paper_options.request.seed, "random seed");
+  paper_command->add_option("--threads", paper_options.request.threads, "threads (default: all cores)");
+  paper_command->add_option("--simd", paper_options.simd, "scalar|sse2|avx2|avx512|auto");
+  paper_command->add_flag("--quiet", paper_options.quiet, "no progress, no summary");
+
   try {
     app.parse(argc, argv);
     if (*cases_command) return command_cases();
     if (*theory_command) return command_theory(theory_model, theory_options);
+    if (*run_command) return command_run(run_model, run_options);
+    if (*plot_command) return command_plot(plot_options);
+    if (*paper_command) return command_paper(figure, paper_options, paper_directory);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {

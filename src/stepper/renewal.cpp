@@ -49,6 +49,7 @@ RenewalState::RenewalState(const Parameters& p, std::uint64_t seed, std::uint64_
   input_forces_.assign(static_cast<size_t>(inputs_) * lanes_, 0.0);
   next_mark_.assign(lanes_, 0.0);
   renewals_.assign(lanes_, 0);
+  jump_energy_.assign(lanes_, 0.0);
   tree_.assign(static_cast<size_t>(2 * leaves_) * lanes_, -1);
 
   // Stationary start: fresh forces; the first mark is where a stationary renewal process
@@ -101,7 +102,9 @@ void RenewalState::renew_passed(int lane, double x) {
     const std::uint64_t count = ++count_[cell];
     const RenewalDraw d = draw_renewal(seed_, stream_, first_ + lane, j, count);
     const size_t input = static_cast<size_t>(class_of_contact_[j] - 1) * lanes_ + lane;
-    input_units_[input] += d.force_units - force_units_[cell];
+    const std::int64_t jump = d.force_units - force_units_[cell];
+    input_units_[input] += jump;
+    jump_energy_[lane] += (force_unit_ * static_cast<double>(jump)) * (force_unit_ * static_cast<double>(jump));
     force_units_[cell] = d.force_units;
     mark_[cell] += poisson_ ? -renewal_distance_ * std::log1p(-d.spacing_uniform) : renewal_distance_;
     ++renewals_[lane];

@@ -42,6 +42,9 @@ class RenewalState {
   /// The nearest mark ahead of each lane [m].
   const double* next_marks() const { return next_mark_.data(); }
   std::uint64_t renewals(int lane) const { return renewals_[lane]; }
+  /// Sum over the lane's renewals of (f_new - f_old)^2 [N^2]: the realized strength of
+  /// the random forcing, whose expectation the model fixes (a control variate for run).
+  double jump_energy(int lane) const { return jump_energy_[lane]; }
 
  private:
   void update_tree(int lane, int contact);
@@ -60,6 +63,7 @@ class RenewalState {
   std::vector<double> input_forces_;        // class-major
   std::vector<double> next_mark_;
   std::vector<std::uint64_t> renewals_;
+  std::vector<double> jump_energy_;
   std::vector<int> tree_;                   // per lane: tournament tree of the earliest mark
 };
 

@@ -173,6 +173,7 @@ std::vector<RealizationSummary> Stepper::summaries() const {
     out[k].xi_end = s.xi[k];
     out[k].mean_offset = s.steps_done > 0 ? s.offset_sum[k] / static_cast<double>(s.steps_done) : 0.0;
     out[k].renewals = s.renewal.renewals(k);
+    out[k].jump_energy = s.renewal.jump_energy(k);
   }
   return out;
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <stdexcept>
 
 #include "model/linear_structure.hpp"
 
@@ -70,22 +71,35 @@ std::vector<double> exact_spectrum(const Parameters& p, const std::vector<double
   return spectrum;
 }
 
-std::vector<double> lumped_spectrum(const Parameters& p, const std::vector<double>& omegas) {
+LumpedTheory::LumpedTheory(const Parameters& p) : params_(p) {
   const model::LumpedStructure lumped = model::lumped_flat_structure(p);
-  std::vector<int> contacts_in_class(lumped.mass.rows(), 0);
-  for (int c : lumped.class_of_contact) ++contacts_in_class[c];
+  if (lumped.mass.rows() != 2) throw std::logic_error("LumpedTheory: expected block and one class");
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) {
+      mass_[i][j] = lumped.mass(i, j);
+      damping_[i][j] = lumped.damping(i, j);
+      stiffness_[i][j] = lumped.stiffness(i, j);
+    }
+  contacts_ = static_cast<double>(lumped.class_of_contact.size());
+}
+
+double LumpedTheory::operator()(double omega) const {
+  using Complex = std::complex<double>;
+  Complex Z[2][2];
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      Z[i][j] = stiffness_[i][j] - omega * omega * mass_[i][j] - Complex(0.0, omega) * damping_[i][j];
+  // A unit force on one contact is a unit class-sum force on the mean miniblock:
+  // G_01 = -Z_01 / det Z for the 2x2 system.
+  const Complex G01 = -Z[0][1] / (Z[0][0] * Z[1][1] - Z[0][1] * Z[1][0]);
+  return random_force_spectrum(params_, omega) * contacts_ * std::norm(G01);
+}
+
+std::vector<double> lumped_spectrum(const Parameters& p, const std::vector<double>& omegas) {
+  const LumpedTheory theory(p);
   std::vector<double> spectrum;
   spectrum.reserve(omegas.size());
-  for (const double omega : omegas) {
-    const Eigen::MatrixXcd Z = lumped.stiffness.cast<std::complex<double>>() -
-                               (omega * omega) * lumped.mass.cast<std::complex<double>>() -
-                               std::complex<double>(0.0, omega) * lumped.damping.cast<std::complex<double>>();
-    // A unit force on one contact is a unit class-sum force on its lumped coordinate.
-    const Eigen::VectorXcd G0 = Z.partialPivLu().solve(Eigen::VectorXcd::Unit(Z.rows(), 0));
-    double total = 0.0;
-    for (int c = 1; c < Z.rows(); ++c) total += contacts_in_class[c] * std::norm(G0(c));
-    spectrum.push_back(random_force_spectrum(p, omega) * total);
-  }
+  for (const double omega : omegas) spectrum.push_back(theory(omega));
   return spectrum;
 }
 
@@ -94,18 +108,16 @@ std::vector<double> interval_averaged_spectrum(const Parameters& p,
   // Midpoint rule, with a spacing well below the resonance's half width (the block's
   // damping rate, about N m eta0 / M) so the peak's area is caught wherever it falls.
   const double half_width = std::max(p.N * p.m * p.eta0 / p.M, 1e-3 * landmarks(p).omega_c);
+  const LumpedTheory theory(p);
   std::vector<double> averages;
   for (const auto& [low, high] : intervals) {
     if (!(high > low)) {
-      averages.push_back(lumped_spectrum(p, {low})[0]);
+      averages.push_back(theory(low));
       continue;
     }
     const int samples = static_cast<int>(std::clamp((high - low) / (0.1 * half_width), 64.0, 20000.0));
-    std::vector<double> omegas(samples);
-    for (int k = 0; k < samples; ++k) omegas[k] = low + (high - low) * (k + 0.5) / samples;
-    const std::vector<double> values = lumped_spectrum(p, omegas);
     double sum = 0.0;
-    for (double value : values) sum += value;
+    for (int k = 0; k < samples; ++k) sum += theory(low + (high - low) * (k + 0.5) / samples);
     averages.push_back(sum / samples);
   }
   return averages;

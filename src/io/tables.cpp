@@ -1,0 +1,124 @@
+#include "io/tables.hpp"
+
+#include <fftw3.h>
+
+#include <Eigen/Core>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <xsimd/config/xsimd_config.hpp>
+
+#include "slidespec/estimator.hpp"
+#include "slidespec/theory.hpp"
+
+namespace slidespec::io {
+
+std::string format_number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9e", x);
+  return text;
+}
+
+namespace {
+
+std::string versions() {
+  std::ostringstream out;
+  out << "slidespec " << SLIDESPEC_VERSION << ", " << fftw_version << ", Eigen " << EIGEN_WORLD_VERSION << "."
+      << EIGEN_MAJOR_VERSION << "." << EIGEN_MINOR_VERSION << ", xsimd " << XSIMD_VERSION_MAJOR << "."
+      << XSIMD_VERSION_MINOR << "." << XSIMD_VERSION_PATCH << ", g++ " << __VERSION__;
+  return out.str();
+}
+
+}  // namespace
+
+std::string metadata_lines(const Parameters& p, const std::string& case_name) {
+  std::ostringstream out;
+  out << "# slidespec " << SLIDESPEC_VERSION << "\n# case = " << case_name << "\n";
+  for (const auto& [key, value] : describe(p)) out << "# " << key << " = " << value << "\n";
+  const Landmarks l = landmarks(p);
+  out << "# renewal_rate = " << format_number(l.renewal_rate) << "  # v/a [1/s]\n"
+      << "# omega_c = " << format_number(l.omega_c) << "  # sqrt(N k0/M) [rad/s]\n"
+      << "# diffusion_D = " << format_number(l.diffusion) << "  # [m^2/s], C_x -> D/(pi omega^2)\n"
+      << "# eq1_prefactor = " << format_number(l.eq1_prefactor)
+      << "  # [m^2 rad^4/s^3], C_x ~ prefactor/omega^4 for v/a << omega << omega_c\n"
+      << "# coupling_eps = " << format_number(l.coupling_eps)
+      << "  # first-order theory holds for eps <= 0.3\n";
+  return out.str();
+}
+
+std::string run_table(const Parameters& p, const std::string& case_name, const RunRequest& request,
+                      const RunResult& result) {
+  std::ostringstream out;
+  out << metadata_lines(p, case_name);
+  std::uint64_t realizations = 0;
+  for (const SubBand& band : result.sub_bands) realizations += band.realizations;
+  out << "# seed = " << request.seed << "\n"
+      << "# realizations = " << realizations << "  # over all sub-bands\n"
+      << "# simulated_time = " << format_number(result.simulated_time) << "  # [s], all realizations\n"
+      << "# measured_mean_speed = " << format_number(result.mean_speed) << "  # [m/s] +- "
+      << format_number(result.mean_speed_error) << "\n"
+      << "# reached_precision = " << format_number(result.reached_precision)
+      << "  # largest stderr/C_x (target " << request.precision << ")\n"
+      << "# complete = " << (result.complete ? "true" : "false") << "\n"
+      << "# versions = " << versions() << "\n";
+  for (std::size_t b = 0; b < result.sub_bands.size(); ++b) {
+    const SubBand& band = result.sub_bands[b];
+    out << "# sub_band " << b << ": omega " << format_number(band.omega_low) << " .. "
+        << format_number(band.omega_high) << ", dt = " << format_number(band.dt)
+        << " s, duration = " << format_number(band.duration) << " s, realizations = " << band.realizations
+        << "\n";
+  }
+  out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, the mean of C_x over the bin's frequencies;"
+         " stderr [m^2 s]; theory [m^2 s] exact first-order theory averaged like the estimate;"
+         " n_avg periodogram values averaged; bandwidth [rad/s]; C_v = omega^2 C_x [m^2/s];"
+         " C_F = M^2 omega^4 C_x [N^2 s]; theory_at_omega [m^2 s]; C_eq1 [m^2 s] the paper's Eq. (1)\n";
+  out << "omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\n";
+  for (const RunPoint& point : result.points) {
+    out << format_number(point.omega) << "\t" << format_number(point.C_x) << "\t"
+        << format_number(point.standard_error) << "\t" << format_number(point.theory) << "\t"
+        << format_number(point.n_avg) << "\t" << format_number(point.bandwidth) << "\t"
+        << format_number(velocity_spectrum(point.omega, point.C_x)) << "\t"
+        << format_number(force_spectrum(point.omega, point.C_x, p.M)) << "\t"
+        << format_number(point.theory_at_omega) << "\t" << format_number(eq1_asymptote(p, point.omega))
+        << "\n";
+  }
+  return out.str();
+}
+
+std::string run_json(const Parameters& p, const std::string& case_name, const RunRequest& request,
+                     const RunResult& result) {
+  nlohmann::ordered_json doc;
+  doc["slidespec_version"] = SLIDESPEC_VERSION;
+  doc["versions"] = versions();
+  doc["case"] = case_name;
+  for (const auto& [key, value] : describe(p)) doc["parameters"][key] = value;
+  const Landmarks l = landmarks(p);
+  doc["landmarks"] = {{"renewal_rate", l.renewal_rate},   {"omega_c", l.omega_c},
+                      {"diffusion_D", l.diffusion},       {"eq1_prefactor", l.eq1_prefactor},
+                      {"coupling_eps", l.coupling_eps},   {"forces_can_stall", l.forces_can_stall}};
+  doc["request"] = {{"omega_min", request.omega_min},       {"omega_max", request.omega_max},
+                    {"points_per_decade", request.points_per_decade}, {"precision", request.precision},
+                    {"duration", request.duration},         {"realizations", request.realizations},
+                    {"seed", request.seed}};
+  doc["complete"] = result.complete;
+  doc["reached_precision"] = result.reached_precision;
+  doc["measured_mean_speed"] = {{"value", result.mean_speed}, {"standard_error", result.mean_speed_error}};
+  doc["simulated_time"] = result.simulated_time;
+  doc["wall_seconds"] = result.wall_seconds;
+  doc["miniblock_steps"] = result.miniblock_steps;
+  doc["throughput_miniblock_steps_per_second"] =
+      result.wall_seconds > 0 ? result.miniblock_steps / result.wall_seconds : 0.0;
+  doc["simd_path"] = to_string(result.simd_path);
+  doc["threads"] = result.threads;
+  for (const SubBand& band : result.sub_bands)
+    doc["sub_bands"].push_back({{"omega_low", band.omega_low}, {"omega_high", band.omega_high},
+                                {"dt", band.dt}, {"duration", band.duration},
+                                {"realizations", band.realizations}, {"rounds", band.rounds}});
+  for (const RunPoint& point : result.points)
+    doc["points"].push_back({{"omega", point.omega}, {"C_x", point.C_x}, {"stderr", point.standard_error},
+                             {"theory", point.theory}, {"theory_at_omega", point.theory_at_omega},
+                             {"n_avg", point.n_avg}, {"bandwidth", point.bandwidth}});
+  return doc.dump(2) + "\n";
+}
+
+}  // namespace slidespec::io
