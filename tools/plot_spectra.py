@@ -324,6 +324,10 @@ def save_atomically(figure, out_path):
     try:
         with handle:
             figure.savefig(handle, format="png", dpi=150)
+        # tempfile creates the file private (0600); a picture is for sharing, as usual.
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(handle.name, 0o666 & ~umask)
         os.replace(handle.name, out_path)
     except BaseException:
         os.unlink(handle.name)

@@ -36,6 +36,9 @@ enum class PointValue {
                 ///< compare with the exact C averaged over that interval
   centre,       ///< C at the point's omega: the bin average corrected for the local slope
                 ///< and curvature of ln C (for smooth spectra; see docs/estimator.md)
+  window_smoothed,  ///< the plain mean of the periodogram over the point's bins: C averaged
+                    ///< over the bins after the window's smoothing, with no model of the
+                    ///< local shape; expected() of it is exact for any true spectrum
 };
 
 /// One output point.

@@ -126,6 +126,10 @@ RunResult run_and_write(const Parameters& p, const std::string& case_name, const
               << " points, largest relative error " << io::format_number(result.reached_precision)
               << ", measured mean speed " << io::format_number(result.mean_speed) << " m/s, "
               << result.wall_seconds << " s)\n";
+    if (result.complete && result.reached_precision > options.request.precision && options.request.duration == 0 &&
+        options.request.realizations == 0)
+      std::cerr << "slidespec: warning: the precision " << options.request.precision
+                << " was not reached within the work budget of a sub-band; the table says what was\n";
   }
   return result;
 }

@@ -117,6 +117,7 @@ namespace {
 // corrected value, scaling its error bar alike. Shared by spectrum() and expected().
 void correct_for_smoothing(const detail::Layout& layout, const std::vector<int>& index, PointValue value,
                            std::vector<SpectrumPoint>& out) {
+  if (value == PointValue::window_smoothed) return;
   // For a steep C the bin average differs from C(omega) (17% for omega^-8 at 8 points per
   // decade). Both corrections use the local shape
   // ln C = ln C_k + s u + c u^2/2 (u = ln omega/omega_k) fitted through the point and its

@@ -25,13 +25,17 @@ constexpr double kOmegaDtMax = 0.3;
 constexpr double kRenewalDtMax = 0.1;
 // Each realization of a sub-band spans this many of the segments serving its lowest point.
 constexpr double kSegmentsPerRealization = 6;
-// Precision-driven runs stop growing here and report the precision they reached.
 // The first round of a precision-driven run: fixed, not scaled by the thread count, so
 // that every later round (chosen from the results so far) is the same on any machine;
 // large enough that the error bars from the scatter between realizations are themselves
 // good to ~13%.
 constexpr std::uint64_t kInitialRealizations = 32;
+// Precision-driven runs stop growing here and report the precision they reached: 65536
+// realizations, or 2e9 realization-steps per sub-band (about a minute on two cores),
+// whichever comes first. Where the random forces stall the block the spectrum collapses
+// and its scatter can keep any precision out of reach.
 constexpr std::uint64_t kMaxRealizationsPerBand = std::uint64_t{1} << 16;
+constexpr double kMaxStepsPerBand = 2e9;
 
 struct Interrupted {};
 
@@ -241,6 +245,10 @@ RunResult run_spectrum(const Parameters& p, const RunRequest& request, const Pro
     const std::size_t expected_points =
         log_spaced_omegas(band.omega_low, band.omega_high * (1 + 1e-12), request.points_per_decade).size();
 
+    const std::uint64_t most_realizations = std::max<std::uint64_t>(
+        kInitialRealizations,
+        std::min<std::uint64_t>(kMaxRealizationsPerBand,
+                                static_cast<std::uint64_t>(kMaxStepsPerBand / static_cast<double>(steps))));
     std::uint64_t round_size = initial_realizations;
     for (;;) {
       const double band_fraction = static_cast<double>(b) / band_count;
@@ -260,7 +268,7 @@ RunResult run_spectrum(const Parameters& p, const RunRequest& request, const Pro
       }
       if (request.realizations > 0) break;
       const double worst = worst_relative_error(band_spectrum(totals[b]), expected_points);
-      if (worst <= request.precision || band.realizations >= kMaxRealizationsPerBand) break;
+      if (worst <= request.precision || band.realizations >= most_realizations) break;
       // Standard errors fall as 1/sqrt(realizations): plan the total with a 30% margin, so
       // that a run stops because it planned enough, not because its error estimate happened
       // to dip below the target (which would bias the reported error bars low). At most
@@ -270,16 +278,18 @@ RunResult run_spectrum(const Parameters& p, const RunRequest& request, const Pro
                                                                std::min(factor, 8.0)));
       round_size = std::max<std::uint64_t>(wanted - band.realizations, kBatchRealizations);
       round_size = (round_size + kBatchRealizations - 1) / kBatchRealizations * kBatchRealizations;
-      round_size = std::min(round_size, kMaxRealizationsPerBand - band.realizations);
+      round_size = std::min(round_size, most_realizations - band.realizations);
     }
   }
 
-  // Points, with the theory seen through the estimator: averaged over each point's bins
-  // and smoothed by the window exactly as the estimate is.
+  // Points, with the theory of the simulated (time-stepped) process seen through the
+  // estimator: averaged over each point's bins and smoothed by the window exactly as the
+  // estimate is. The continuous-time C_x at omega is reported beside it.
   const LumpedTheory theory(p);
   for (std::size_t b = 0; b < band_count; ++b) {
     const std::vector<SpectrumPoint> estimated = band_spectrum(totals[b]);
-    const std::vector<SpectrumPoint> expected = totals[b].spectrum.expected(theory);
+    const std::vector<SpectrumPoint> expected =
+        totals[b].spectrum.expected(SampledTheory(p, result.sub_bands[b].dt));
     for (std::size_t k = 0; k < estimated.size(); ++k) {
       const SpectrumPoint& e = estimated[k];
       result.points.push_back(

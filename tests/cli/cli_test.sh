@@ -49,6 +49,46 @@ echo '{"alpha": 0.4, "chain": "ring"}' > "$work/p.json"
 "$bin" theory --params "$work/p.json" > "$work/a.tsv" && "$bin" theory --set alpha=0.4 --set chain=ring > "$work/b.tsv" \
   && cmp -s "$work/a.tsv" "$work/b.tsv" || fail "--params differs from --set"
 
-echo "$((20 - failures)) passed, $failures failed" >/dev/null
+# slidespec run: refusals happen before any work and touch nothing.
+expect_refused run-drive-below-friction F_drive run $out --set F_drive=1
+expect_refused run-bad-precision precision run $out --precision 2
+expect_refused run-bad-band omega run $out --omega-min 0
+expect_refused run-bad-simd simd run $out --simd neon
+expect_refused run-duration-and-precision excludes run $out --duration 10 --precision 0.1
+expect_refused run-missing-directory "does not exist" run --out "$work/nowhere/x"
+expect_refused plot-missing-file "missing.tsv" plot "$work/missing.tsv" -o "$work/out.tsv"
+expect_refused paper-unknown-figure fig9 paper fig9 --out-dir "$work"
+
+# A short run writes its three files, marked complete, with a measured mean speed.
+"$bin" run --omega-min 100 --omega-max 1000 --precision 0.2 --seed 3 --out "$work/short" 2> "$work/run.err" \
+  || fail "short run failed: $(cat "$work/run.err")"
+for ext in tsv json png; do [ -s "$work/short.$ext" ] || fail "short run wrote no .$ext"; done
+grep -q "^# complete = true" "$work/short.tsv" || fail "short run not marked complete"
+grep -q "^omega	C_x	stderr	theory	n_avg	bandwidth	C_v	C_F" "$work/short.tsv" || fail "run table header"
+grep -q '"simd_path"' "$work/short.json" || fail "run JSON has no simd_path"
+grep -q "measured_mean_speed" "$work/short.tsv" || fail "run table has no measured mean speed"
+ls "$work" | grep -q tmp && fail "a temporary file was left behind by run"
+
+# Same seed, same table, whatever the thread count and SIMD path (metadata aside).
+"$bin" run --omega-min 100 --omega-max 1000 --precision 0.2 --seed 3 --threads 1 --simd scalar \
+  --out "$work/scalar" --no-plot --quiet || fail "scalar run failed"
+diff <(grep -v '^#' "$work/short.tsv") <(grep -v '^#' "$work/scalar.tsv") > /dev/null \
+  || fail "scalar 1-thread run differs from the default run"
+
+# An interrupt writes what has accumulated, marked incomplete, and exits 128 + SIGINT.
+"$bin" run --omega-min 0.1 --omega-max 1e5 --precision 0.01 --out "$work/cut" --no-plot --quiet &
+pid=$!
+sleep 2
+kill -INT $pid
+wait $pid
+status=$?
+[ $status -eq 130 ] || fail "interrupted run exited $status, expected 130"
+grep -q "^# complete = false" "$work/cut.tsv" 2>/dev/null || fail "interrupted run did not write an incomplete table"
+
+# Warnings outside the first-order theory, without refusing.
+"$bin" run --set N=7 --set F_drive=8 --set F_kin=6 --set a=3e-4 --omega-min 100 --omega-max 1000 \
+  --precision 0.3 --out "$work/stall" --no-plot 2> "$work/stall.err" || fail "stall-region run refused"
+grep -q "first-order theory does not hold" "$work/stall.err" || fail "no warning in the stall region"
+
 [ $failures -eq 0 ] && echo "cli: all checks passed"
 exit $((failures > 0))

@@ -1,0 +1,85 @@
+// The acceptance criterion of `slidespec run` against the exact theory, on every case of
+// docs/model.md and on parameter sets that are not cases. Built twice: the short variant
+// (narrower band, 10% precision) runs in the default suite; SLIDESPEC_LONG_ACCEPTANCE
+// builds the full band at the default 5% (ctest label "long").
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <ostream>
+
+#include "slidespec/run.hpp"
+
+using namespace slidespec;
+
+namespace {
+
+struct Setting {
+  const char* name;
+  const char* case_name;
+  std::vector<const char*> changes;
+  double omega_min;  // periodic renewal: away from the zeros of its force spectrum
+};
+
+// What ctest lists for the instance (instead of its bytes).
+void PrintTo(const Setting& s, std::ostream* os) { *os << s.name; }
+
+RunRequest request_for(const Setting& s) {
+  RunRequest r;
+#ifdef SLIDESPEC_LONG_ACCEPTANCE
+  r.omega_min = std::max(0.1, s.omega_min);
+  r.omega_max = 1e5;
+  r.precision = 0.05;
+#else
+  r.omega_min = std::max(1.0, s.omega_min);
+  r.omega_max = 1e4;
+  r.precision = 0.1;
+#endif
+  r.seed = 20261123;
+  return r;
+}
+
+class Acceptance : public ::testing::TestWithParam<Setting> {};
+
+TEST_P(Acceptance, DeviationsFromTheoryAreStandardNormal) {
+  const Setting& s = GetParam();
+  ParameterBuilder builder(s.case_name);
+  for (const char* change : s.changes) builder.set(change);
+  const Parameters p = builder.build();
+  const RunResult result = run_spectrum(p, request_for(s));
+  ASSERT_TRUE(result.complete);
+  int within_two = 0, beyond_three = 0;
+  double worst = 0;
+  for (const RunPoint& point : result.points) {
+    const double z = (point.C_x - point.theory) / point.standard_error;
+    within_two += std::fabs(z) <= 2;
+    beyond_three += std::fabs(z) > 3;
+    worst = std::max(worst, std::fabs(point.C_x / point.theory - 1));
+  }
+  const int n = static_cast<int>(result.points.size());
+  // Honest error bars put 95.4% of points within 2 standard errors; 85% is the criterion,
+  // at most one point in 50 beyond 3, and no point off by more than 15%.
+  EXPECT_GE(within_two, 0.85 * n) << s.name;
+  EXPECT_LE(beyond_three, 1 + n / 50) << s.name;
+  EXPECT_LT(worst, 0.15) << s.name;
+  EXPECT_LE(result.reached_precision, request_for(s).precision) << s.name;
+  // The measured mean speed: v / (1 + eps^2/2) to second order (docs/model.md).
+  const double eps = landmarks(p).coupling_eps;
+  EXPECT_NEAR(result.mean_speed, p.v / (1 + 0.5 * eps * eps), 4 * result.mean_speed_error + 1e-3 * p.v)
+      << s.name;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, Acceptance,
+    ::testing::Values(Setting{"reference", "reference", {}, 0}, Setting{"fast", "fast", {}, 0},
+                      Setting{"short_renewal", "short-renewal", {}, 0},
+                      Setting{"many_contacts", "many-contacts", {}, 0},
+                      Setting{"weak_noise", "weak-noise", {}, 0},
+                      Setting{"medium_noise", "medium-noise", {}, 0},
+                      Setting{"concrete_fit", "concrete-fit", {}, 0},
+                      Setting{"ring_N12", "reference", {"chain=ring", "N=12"}, 0},
+                      Setting{"k1_zero", "reference", {"k1=0"}, 0},
+                      Setting{"other_forces", "reference", {"F_drive=20", "F_kin=8", "alpha=0.7"}, 0},
+                      Setting{"periodic", "reference", {"renewal=periodic"}, 100}),
+    [](const auto& param_info) { return std::string(param_info.param.name); });
+
+}  // namespace
