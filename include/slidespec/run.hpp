@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,9 @@ struct RunRequest {
   double precision = 0.05;         ///< target standard error / C_x at every point
   double duration = 0;             ///< > 0: fixed simulated time per realization of the lowest sub-band [s]
   std::uint64_t realizations = 0;  ///< > 0: fixed number of realizations per sub-band
+  /// With `realizations` > 0: this run is the part [first_realization, first_realization +
+  /// realizations) of a larger run (a multiple of 8, so parts share its batches).
+  std::uint64_t first_realization = 0;
   std::uint64_t seed = 1;
   int threads = 0;                 ///< 0 = all cores
   SimdPath simd = SimdPath::automatic;
@@ -60,6 +64,69 @@ struct RunResult {
 
 /// Progress of a run, for a progress bar: fraction of the planned work and a message.
 using ProgressCallback = std::function<void(double fraction, const std::string& what)>;
+
+/// How a run is spread over processes (MPI ranks): each runs a share of every chunk of
+/// realizations and all end with the same totals, so they make the same decisions. The
+/// default is one process.
+class Communicator {
+ public:
+  virtual ~Communicator() = default;
+  virtual int rank() const { return 0; }
+  virtual int size() const { return 1; }
+  /// Every process's `mine`, in rank order, on every process.
+  virtual std::vector<std::string> all_gather(const std::string& mine) const { return {mine}; }
+  /// True on every process when `mine` is true on any.
+  virtual bool any(bool mine) const { return mine; }
+};
+
+/// A run in progress: everything accumulated so far, kept per batch of realizations in
+/// realization order so that the totals are the same sums in the same order however the
+/// run was cut (threads, processes, checkpoints, parts). It can be saved whenever no
+/// batch is in flight and resumed, and parts of one run can be merged.
+class RunSession {
+ public:
+  RunSession(const Parameters& params, const RunRequest& request, std::string case_name = "");
+  ~RunSession();
+  RunSession(RunSession&&) noexcept;
+  RunSession& operator=(RunSession&&) noexcept;
+
+  struct Control {
+    ProgressCallback progress;
+    const std::atomic<bool>* stop = nullptr;        ///< set: end at the next batch
+    double checkpoint_every = 0;                    ///< [s] of wall time; 0 = never
+    std::function<void(const RunSession&)> checkpoint;
+    const Communicator* communicator = nullptr;     ///< null: this process alone
+  };
+  /// Runs until every point reaches the precision, the fixed realizations are done or the
+  /// budget is spent (returns true), or until stopped (returns false).
+  bool advance(const Control& control);
+
+  bool finished() const;
+  RunResult result() const;
+  /// Threads and SIMD path for the rest of the run (a resumed run may use others: they
+  /// change no number).
+  void set_execution(int threads, SimdPath simd);
+  const Parameters& parameters() const;
+  const RunRequest& request() const;
+  const std::string& case_name() const;
+
+  /// Versioned binary form; load() throws InputError for another version or a corrupt file.
+  std::string save() const;
+  static RunSession load(const std::string& bytes);
+  /// "" if `params` and `request` describe this run, else the first difference, e.g.
+  /// "seed: 1 here, 2 given" (threads and SIMD path do not count: they change no number).
+  std::string difference(const Parameters& params, const RunRequest& request) const;
+  /// Parts of one run (the same fixed-realization request over disjoint realization
+  /// ranges) as the run over all of them: bitwise what one run over the whole range gives.
+  /// Throws InputError for parts of other parameters, versions or overlapping ranges.
+  static RunSession merge(std::vector<RunSession> parts);
+
+  struct Impl;
+
+ private:
+  explicit RunSession(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
 
 /// Runs until every point reaches `precision` (or the fixed duration/realizations are
 /// spent). Setting `*stop` (e.g. from a signal handler) ends the run early with what has

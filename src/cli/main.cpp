@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -106,32 +108,84 @@ struct RunOptions {
   std::string out = "spectrum";
   bool quiet = false;
   bool no_plot = false;
+  double checkpoint_every = 0;  // [s]; 0 = no periodic checkpoints
+  std::string resume;           // PREFIX of a run to continue from PREFIX.state
+  std::string range;            // FIRST:COUNT of a part of a run
+  std::string save_state;       // where to save the finished part
 };
 
-/// Runs one parameter set and writes PREFIX.tsv, .json (and .png); returns the result.
-RunResult run_and_write(const Parameters& p, const std::string& case_name, const RunOptions& options,
-                        const std::string& out) {
-  cli::Progress progress(options.quiet);
-  const RunResult result = run_spectrum(
-      p, options.request, [&](double f, const std::string& what) { progress.update(f, what); },
-      &stop_requested);
-  progress.finish();
-  io::write_atomically(out + ".tsv", io::run_table(p, case_name, options.request, result));
-  io::write_atomically(out + ".json", io::run_json(p, case_name, options.request, result));
+/// This process's place among the run's processes (MPI ranks; one without MPI).
+const Communicator* communicator = nullptr;
+bool writes_outputs() { return communicator == nullptr || communicator->rank() == 0; }
+
+/// Writes PREFIX.tsv, .json (and .png) for a session's result and says what it wrote.
+void write_outputs(const RunSession& session, const RunResult& result, const RunOptions& options,
+                   const std::string& out) {
+  if (!writes_outputs()) return;
+  const Parameters& p = session.parameters();
+  io::write_atomically(out + ".tsv", io::run_table(p, session.case_name(), session.request(), result));
+  io::write_atomically(out + ".json", io::run_json(p, session.case_name(), session.request(), result));
   const bool plotted = !options.no_plot && cli::plot({out + ".tsv"}, out + ".png", "") == 0;
   if (!options.no_plot && !plotted) std::cerr << "slidespec: warning: " << out << ".png not drawn\n";
-  if (!options.quiet) {
-    std::cerr << "slidespec: " << (result.complete ? "wrote " : "interrupted; wrote what accumulated to ")
-              << out << ".tsv, .json" << (plotted ? ", .png" : "") << " (" << result.points.size()
-              << " points, largest relative error " << io::format_number(result.reached_precision)
-              << ", measured mean speed " << io::format_number(result.mean_speed) << " m/s, "
-              << result.wall_seconds << " s)\n";
-    if (result.complete && result.reached_precision > options.request.precision && options.request.duration == 0 &&
-        options.request.realizations == 0)
-      std::cerr << "slidespec: warning: the precision " << options.request.precision
-                << " was not reached within the work budget of a sub-band; the table says what was\n";
+  if (options.quiet) return;
+  std::cerr << "slidespec: " << (result.complete ? "wrote " : "interrupted; wrote what accumulated to ")
+            << out << ".tsv, .json" << (plotted ? ", .png" : "") << " (" << result.points.size()
+            << " points, largest relative error " << io::format_number(result.reached_precision)
+            << ", measured mean speed " << io::format_number(result.mean_speed) << " m/s, "
+            << result.wall_seconds << " s)\n";
+  const RunRequest& request = session.request();
+  if (result.complete && result.reached_precision > request.precision && request.duration == 0 &&
+      request.realizations == 0)
+    std::cerr << "slidespec: warning: the precision " << request.precision
+              << " was not reached within the work budget of a sub-band; the table says what was\n";
+}
+
+/// Advances a session to its end (or an interrupt), checkpointing to PREFIX.state, and
+/// writes its outputs. An interrupted run leaves PREFIX.state for --resume; a finished
+/// one removes the checkpoint it no longer needs.
+RunResult run_and_write(RunSession& session, const RunOptions& options, const std::string& out) {
+  const std::string state_path = out + ".state";
+  cli::Progress progress(options.quiet || !writes_outputs());
+  RunSession::Control control;
+  control.progress = [&](double f, const std::string& what) { progress.update(f, what); };
+  control.stop = &stop_requested;
+  control.communicator = communicator;
+  control.checkpoint_every = options.checkpoint_every;
+  control.checkpoint = [&](const RunSession& s) {
+    if (writes_outputs()) io::write_atomically(state_path, s.save());
+  };
+  const bool finished = session.advance(control);
+  progress.finish();
+  if (writes_outputs()) {
+    if (!finished) {
+      io::write_atomically(state_path, session.save());
+      if (!options.quiet)
+        std::cerr << "slidespec: saved the run to " << state_path << "; continue it with: slidespec run --resume "
+                  << out << "\n";
+    } else if (options.checkpoint_every > 0 || !options.resume.empty()) {
+      std::remove(state_path.c_str());
+    }
+    if (!options.save_state.empty()) io::write_atomically(options.save_state, session.save());
   }
+  const RunResult result = session.result();
+  write_outputs(session, result, options, out);
   return result;
+}
+
+/// One parameter set from the start.
+RunResult run_and_write(const Parameters& p, const std::string& case_name, const RunOptions& options,
+                        const std::string& out) {
+  RunSession session(p, options.request, case_name);
+  return run_and_write(session, options, out);
+}
+
+/// Reads a whole file; InputError naming it when it cannot.
+std::string read_file(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(what + ": cannot read " + path);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
 }
 
 void catch_stop_signals() {
@@ -139,16 +193,78 @@ void catch_stop_signals() {
   std::signal(SIGTERM, request_stop);
 }
 
-int command_run(const ModelOptions& model, RunOptions options) {
-  const Parameters p = model.build();
+/// FIRST:COUNT of --realizations-range.
+void apply_realization_range(const std::string& range, RunRequest& request) {
+  const auto colon = range.find(':');
+  std::size_t used_first = 0, used_count = 0;
+  try {
+    if (colon == std::string::npos) throw std::invalid_argument("no colon");
+    request.first_realization = std::stoull(range.substr(0, colon), &used_first);
+    request.realizations = std::stoull(range.substr(colon + 1), &used_count);
+  } catch (const std::exception&) {
+    used_first = 0;
+  }
+  if (colon == std::string::npos || used_first != colon || used_count != range.size() - colon - 1 ||
+      range[0] == '-' || range[colon + 1] == '-' || request.realizations == 0)
+    throw InputError("--realizations-range: expected FIRST:COUNT (whole numbers, COUNT > 0), got '" + range + "'");
+}
+
+int command_run(const ModelOptions& model, RunOptions options, const std::function<bool(const char*)>& given) {
   options.request.simd = parse_simd_path(options.simd);
   resolve_simd_path(options.request.simd);
-  plan_sub_bands(p, options.request);  // validates the band and precision before any work
+  if (!options.range.empty()) apply_realization_range(options.range, options.request);
+  if (!options.resume.empty()) {
+    // Continue a saved run: its parameters and request are in the state; options given
+    // here must describe the same run (threads and SIMD path may change).
+    RunSession session = RunSession::load(read_file(options.resume + ".state", "--resume"));
+    const bool model_given = given("--case") || given("--set") || given("--params");
+    RunRequest request = session.request();
+    if (given("--omega-min")) request.omega_min = options.request.omega_min;
+    if (given("--omega-max")) request.omega_max = options.request.omega_max;
+    if (given("--points")) request.points_per_decade = options.request.points_per_decade;
+    if (given("--precision")) request.precision = options.request.precision;
+    if (given("--duration")) request.duration = options.request.duration;
+    if (given("--realizations") || given("--realizations-range")) {
+      request.realizations = options.request.realizations;
+      request.first_realization = options.request.first_realization;
+    }
+    if (given("--seed")) request.seed = options.request.seed;
+    const std::string differs =
+        session.difference(model_given ? model.build() : session.parameters(), request);
+    if (!differs.empty())
+      throw InputError("--resume: " + options.resume + ".state is another run (" + differs + ")");
+    session.set_execution(options.request.threads, options.request.simd);
+    if (options.out == "spectrum") options.out = options.resume;
+    io::check_output_prefix(options.out);
+    catch_stop_signals();
+    const RunResult result = run_and_write(session, options, options.out);
+    if (!result.complete && stop_requested) return 128 + stop_signal;
+    return 0;
+  }
+  const Parameters p = model.build();
+  RunSession session(p, options.request, model.case_name);  // validates before any work
   io::check_output_prefix(options.out);
-  if (!options.quiet) warn_if_outside_first_order(p);
+  if (!options.save_state.empty()) io::check_output_prefix(options.save_state);
+  if (!options.quiet && writes_outputs()) warn_if_outside_first_order(p);
   catch_stop_signals();
-  const RunResult result = run_and_write(p, model.case_name, options, options.out);
+  const RunResult result = run_and_write(session, options, options.out);
   if (!result.complete && stop_requested) return 128 + stop_signal;
+  return 0;
+}
+
+/// Parts of a run split over a job array, as the whole run.
+int command_merge(const std::vector<std::string>& paths, RunOptions options) {
+  std::vector<RunSession> parts;
+  for (const std::string& path : paths) {
+    try {
+      parts.push_back(RunSession::load(read_file(path, "merge")));
+    } catch (const InputError& e) {
+      throw InputError(path + ": " + e.what());
+    }
+  }
+  io::check_output_prefix(options.out);
+  RunSession whole = RunSession::merge(std::move(parts));
+  write_outputs(whole, whole.result(), options, options.out);
   return 0;
 }
 
@@ -234,13 +350,33 @@ int main(int argc, char** argv) {
   auto* duration = run_command->add_option(
       "--duration", request.duration, "simulated seconds per realization of the lowest sub-band");
   duration->excludes(precision);
-  run_command->add_option("--realizations", request.realizations, "realizations per sub-band");
+  auto* realizations =
+      run_command->add_option("--realizations", request.realizations, "realizations per sub-band");
+  auto* range = run_command->add_option("--realizations-range", run_options.range,
+                                        "FIRST:COUNT: run only these realizations (a part of a run; see merge)");
+  range->excludes(realizations)->excludes(precision);
   run_command->add_option("--seed", request.seed, "random seed (default 1)");
   run_command->add_option("--threads", request.threads, "threads (default: all cores)");
   run_command->add_option("--simd", run_options.simd, "scalar|sse2|avx2|avx512|auto (default auto)");
   run_command->add_option("--out", run_options.out, "output prefix: PREFIX.tsv, .json, .png (default spectrum)");
+  run_command->add_option("--checkpoint-every", run_options.checkpoint_every,
+                          "save the run to PREFIX.state every S seconds of wall time")
+      ->check(CLI::PositiveNumber);
+  run_command->add_option("--resume", run_options.resume, "continue the run saved in PREFIX.state");
+  run_command->add_option("--save-state", run_options.save_state, "save the finished run (a part) to FILE");
   run_command->add_flag("--quiet", run_options.quiet, "no progress, no summary");
   run_command->add_flag("--no-plot", run_options.no_plot, "skip PREFIX.png");
+  // A resumed run checks what was given against what it saved.
+  auto run_given = [&](const char* name) { return run_command->count(name) > 0; };
+
+  std::vector<std::string> merge_parts;
+  RunOptions merge_options;
+  CLI::App* merge_command =
+      app.add_subcommand("merge", "join the parts of a run (--realizations-range, --save-state) into its outputs");
+  merge_command->add_option("parts", merge_parts, "state files of the parts")->required();
+  merge_command->add_option("--out", merge_options.out, "output prefix (default spectrum)");
+  merge_command->add_flag("--quiet", merge_options.quiet, "no summary");
+  merge_command->add_flag("--no-plot", merge_options.no_plot, "skip PREFIX.png");
 
   PlotOptions plot_options;
   CLI::App* plot_command = app.add_subcommand("plot", "overlay spectrum tables in one picture");
@@ -265,7 +401,8 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
     if (*cases_command) return command_cases();
     if (*theory_command) return command_theory(theory_model, theory_options);
-    if (*run_command) return command_run(run_model, run_options);
+    if (*run_command) return command_run(run_model, run_options, run_given);
+    if (*merge_command) return command_merge(merge_parts, merge_options);
     if (*plot_command) return command_plot(plot_options);
     if (*paper_command) return command_paper(figure, paper_options, paper_directory);
   } catch (const CLI::CallForHelp& e) {

@@ -2,8 +2,10 @@
 
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <numbers>
 #include <string>
+#include <tuple>
 
 #include "slidespec/parameters.hpp"
 
@@ -100,7 +102,8 @@ double Layout::transfer(int band, double omega) const {
   return t;
 }
 
-std::shared_ptr<const Layout> Layout::make(const EstimatorConfig& requested) {
+namespace {
+std::shared_ptr<const Layout> build_layout(const EstimatorConfig& requested) {
   EstimatorConfig c = requested;
   if (!(c.dt > 0) || !std::isfinite(c.dt))
     throw InputError("estimator: dt must be a positive finite number of seconds");
@@ -191,6 +194,25 @@ std::shared_ptr<const Layout> Layout::make(const EstimatorConfig& requested) {
     }
   }
   return layout;
+}
+}  // namespace
+
+// Building a layout designs the filters and tabulates every transfer (~15 ms); a run
+// makes an estimator per batch of realizations and loads accumulators by the thousand,
+// all with a handful of configurations, so layouts are built once and shared.
+std::shared_ptr<const Layout> Layout::make(const EstimatorConfig& config) {
+  using Key = std::tuple<double, double, double, int, int>;
+  static std::mutex guard;
+  static std::map<Key, std::shared_ptr<const Layout>> built;
+  const Key key{config.dt, config.omega_min, config.omega_max, config.points_per_decade,
+                static_cast<int>(config.input)};
+  {
+    std::lock_guard<std::mutex> lock(guard);
+    if (auto found = built.find(key); found != built.end()) return found->second;
+  }
+  auto layout = build_layout(config);  // outside the lock: it may throw InputError
+  std::lock_guard<std::mutex> lock(guard);
+  return built.emplace(key, std::move(layout)).first->second;
 }
 
 }  // namespace slidespec::estimator_detail

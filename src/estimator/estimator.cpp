@@ -13,6 +13,7 @@
 
 #include "estimator/design.hpp"
 #include "estimator/real_fft.hpp"
+#include "io/binary.hpp"
 #include "slidespec/parameters.hpp"
 
 namespace slidespec {
@@ -269,31 +270,7 @@ namespace {
 constexpr char kMagic[8] = {'S', 'L', 'S', 'P', 'E', 'C', 'A', 'C'};
 constexpr std::uint32_t kFormatVersion = 1;
 
-template <class T>
-void put(std::string& bytes, T value) {
-  char raw[sizeof(T)];
-  std::memcpy(raw, &value, sizeof(T));
-  bytes.append(raw, sizeof(T));
-}
-
-class Reader {
- public:
-  explicit Reader(const std::string& bytes) : bytes_(bytes) {}
-  template <class T>
-  T get() {
-    if (position_ + sizeof(T) > bytes_.size())
-      throw InputError("spectrum accumulator file: truncated at byte " + std::to_string(position_));
-    T value;
-    std::memcpy(&value, bytes_.data() + position_, sizeof(T));
-    position_ += sizeof(T);
-    return value;
-  }
-  bool at_end() const { return position_ == bytes_.size(); }
-
- private:
-  const std::string& bytes_;
-  std::size_t position_ = 0;
-};
+using io::put;
 
 }  // namespace
 
@@ -325,7 +302,7 @@ std::string SpectrumAccumulator::save() const {
 SpectrumAccumulator SpectrumAccumulator::load(const std::string& bytes) {
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw InputError("spectrum accumulator file: not a slidespec spectrum accumulator");
-  Reader in(bytes);
+  io::Reader in(bytes, "spectrum accumulator file");
   for (std::size_t i = 0; i < sizeof kMagic; ++i) in.get<char>();
   const auto version = in.get<std::uint32_t>();
   if (version != kFormatVersion)

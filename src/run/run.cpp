@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <thread>
 
 #include "slidespec/estimator.hpp"
+#include "io/binary.hpp"
 #include "slidespec/theory.hpp"
 
 namespace slidespec {
@@ -29,7 +32,7 @@ constexpr double kSegmentsPerRealization = 6;
 // that every later round (chosen from the results so far) is the same on any machine;
 // large enough that the error bars from the scatter between realizations are themselves
 // good to ~13%.
-constexpr std::uint64_t kInitialRealizations = 32;
+constexpr std::uint64_t kInitialRealizations = 64;
 // Precision-driven runs stop growing here and report the precision they reached: 65536
 // realizations, or 2e9 realization-steps per sub-band (about a minute on two cores),
 // whichever comes first. Where the random forces stall the block the spectrum collapses
@@ -49,15 +52,28 @@ EstimatorConfig estimator_config(const SubBand& band, int points_per_decade) {
   return config;
 }
 
-/// What one sub-band has accumulated, merged in realization order.
+/// One batch of realizations, as the stepper and estimator leave it.
+struct BatchRecord {
+  SpectrumAccumulator spectrum;              // its lanes merged in lane order
+  std::vector<std::vector<double>> own_mean; // per realization: its mean periodogram per output point
+  std::vector<double> control;               // per realization: forcing_control
+  std::vector<double> speed;                 // per realization: its mean sliding speed [m/s]
+};
+
+/// What one sub-band has accumulated: its batches in realization order, from its first.
 struct BandTotals {
-  SpectrumAccumulator spectrum;
-  // Per realization: its own mean periodogram at each output point, and its control.
-  std::vector<std::vector<double>> own_mean;
-  std::vector<double> control;
-  double speed_sum = 0, speed_sum2 = 0;
+  std::vector<BatchRecord> batches;
   std::uint64_t realizations = 0;
-  double miniblock_steps = 0;
+  std::uint64_t planned = 0;  // realizations through the end of the current round
+  int rounds = 0;             // rounds completed
+  bool finished = false;
+
+  /// The batches' spectra merged in realization order.
+  SpectrumAccumulator merged() const {
+    SpectrumAccumulator all;
+    for (const BatchRecord& batch : batches) all.merge(batch.spectrum);
+    return all;
+  }
 };
 
 // Below this many realizations the scatter between them is too coarse for the control
@@ -78,15 +94,22 @@ double forcing_control(const Parameters& p, const RealizationSummary& r) {
 /// removed with the exactly known mean of the forcing as a control variate (regression
 /// over realizations), which leaves unbiased, nearly independent errors. The error bars
 /// come from the scatter between independent realizations about the regression.
-std::vector<SpectrumPoint> band_spectrum(const BandTotals& totals) {
-  std::vector<SpectrumPoint> points = totals.spectrum.spectrum();
-  const std::size_t R = totals.own_mean.size();
+std::vector<SpectrumPoint> band_spectrum(const BandTotals& totals, const SpectrumAccumulator& merged) {
+  std::vector<SpectrumPoint> points = merged.spectrum();
+  std::vector<const std::vector<double>*> own_mean;
+  std::vector<double> control;
+  for (const BatchRecord& batch : totals.batches)
+    for (std::size_t r = 0; r < batch.control.size(); ++r) {
+      own_mean.push_back(&batch.own_mean[r]);
+      control.push_back(batch.control[r]);
+    }
+  const std::size_t R = control.size();
   if (R < kMinimumForControl) return points;
-  const auto sums = totals.spectrum.point_sums();
+  const auto sums = merged.point_sums();
   double y_mean = 0;
-  for (double y : totals.control) y_mean += y / static_cast<double>(R);
+  for (double y : control) y_mean += y / static_cast<double>(R);
   double syy = 0;
-  for (double y : totals.control) syy += (y - y_mean) * (y - y_mean);
+  for (double y : control) syy += (y - y_mean) * (y - y_mean);
   for (SpectrumPoint& point : points) {
     std::size_t k = 0;
     while (k < sums.size() && sums[k].omega != point.omega) ++k;
@@ -94,13 +117,13 @@ std::vector<SpectrumPoint> band_spectrum(const BandTotals& totals) {
     // spectrum() corrects the raw mean for the window's smoothing: keep that factor.
     const double smoothing = point.C / (sums[k].sum / static_cast<double>(sums[k].segments));
     double x_mean = 0;
-    for (std::size_t r = 0; r < R; ++r) x_mean += totals.own_mean[r][k] / static_cast<double>(R);
+    for (std::size_t r = 0; r < R; ++r) x_mean += (*own_mean[r])[k] / static_cast<double>(R);
     double sxy = 0;
-    for (std::size_t r = 0; r < R; ++r) sxy += (totals.own_mean[r][k] - x_mean) * (totals.control[r] - y_mean);
+    for (std::size_t r = 0; r < R; ++r) sxy += ((*own_mean[r])[k] - x_mean) * (control[r] - y_mean);
     const double slope = syy > 0 ? sxy / syy : 0.0;
     double residual = 0;
     for (std::size_t r = 0; r < R; ++r) {
-      const double e = totals.own_mean[r][k] - x_mean - slope * (totals.control[r] - y_mean);
+      const double e = (*own_mean[r])[k] - x_mean - slope * (control[r] - y_mean);
       residual += e * e;
     }
     const double n = static_cast<double>(R);
@@ -111,20 +134,19 @@ std::vector<SpectrumPoint> band_spectrum(const BandTotals& totals) {
   return points;
 }
 
-/// Runs realizations [first, first + count) of one sub-band and adds them to `totals` in
-/// realization order. Returns false if interrupted (the completed prefix is still added).
-bool run_round(const Parameters& p, const SubBand& band, const StepperConfig& stepper_config,
-               const RunRequest& request, std::uint64_t first, std::uint64_t count,
-               std::int64_t steps, BandTotals& totals, const std::atomic<bool>* stop,
-               const std::function<void(double)>& round_progress) {
+/// Runs realizations [first, first + count) of one sub-band, in batches from `first`, and
+/// returns the completed prefix of its batches in realization order (all of them unless
+/// `stop` was set).
+std::vector<BatchRecord> run_batches_of(const Parameters& p, const SubBand& band,
+                                        const StepperConfig& stepper_config, const RunRequest& request,
+                                        std::uint64_t first, std::uint64_t count, std::int64_t steps,
+                                        const std::atomic<bool>* stop,
+                                        const std::function<void(double)>& chunk_progress) {
   const EstimatorConfig config = estimator_config(band, request.points_per_decade);
-  std::map<std::size_t, std::vector<SpectrumAccumulator>> accumulators;  // by batch
-  std::map<std::size_t, std::vector<RealizationSummary>> summaries;
+  std::map<std::size_t, BatchRecord> records;
+  std::map<std::uint64_t, std::shared_ptr<SpectrumEstimator>> estimators;  // by first realization
   std::atomic<std::int64_t> lane_steps_done{0};
   const double lane_steps_planned = static_cast<double>(count) * static_cast<double>(steps);
-  std::map<std::uint64_t, std::shared_ptr<SpectrumEstimator>> estimators;  // by first realization
-
-  bool interrupted = false;
   try {
     run_batches(
         p, stepper_config, first, count, steps, request.threads, kBatchRealizations,
@@ -135,41 +157,33 @@ bool run_round(const Parameters& p, const SubBand& band, const StepperConfig& st
             if (stop && stop->load(std::memory_order_relaxed)) throw Interrupted{};
             estimator->push(data, n);
             const auto done = lane_steps_done += static_cast<std::int64_t>(n) * batch_count;
-            if (round_progress) round_progress(static_cast<double>(done) / lane_steps_planned);
+            if (chunk_progress) chunk_progress(static_cast<double>(done) / lane_steps_planned);
           };
         },
-        [&](std::size_t batch, std::vector<RealizationSummary> s) {
+        [&](std::size_t batch, std::vector<RealizationSummary> summaries) {
           const std::uint64_t batch_first = first + batch * kBatchRealizations;
           const auto& estimator = estimators.at(batch_first);
-          std::vector<SpectrumAccumulator> lanes;
-          for (int lane = 0; lane < estimator->lanes(); ++lane) lanes.push_back(estimator->accumulator(lane));
-          accumulators[batch] = std::move(lanes);
-          summaries[batch] = std::move(s);
+          BatchRecord record;
+          for (int lane = 0; lane < estimator->lanes(); ++lane) {
+            const SpectrumAccumulator own = estimator->accumulator(lane);
+            record.spectrum.merge(own);
+            std::vector<double> mean;
+            for (const auto& point : own.point_sums())
+              mean.push_back(point.segments > 0 ? point.sum / static_cast<double>(point.segments) : 0.0);
+            record.own_mean.push_back(std::move(mean));
+          }
+          for (const RealizationSummary& r : summaries) {
+            record.control.push_back(forcing_control(p, r));
+            record.speed.push_back(p.v + r.xi_end / r.duration);
+          }
+          records[batch] = std::move(record);
           estimators.erase(batch_first);
         });
   } catch (const Interrupted&) {
-    interrupted = true;
   }
-  // Merge the completed prefix of batches in realization order: the same sums, in the
-  // same order, whatever thread finished which batch first.
-  for (std::size_t batch = 0; accumulators.count(batch) != 0; ++batch) {
-    for (const SpectrumAccumulator& lane : accumulators[batch]) {
-      totals.spectrum.merge(lane);
-      std::vector<double> own;
-      for (const auto& point : lane.point_sums())
-        own.push_back(point.segments > 0 ? point.sum / static_cast<double>(point.segments) : 0.0);
-      totals.own_mean.push_back(std::move(own));
-    }
-    for (const RealizationSummary& r : summaries[batch]) {
-      totals.control.push_back(forcing_control(p, r));
-      const double speed = p.v + r.xi_end / r.duration;
-      totals.speed_sum += speed;
-      totals.speed_sum2 += speed * speed;
-      ++totals.realizations;
-      totals.miniblock_steps += static_cast<double>(p.N) * static_cast<double>(steps);
-    }
-  }
-  return !interrupted;
+  std::vector<BatchRecord> prefix;
+  for (std::size_t batch = 0; records.count(batch) != 0; ++batch) prefix.push_back(std::move(records[batch]));
+  return prefix;
 }
 
 double worst_relative_error(const std::vector<SpectrumPoint>& points, std::size_t expected_points) {
@@ -218,103 +232,444 @@ std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& reque
   return bands;
 }
 
-RunResult run_spectrum(const Parameters& p, const RunRequest& request, const ProgressCallback& progress,
-                       const std::atomic<bool>* stop) {
-  const auto start = std::chrono::steady_clock::now();
-  RunResult result;
-  result.sub_bands = plan_sub_bands(p, request);
-  result.simd_path = resolve_simd_path(request.simd);
-  result.threads = request.threads > 0 ? request.threads
-                                       : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const std::size_t band_count = result.sub_bands.size();
-  const std::uint64_t initial_realizations =
-      request.realizations > 0 ? request.realizations
-                               : kInitialRealizations;
 
-  std::vector<BandTotals> totals(band_count);
-  bool interrupted = false;
-  for (std::size_t b = 0; b < band_count && !interrupted; ++b) {
-    SubBand& band = result.sub_bands[b];
+// ---------------------------------------------------------------------------------------
+// The session: sub-bands in order, each in rounds, each round in chunks of batches.
+
+namespace {
+
+// Batches per process in one chunk: the unit of checkpoints, of the work shared between
+// processes and of what an interrupt can lose. It changes no number (every sum runs over
+// the batches in realization order), only how often the session can be saved.
+constexpr std::uint64_t kChunkBatches = 32;
+
+constexpr char kStateMagic[8] = {'S', 'L', 'S', 'P', 'R', 'U', 'N', 'S'};
+constexpr std::uint32_t kStateVersion = 1;
+
+std::string number_text(double x) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.17g", x);
+  return text;
+}
+
+/// What makes two runs the same run, as ordered (key, value) text: every parameter and
+/// every request field that changes a number, and the program version.
+std::vector<std::pair<std::string, std::string>> fingerprint(const Parameters& p, const RunRequest& r) {
+  auto fields = describe(p);
+  fields.emplace_back("omega_min", number_text(r.omega_min));
+  fields.emplace_back("omega_max", number_text(r.omega_max));
+  fields.emplace_back("points_per_decade", std::to_string(r.points_per_decade));
+  fields.emplace_back("precision", number_text(r.precision));
+  fields.emplace_back("duration", number_text(r.duration));
+  fields.emplace_back("realizations", std::to_string(r.realizations));
+  fields.emplace_back("first_realization", std::to_string(r.first_realization));
+  fields.emplace_back("seed", std::to_string(r.seed));
+  fields.emplace_back("version", SLIDESPEC_VERSION);
+  return fields;
+}
+
+std::string first_difference(const std::vector<std::pair<std::string, std::string>>& here,
+                             const std::vector<std::pair<std::string, std::string>>& given,
+                             const std::vector<std::string>& ignored = {}) {
+  for (std::size_t k = 0; k < std::max(here.size(), given.size()); ++k) {
+    const std::string key = k < here.size() ? here[k].first : given[k].first;
+    if (std::find(ignored.begin(), ignored.end(), key) != ignored.end()) continue;
+    const std::string a = k < here.size() ? here[k].second : "(none)";
+    const std::string b = k < given.size() ? given[k].second : "(none)";
+    if (a != b || k >= here.size() || k >= given.size() || here[k].first != given[k].first)
+      return key + ": " + a + " there, " + b + " here";
+  }
+  return "";
+}
+
+/// Parameters back from describe(): one of v and eta1 was derived from the other, and
+/// only rebuilding from the one that was given reproduces both bit for bit.
+Parameters rebuild_parameters(const std::vector<std::pair<std::string, std::string>>& described) {
+  for (const char* derived : {"eta1", "v"}) {
+    ParameterBuilder builder("reference");
+    try {
+      for (const auto& [key, value] : described)
+        if (key != derived) builder.set(key, value);
+      const Parameters p = builder.build();
+      if (describe(p) == described) return p;
+    } catch (const InputError&) {
+    }
+  }
+  throw InputError("run state: its parameters do not rebuild exactly (made by another version?)");
+}
+
+void put_batch(std::string& bytes, const BatchRecord& batch) {
+  io::put_bytes(bytes, batch.spectrum.save());
+  io::put<std::uint64_t>(bytes, batch.control.size());
+  io::put<std::uint64_t>(bytes, batch.own_mean.empty() ? 0 : batch.own_mean.front().size());
+  for (const auto& mean : batch.own_mean)
+    for (double x : mean) io::put<double>(bytes, x);
+  for (double x : batch.control) io::put<double>(bytes, x);
+  for (double x : batch.speed) io::put<double>(bytes, x);
+}
+
+BatchRecord get_batch(io::Reader& in) {
+  BatchRecord batch;
+  batch.spectrum = SpectrumAccumulator::load(in.get_bytes());
+  const auto count = in.get<std::uint64_t>();
+  const auto points = in.get<std::uint64_t>();
+  if (count > kBatchRealizations || points > 100000) throw InputError("run state: corrupt batch record");
+  batch.own_mean.assign(count, std::vector<double>(points));
+  for (auto& mean : batch.own_mean)
+    for (double& x : mean) x = in.get<double>();
+  batch.control.resize(count);
+  for (double& x : batch.control) x = in.get<double>();
+  batch.speed.resize(count);
+  for (double& x : batch.speed) x = in.get<double>();
+  return batch;
+}
+
+std::uint64_t realizations_in(const std::vector<BatchRecord>& batches) {
+  std::uint64_t count = 0;
+  for (const BatchRecord& batch : batches) count += batch.control.size();
+  return count;
+}
+
+}  // namespace
+
+struct RunSession::Impl {
+  Parameters params;
+  RunRequest request;
+  std::string case_name;
+  std::vector<SubBand> plan;
+  std::vector<std::int64_t> steps;  // per sub-band realization
+  std::vector<BandTotals> bands;
+  double wall_seconds = 0;          // over every advance, including before a resume
+
+  Impl(const Parameters& p, const RunRequest& r, std::string name)
+      : params(p), request(r), case_name(std::move(name)), plan(plan_sub_bands(p, r)) {
+    if (r.first_realization % kBatchRealizations != 0)
+      throw InputError("--realizations-range: FIRST must be a multiple of " + std::to_string(kBatchRealizations) +
+                       " (parts share the batches of the whole run)");
+    if (r.first_realization > 0 && r.realizations == 0)
+      throw InputError("--realizations-range: needs a fixed realization count (not --precision)");
+    for (SubBand& band : plan) {
+      steps.push_back(static_cast<std::int64_t>(std::ceil(band.duration / band.dt)));
+      band.duration = static_cast<double>(steps.back()) * band.dt;
+    }
+    bands.resize(plan.size());
+  }
+};
+
+RunSession::RunSession(const Parameters& params, const RunRequest& request, std::string case_name)
+    : impl_(std::make_unique<Impl>(params, request, std::move(case_name))) {}
+RunSession::RunSession(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+RunSession::~RunSession() = default;
+RunSession::RunSession(RunSession&&) noexcept = default;
+RunSession& RunSession::operator=(RunSession&&) noexcept = default;
+
+const Parameters& RunSession::parameters() const { return impl_->params; }
+const RunRequest& RunSession::request() const { return impl_->request; }
+const std::string& RunSession::case_name() const { return impl_->case_name; }
+
+void RunSession::set_execution(int threads, SimdPath simd) {
+  impl_->request.threads = threads;
+  impl_->request.simd = simd;
+}
+
+bool RunSession::finished() const {
+  return std::all_of(impl_->bands.begin(), impl_->bands.end(), [](const BandTotals& b) { return b.finished; });
+}
+
+bool RunSession::advance(const Control& control) {
+  Impl& s = *impl_;
+  const auto start = std::chrono::steady_clock::now();
+  auto last_checkpoint = start;
+  const Communicator alone;
+  const Communicator& comm = control.communicator ? *control.communicator : alone;
+  const bool fixed = s.request.realizations > 0;
+  const std::uint64_t initial = fixed ? s.request.realizations : kInitialRealizations;
+  const SimdPath simd = resolve_simd_path(s.request.simd);
+  auto add_wall_time = [&] {
+    s.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  const std::size_t band_count = s.plan.size();
+  for (std::size_t b = 0; b < band_count; ++b) {
+    BandTotals& totals = s.bands[b];
+    const SubBand& band = s.plan[b];
     StepperConfig stepper_config;
     stepper_config.dt = band.dt;
-    stepper_config.seed = request.seed;
+    stepper_config.seed = s.request.seed;
     stepper_config.stream = b;  // sub-bands are independent simulations
-    stepper_config.simd = result.simd_path;
-    const auto steps = static_cast<std::int64_t>(std::ceil(band.duration / band.dt));
-    band.duration = static_cast<double>(steps) * band.dt;
+    stepper_config.simd = simd;
+    const std::int64_t steps = s.steps[b];
     const std::size_t expected_points =
-        log_spaced_omegas(band.omega_low, band.omega_high * (1 + 1e-12), request.points_per_decade).size();
-
+        log_spaced_omegas(band.omega_low, band.omega_high * (1 + 1e-12), s.request.points_per_decade).size();
     const std::uint64_t most_realizations = std::max<std::uint64_t>(
         kInitialRealizations,
         std::min<std::uint64_t>(kMaxRealizationsPerBand,
                                 static_cast<std::uint64_t>(kMaxStepsPerBand / static_cast<double>(steps))));
-    std::uint64_t round_size = initial_realizations;
-    for (;;) {
-      const double band_fraction = static_cast<double>(b) / band_count;
-      auto round_progress = [&](double f) {
-        if (progress)
-          progress(band_fraction + f / band_count,
-                   "sub-band " + std::to_string(b + 1) + "/" + std::to_string(band_count) + ", round " +
-                       std::to_string(band.rounds + 1));
-      };
-      const bool finished = run_round(p, band, stepper_config, request, band.realizations, round_size,
-                                      steps, totals[b], stop, round_progress);
-      band.realizations = totals[b].realizations;
-      ++band.rounds;
-      if (!finished) {
-        interrupted = true;
+    if (totals.planned == 0) totals.planned = initial;
+
+    while (!totals.finished) {
+      if (totals.realizations < totals.planned) {
+        if (comm.any(control.stop && control.stop->load())) {
+          add_wall_time();
+          return false;
+        }
+        // This process's share of the chunk: a contiguous run of its batches.
+        const std::uint64_t chunk = std::min(totals.planned - totals.realizations,
+                                             kChunkBatches * kBatchRealizations * comm.size());
+        const std::uint64_t chunk_batches = (chunk + kBatchRealizations - 1) / kBatchRealizations;
+        const std::uint64_t first_batch = chunk_batches * comm.rank() / comm.size();
+        const std::uint64_t end_batch = chunk_batches * (comm.rank() + 1) / comm.size();
+        const std::uint64_t share_first = first_batch * kBatchRealizations;
+        const std::uint64_t share_end = std::min(chunk, end_batch * kBatchRealizations);
+        const std::uint64_t chunk_first = s.request.first_realization + totals.realizations;
+        auto chunk_progress = [&](double f) {
+          if (!control.progress) return;
+          const double in_band = (static_cast<double>(totals.realizations) + f * static_cast<double>(chunk)) /
+                                 static_cast<double>(totals.planned);
+          control.progress((static_cast<double>(b) + in_band) / static_cast<double>(band_count),
+                           "sub-band " + std::to_string(b + 1) + "/" + std::to_string(band_count) + ", round " +
+                               std::to_string(totals.rounds + 1));
+        };
+        std::vector<BatchRecord> records;
+        if (share_end > share_first)
+          records = run_batches_of(s.params, band, stepper_config, s.request, chunk_first + share_first,
+                                   share_end - share_first, steps, comm.size() > 1 ? nullptr : control.stop,
+                                   chunk_progress);
+        if (comm.size() > 1) {
+          std::string mine;
+          for (const BatchRecord& record : records) put_batch(mine, record);
+          records.clear();
+          for (const std::string& theirs : comm.all_gather(mine)) {
+            io::Reader in(theirs, "run state from another process");
+            while (!in.at_end()) records.push_back(get_batch(in));
+          }
+        }
+        const bool whole = records.size() == chunk_batches;
+        totals.realizations += realizations_in(records);
+        for (BatchRecord& record : records) totals.batches.push_back(std::move(record));
+        if (!whole) {
+          add_wall_time();
+          return false;
+        }
+        const auto now = std::chrono::steady_clock::now();
+        if (control.checkpoint && control.checkpoint_every > 0 &&
+            std::chrono::duration<double>(now - last_checkpoint).count() >= control.checkpoint_every) {
+          add_wall_time();
+          control.checkpoint(*this);
+          s.wall_seconds -= std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          last_checkpoint = now;
+        }
+        continue;
+      }
+      // A round is complete: stop, or plan the next from what it reached.
+      ++totals.rounds;
+      if (fixed) {
+        totals.finished = true;
         break;
       }
-      if (request.realizations > 0) break;
-      const double worst = worst_relative_error(band_spectrum(totals[b]), expected_points);
-      if (worst <= request.precision || band.realizations >= most_realizations) break;
+      const double worst = worst_relative_error(band_spectrum(totals, totals.merged()), expected_points);
+      if (worst <= s.request.precision || totals.realizations >= most_realizations) {
+        totals.finished = true;
+        break;
+      }
       // Standard errors fall as 1/sqrt(realizations): plan the total with a 30% margin, so
       // that a run stops because it planned enough, not because its error estimate happened
       // to dip below the target (which would bias the reported error bars low). At most
       // eight times more per round, so a noisy early estimate cannot run away.
-      const double factor = std::isfinite(worst) ? 1.3 * (worst / request.precision) * (worst / request.precision) : 8.0;
-      const auto wanted = static_cast<std::uint64_t>(std::ceil(static_cast<double>(band.realizations) *
+      const double factor = std::isfinite(worst) ? 1.3 * (worst / s.request.precision) * (worst / s.request.precision) : 8.0;
+      const auto wanted = static_cast<std::uint64_t>(std::ceil(static_cast<double>(totals.realizations) *
                                                                std::min(factor, 8.0)));
-      round_size = std::max<std::uint64_t>(wanted - band.realizations, kBatchRealizations);
+      std::uint64_t round_size = std::max<std::uint64_t>(wanted - totals.realizations, kBatchRealizations);
       round_size = (round_size + kBatchRealizations - 1) / kBatchRealizations * kBatchRealizations;
-      round_size = std::min(round_size, most_realizations - band.realizations);
+      round_size = std::min(round_size, most_realizations - totals.realizations);
+      totals.planned = totals.realizations + round_size;
     }
   }
+  add_wall_time();
+  return true;
+}
 
+RunResult RunSession::result() const {
+  const Impl& s = *impl_;
+  RunResult result;
+  result.sub_bands = s.plan;
+  result.simd_path = resolve_simd_path(s.request.simd);
+  result.threads = s.request.threads > 0 ? s.request.threads
+                                         : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   // Points, with the theory of the simulated (time-stepped) process seen through the
   // estimator: averaged over each point's bins and smoothed by the window exactly as the
   // estimate is. The continuous-time C_x at omega is reported beside it.
-  const LumpedTheory theory(p);
-  for (std::size_t b = 0; b < band_count; ++b) {
-    const std::vector<SpectrumPoint> estimated = band_spectrum(totals[b]);
-    const std::vector<SpectrumPoint> expected =
-        totals[b].spectrum.expected(SampledTheory(p, result.sub_bands[b].dt));
+  const LumpedTheory theory(s.params);
+  for (std::size_t b = 0; b < s.bands.size(); ++b) {
+    const BandTotals& totals = s.bands[b];
+    SubBand& band = result.sub_bands[b];
+    band.realizations = totals.realizations;
+    band.rounds = totals.rounds;
+    if (totals.batches.empty()) continue;
+    const SpectrumAccumulator merged = totals.merged();
+    const std::vector<SpectrumPoint> estimated = band_spectrum(totals, merged);
+    const std::vector<SpectrumPoint> expected = merged.expected(SampledTheory(s.params, band.dt));
     for (std::size_t k = 0; k < estimated.size(); ++k) {
       const SpectrumPoint& e = estimated[k];
       result.points.push_back(
           {e.omega, e.C, e.standard_error, expected[k].C, theory(e.omega), e.n_avg, e.bandwidth});
     }
-    result.simulated_time += static_cast<double>(totals[b].realizations) * result.sub_bands[b].duration;
-    result.miniblock_steps += totals[b].miniblock_steps;
+    result.simulated_time += static_cast<double>(totals.realizations) * band.duration;
+    result.miniblock_steps +=
+        static_cast<double>(s.params.N) * static_cast<double>(s.steps[b]) * static_cast<double>(totals.realizations);
   }
   std::sort(result.points.begin(), result.points.end(),
             [](const RunPoint& x, const RunPoint& y) { return x.omega < y.omega; });
 
-  if (!totals.empty() && totals[0].realizations > 0) {
-    const double n = static_cast<double>(totals[0].realizations);
-    result.mean_speed = totals[0].speed_sum / n;
-    const double variance = std::max(0.0, totals[0].speed_sum2 / n - result.mean_speed * result.mean_speed);
+  // The mean sliding speed, over the lowest sub-band's realizations (its longest).
+  if (!s.bands.empty() && s.bands[0].realizations > 0) {
+    double sum = 0, sum2 = 0;
+    for (const BatchRecord& batch : s.bands[0].batches)
+      for (double speed : batch.speed) sum += speed, sum2 += speed * speed;
+    const double n = static_cast<double>(s.bands[0].realizations);
+    result.mean_speed = sum / n;
+    const double variance = std::max(0.0, sum2 / n - result.mean_speed * result.mean_speed);
     result.mean_speed_error = n > 1 ? std::sqrt(variance / (n - 1)) : INFINITY;
   }
   result.reached_precision = 0;
   for (const RunPoint& point : result.points)
     result.reached_precision = std::max(result.reached_precision, point.standard_error / point.C_x);
   const std::size_t expected_total =
-      log_spaced_omegas(request.omega_min, request.omega_max, request.points_per_decade).size();
-  result.complete = !interrupted && result.points.size() == expected_total;
-  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      log_spaced_omegas(s.request.omega_min, s.request.omega_max, s.request.points_per_decade).size();
+  result.complete = finished() && result.points.size() == expected_total;
+  result.wall_seconds = s.wall_seconds;
   return result;
+}
+
+std::string RunSession::save() const {
+  const Impl& s = *impl_;
+  std::string bytes(kStateMagic, sizeof kStateMagic);
+  io::put<std::uint32_t>(bytes, kStateVersion);
+  const auto fields = fingerprint(s.params, s.request);
+  io::put<std::uint64_t>(bytes, fields.size());
+  for (const auto& [key, value] : fields) io::put_bytes(bytes, key), io::put_bytes(bytes, value);
+  io::put<std::int32_t>(bytes, s.request.threads);
+  io::put<std::int32_t>(bytes, static_cast<std::int32_t>(s.request.simd));
+  io::put_bytes(bytes, s.case_name);
+  io::put<double>(bytes, s.wall_seconds);
+  io::put<std::uint64_t>(bytes, s.bands.size());
+  for (const BandTotals& totals : s.bands) {
+    io::put<std::uint64_t>(bytes, totals.planned);
+    io::put<std::int32_t>(bytes, totals.rounds);
+    io::put<std::uint8_t>(bytes, totals.finished ? 1 : 0);
+    io::put<std::uint64_t>(bytes, totals.batches.size());
+    for (const BatchRecord& batch : totals.batches) put_batch(bytes, batch);
+  }
+  return bytes;
+}
+
+RunSession RunSession::load(const std::string& bytes) {
+  if (bytes.size() < sizeof kStateMagic || std::memcmp(bytes.data(), kStateMagic, sizeof kStateMagic) != 0)
+    throw InputError("run state: not a slidespec run state file");
+  io::Reader in(bytes, "run state");
+  for (std::size_t i = 0; i < sizeof kStateMagic; ++i) in.get<char>();
+  const auto version = in.get<std::uint32_t>();
+  if (version != kStateVersion)
+    throw InputError("run state: format version " + std::to_string(version) + ", this build reads version " +
+                     std::to_string(kStateVersion));
+  std::vector<std::pair<std::string, std::string>> fields(in.get<std::uint64_t>());
+  for (auto& [key, value] : fields) key = in.get_bytes(), value = in.get_bytes();
+  auto field = [&](const std::string& key) {
+    for (const auto& [k, value] : fields)
+      if (k == key) return value;
+    throw InputError("run state: no " + key + " recorded");
+  };
+  if (field("version") != SLIDESPEC_VERSION)
+    throw InputError("run state: made by slidespec " + field("version") + ", this is " SLIDESPEC_VERSION);
+  RunRequest request;
+  request.omega_min = std::stod(field("omega_min"));
+  request.omega_max = std::stod(field("omega_max"));
+  request.points_per_decade = std::stoi(field("points_per_decade"));
+  request.precision = std::stod(field("precision"));
+  request.duration = std::stod(field("duration"));
+  request.realizations = std::stoull(field("realizations"));
+  request.first_realization = std::stoull(field("first_realization"));
+  request.seed = std::stoull(field("seed"));
+  request.threads = in.get<std::int32_t>();
+  request.simd = static_cast<SimdPath>(in.get<std::int32_t>());
+  const std::vector<std::pair<std::string, std::string>> described(fields.begin(), fields.end() - 9);
+  const Parameters params = rebuild_parameters(described);
+  auto impl = std::make_unique<Impl>(params, request, in.get_bytes());
+  if (fingerprint(params, request) != fields) throw InputError("run state: its request does not rebuild exactly");
+  impl->wall_seconds = in.get<double>();
+  if (in.get<std::uint64_t>() != impl->bands.size())
+    throw InputError("run state: sub-band count does not match its request");
+  for (BandTotals& totals : impl->bands) {
+    totals.planned = in.get<std::uint64_t>();
+    totals.rounds = in.get<std::int32_t>();
+    totals.finished = in.get<std::uint8_t>() != 0;
+    totals.batches.resize(in.get<std::uint64_t>());
+    for (BatchRecord& batch : totals.batches) batch = get_batch(in);
+    totals.realizations = realizations_in(totals.batches);
+  }
+  if (!in.at_end()) throw InputError("run state: trailing bytes after the data");
+  return RunSession(std::move(impl));
+}
+
+std::string RunSession::difference(const Parameters& params, const RunRequest& request) const {
+  return first_difference(fingerprint(impl_->params, impl_->request), fingerprint(params, request));
+}
+
+RunSession RunSession::merge(std::vector<RunSession> parts) {
+  if (parts.empty()) throw InputError("merge: no parts given");
+  std::sort(parts.begin(), parts.end(), [](const RunSession& x, const RunSession& y) {
+    return x.request().first_realization < y.request().first_realization;
+  });
+  const auto reference = fingerprint(parts[0].parameters(), parts[0].request());
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const Impl& part = *parts[k].impl_;
+    const std::string differs =
+        first_difference(reference, fingerprint(part.params, part.request), {"realizations", "first_realization"});
+    if (!differs.empty()) throw InputError("merge: parts of different runs (" + differs + ")");
+    if (!parts[k].finished())
+      throw InputError("merge: part " + std::to_string(part.request.first_realization) + ":" +
+                       std::to_string(part.request.realizations) + " is incomplete (interrupted?)");
+    if (k > 0) {
+      const RunRequest& before = parts[k - 1].request();
+      const std::uint64_t end = before.first_realization + before.realizations;
+      if (part.request.first_realization < end)
+        throw InputError("merge: realization ranges overlap (" + std::to_string(before.first_realization) + ":" +
+                         std::to_string(before.realizations) + " and " +
+                         std::to_string(part.request.first_realization) + ":" +
+                         std::to_string(part.request.realizations) + ")");
+      if (end % kBatchRealizations != 0 || part.request.first_realization != end)
+        throw InputError("merge: realizations " + std::to_string(end) + " to " +
+                         std::to_string(part.request.first_realization) +
+                         " are missing, or a part other than the last ends inside a batch of " +
+                         std::to_string(kBatchRealizations));
+    }
+  }
+  RunRequest whole = parts[0].request();
+  whole.realizations = 0;
+  for (const RunSession& part : parts) whole.realizations += part.request().realizations;
+  auto impl = std::make_unique<Impl>(parts[0].parameters(), whole, parts[0].case_name());
+  for (RunSession& part : parts) {
+    impl->wall_seconds += part.impl_->wall_seconds;
+    for (std::size_t b = 0; b < impl->bands.size(); ++b) {
+      BandTotals& into = impl->bands[b];
+      BandTotals& from = part.impl_->bands[b];
+      for (BatchRecord& batch : from.batches) into.batches.push_back(std::move(batch));
+      into.realizations += from.realizations;
+      into.planned = into.realizations;
+      into.rounds = 1;
+      into.finished = true;
+    }
+  }
+  return RunSession(std::move(impl));
+}
+
+RunResult run_spectrum(const Parameters& params, const RunRequest& request, const ProgressCallback& progress,
+                       const std::atomic<bool>* stop) {
+  RunSession session(params, request);
+  RunSession::Control control;
+  control.progress = progress;
+  control.stop = stop;
+  session.advance(control);
+  return session.result();
 }
 
 }  // namespace slidespec

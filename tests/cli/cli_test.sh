@@ -85,6 +85,36 @@ status=$?
 [ $status -eq 130 ] || fail "interrupted run exited $status, expected 130"
 grep -q "^# complete = false" "$work/cut.tsv" 2>/dev/null || fail "interrupted run did not write an incomplete table"
 
+# ... and saves the run, which --resume continues to the numbers of an uninterrupted run.
+band="--case many-contacts --omega-min 1 --omega-max 1000 --precision 0.01 --seed 5 --no-plot --quiet"
+"$bin" run $band --out "$work/whole" || fail "uninterrupted run failed"
+"$bin" run $band --checkpoint-every 0.2 --out "$work/cut2" &
+pid=$!
+sleep 0.7
+kill -INT $pid
+wait $pid
+[ -s "$work/cut2.state" ] || fail "interrupted run saved no state"
+expect_refused resume-other-seed "seed" run --resume "$work/cut2" --seed 6 --out "$work/out"
+expect_refused resume-missing "cannot read" run --resume "$work/nothing" --out "$work/out"
+"$bin" run --resume "$work/cut2" --threads 1 --quiet --no-plot || fail "resume failed"
+cmp -s "$work/whole.tsv" "$work/cut2.tsv" || fail "resumed run differs from the uninterrupted run"
+[ -e "$work/cut2.state" ] && fail "a finished run left its checkpoint behind"
+
+# A run split into parts (a job array) merges bitwise into the whole run.
+split="--omega-min 10 --omega-max 1000 --seed 7 --no-plot --quiet"
+"$bin" run $split --realizations 40 --out "$work/all" || fail "40-realization run failed"
+"$bin" run $split --realizations-range 0:16 --save-state "$work/a.state" --out "$work/a" || fail "part 0:16 failed"
+"$bin" run $split --realizations-range 16:24 --save-state "$work/b.state" --out "$work/b" --threads 1 \
+  || fail "part 16:24 failed"
+"$bin" merge "$work/b.state" "$work/a.state" --out "$work/merged" --quiet --no-plot || fail "merge failed"
+cmp -s "$work/all.tsv" "$work/merged.tsv" || fail "merged parts differ from the whole run"
+expect_refused merge-overlap overlap merge "$work/a.state" "$work/a.state" --out "$work/out"
+"$bin" run --omega-min 10 --omega-max 1000 --seed 8 --no-plot --quiet --realizations-range 16:24 --save-state "$work/c.state" --out "$work/c" \
+  || fail "part of another seed failed"
+expect_refused merge-other-run "seed" merge "$work/a.state" "$work/c.state" --out "$work/out"
+expect_refused merge-not-a-state "not a slidespec run state" merge "$work/all.tsv" --out "$work/out"
+expect_refused range-unaligned "multiple of 8" run $split --realizations-range 4:8 --out "$work/out"
+
 # Warnings outside the first-order theory, without refusing.
 "$bin" run --set N=7 --set F_drive=8 --set F_kin=6 --set a=3e-4 --omega-min 100 --omega-max 1000 \
   --precision 0.3 --out "$work/stall" --no-plot 2> "$work/stall.err" || fail "stall-region run refused"
