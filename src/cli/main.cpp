@@ -13,8 +13,12 @@
 #include <functional>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
+#ifdef SLIDESPEC_MPI
+#include "cli/mpi.hpp"
+#endif
 #include "cli/plot.hpp"
 #include "cli/progress.hpp"
 #include "io/atomic_file.hpp"
@@ -268,6 +272,47 @@ int command_merge(const std::vector<std::string>& paths, RunOptions options) {
   return 0;
 }
 
+/// A list of values of one parameter, one run each (all cores, or all ranks, each), and
+/// an overlay of their spectra. Every value is validated before the first run starts.
+int command_sweep(const ModelOptions& model, const std::string& sweep, RunOptions options) {
+  const auto equals = sweep.find('=');
+  if (equals == std::string::npos || equals == 0 || equals + 1 == sweep.size())
+    throw InputError("sweep: expected KEY=V1,V2,..., got '" + sweep + "'");
+  const std::string key = sweep.substr(0, equals);
+  std::vector<std::string> values;
+  std::stringstream list(sweep.substr(equals + 1));
+  for (std::string value; std::getline(list, value, ',');) {
+    if (value.empty()) throw InputError("sweep: an empty value in '" + sweep + "'");
+    values.push_back(value);
+  }
+  options.request.simd = parse_simd_path(options.simd);
+  resolve_simd_path(options.request.simd);
+  std::vector<Parameters> params;
+  for (const std::string& value : values) {
+    ModelOptions one = model;
+    one.overrides.push_back(key + "=" + value);
+    params.push_back(one.build());
+    RunSession check(params.back(), options.request);  // validates the band for this value
+  }
+  io::check_output_prefix(options.out);
+  catch_stop_signals();
+  std::vector<std::string> tables;
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    if (!options.quiet && writes_outputs())
+      std::cerr << "slidespec: sweep " << k + 1 << "/" << values.size() << ": " << key << " = " << values[k] << "\n";
+    const std::string out = options.out + "_" + key + "=" + values[k];
+    RunOptions single = options;
+    single.no_plot = true;
+    const RunResult result = run_and_write(params[k], model.case_name, single, out);
+    tables.push_back(out + ".tsv");
+    if (!result.complete && stop_requested) return 128 + stop_signal;
+  }
+  if (options.no_plot || !writes_outputs()) return 0;
+  const int status = cli::plot(tables, options.out + ".png", model.case_name + ": sweep of " + key);
+  if (status == 0 && !options.quiet) std::cerr << "slidespec: drew " << options.out << ".png\n";
+  return status == 0 ? 0 : 1;
+}
+
 struct PlotOptions {
   std::vector<std::string> tables;
   std::string out;
@@ -321,6 +366,15 @@ int command_paper(const std::string& figure, RunOptions options, const std::stri
 }  // namespace
 
 int main(int argc, char** argv) {
+#ifdef SLIDESPEC_MPI
+  cli::MpiWorld mpi(argc, argv);
+  if (mpi.size() > 1) communicator = &mpi;
+  // Ranks on one machine share its cores.
+  const int default_threads =
+      std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / mpi.ranks_on_this_node());
+#else
+  const int default_threads = 0;
+#endif
   CLI::App app{"slidespec: power spectra of frictional sliding noise (Xu, Zhou, Persson model)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", SLIDESPEC_VERSION);
@@ -369,6 +423,25 @@ int main(int argc, char** argv) {
   // A resumed run checks what was given against what it saved.
   auto run_given = [&](const char* name) { return run_command->count(name) > 0; };
 
+  ModelOptions sweep_model;
+  RunOptions sweep_options;
+  std::string sweep_values;
+  CLI::App* sweep_command =
+      app.add_subcommand("sweep", "one run per value of a parameter, and their spectra in one picture");
+  sweep_command->add_option("values", sweep_values, "KEY=V1,V2,... (e.g. alpha=0.1,0.5,1)")->required();
+  sweep_model.add_to(*sweep_command);
+  sweep_command->add_option("--omega-min", sweep_options.request.omega_min, "lowest omega [rad/s]");
+  sweep_command->add_option("--omega-max", sweep_options.request.omega_max, "highest omega [rad/s]");
+  sweep_command->add_option("--points", sweep_options.request.points_per_decade, "points per decade");
+  sweep_command->add_option("--precision", sweep_options.request.precision, "target relative standard error");
+  sweep_command->add_option("--realizations", sweep_options.request.realizations, "realizations per sub-band");
+  sweep_command->add_option("--seed", sweep_options.request.seed, "random seed");
+  sweep_command->add_option("--threads", sweep_options.request.threads, "threads (default: all cores)");
+  sweep_command->add_option("--simd", sweep_options.simd, "scalar|sse2|avx2|avx512|auto");
+  sweep_command->add_option("--out", sweep_options.out, "output prefix: PREFIX_KEY=V.tsv ..., PREFIX.png");
+  sweep_command->add_flag("--quiet", sweep_options.quiet, "no progress, no summary");
+  sweep_command->add_flag("--no-plot", sweep_options.no_plot, "skip PREFIX.png");
+
   std::vector<std::string> merge_parts;
   RunOptions merge_options;
   CLI::App* merge_command =
@@ -399,10 +472,13 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+    for (RunOptions* options : {&run_options, &paper_options, &sweep_options})
+      if (options->request.threads == 0) options->request.threads = default_threads;
     if (*cases_command) return command_cases();
     if (*theory_command) return command_theory(theory_model, theory_options);
     if (*run_command) return command_run(run_model, run_options, run_given);
     if (*merge_command) return command_merge(merge_parts, merge_options);
+    if (*sweep_command) return command_sweep(sweep_model, sweep_values, sweep_options);
     if (*plot_command) return command_plot(plot_options);
     if (*paper_command) return command_paper(figure, paper_options, paper_directory);
   } catch (const CLI::CallForHelp& e) {
@@ -412,10 +488,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "slidespec: error: " << e.what() << "\n";
+    if (writes_outputs()) std::cerr << "slidespec: error: " << e.what() << "\n";
     return 2;
   } catch (const InputError& e) {
-    std::cerr << "slidespec: error: " << e.what() << "\n";
+    if (writes_outputs()) std::cerr << "slidespec: error: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "slidespec: failed: " << e.what() << "\n";

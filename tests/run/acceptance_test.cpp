@@ -58,6 +58,13 @@ TEST_P(Acceptance, DeviationsFromTheoryAreStandardNormal) {
   const Parameters p = builder.build();
   const RunResult result = run_spectrum(p, request_for(s));
   ASSERT_TRUE(result.complete);
+  // The simulation is the full model, the theory its first order: they differ by terms of
+  // order eps^2 (the mean speed by eps^2/2 exactly). Where eps^2 reaches 1%, the error bars
+  // (0.3..1% at most points, well below the 5% target, since the lowest point of each
+  // sub-band sets the work) resolve those terms; there each point must lie within
+  // 3 eps^2 of the theory, up to 3 standard errors, instead of scattering as N(0, 1).
+  const double eps = landmarks(p).coupling_eps;
+  const bool second_order_resolved = eps * eps >= 0.01;
   int within_two = 0, beyond_three = 0;
   double worst = 0;
   for (const RunPoint& point : result.points) {
@@ -65,6 +72,10 @@ TEST_P(Acceptance, DeviationsFromTheoryAreStandardNormal) {
     within_two += std::fabs(z) <= 2;
     beyond_three += std::fabs(z) > 3;
     worst = std::max(worst, std::fabs(point.C_x / point.theory - 1));
+    if (second_order_resolved) {
+      EXPECT_LE(std::fabs(point.C_x - point.theory), 3 * eps * eps * point.theory + 3 * point.standard_error)
+          << s.name << " omega " << point.omega;
+    }
   }
   const int n = static_cast<int>(result.points.size());
 #ifdef SLIDESPEC_LONG_ACCEPTANCE
@@ -79,12 +90,13 @@ TEST_P(Acceptance, DeviationsFromTheoryAreStandardNormal) {
   const int most_outside_two = binomial_bound(n, 0.0455);
   const int most_beyond_three = binomial_bound(n, 0.0027);
 #endif
-  EXPECT_LE(n - within_two, most_outside_two) << s.name;
-  EXPECT_LE(beyond_three, most_beyond_three) << s.name;
+  if (!second_order_resolved) {
+    EXPECT_LE(n - within_two, most_outside_two) << s.name;
+    EXPECT_LE(beyond_three, most_beyond_three) << s.name;
+  }
   EXPECT_LT(worst, 0.15) << s.name;
   EXPECT_LE(result.reached_precision, request_for(s).precision) << s.name;
   // The measured mean speed: v / (1 + eps^2/2) to second order (docs/model.md).
-  const double eps = landmarks(p).coupling_eps;
   EXPECT_NEAR(result.mean_speed, p.v / (1 + 0.5 * eps * eps), 4 * result.mean_speed_error + 1e-3 * p.v)
       << s.name;
 }
