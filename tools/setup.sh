@@ -2,6 +2,7 @@
 # Installs the Debian packages slidespec needs (only those missing), then configures and
 # builds into build/. Idempotent: with everything in place it only runs an incremental build.
 # Extra CMake options: SLIDESPEC_CMAKE_ARGS="-DSLIDESPEC_BUILD_BENCHMARKS=OFF" tools/setup.sh
+# The MPI build (OpenMPI, into build-mpi/, the executable only): SLIDESPEC_MPI=ON tools/setup.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -9,6 +10,8 @@ packages=(cmake ninja-build g++ pkg-config git
           libeigen3-dev libxsimd-dev libfftw3-dev librandom123-dev
           libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
           python3 python3-numpy python3-matplotlib)
+mpi=${SLIDESPEC_MPI:-OFF}
+[ "$mpi" = "ON" ] && packages+=(libopenmpi-dev openmpi-bin)
 missing=()
 for package in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" \
@@ -23,13 +26,20 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 cmake_args=(-DCMAKE_BUILD_TYPE=Release)
+build=build
+targets=()
+if [ "$mpi" = "ON" ]; then
+  build=build-mpi
+  cmake_args+=(-DSLIDESPEC_MPI=ON -DSLIDESPEC_BUILD_BENCHMARKS=OFF)
+  targets=(--target slidespec)
+fi
 # CI holds the code to zero warnings.
 [ "${CI:-}" = "true" ] && cmake_args+=(-DSLIDESPEC_WERROR=ON)
 # shellcheck disable=SC2206
 cmake_args+=(${SLIDESPEC_CMAKE_ARGS:-})
-if [ ! -f build/build.ninja ]; then
-  cmake -S . -B build -G Ninja "${cmake_args[@]}" >&2
+if [ ! -f "$build/build.ninja" ]; then
+  cmake -S . -B "$build" -G Ninja "${cmake_args[@]}" >&2
 else
-  cmake -S . -B build "${cmake_args[@]}" > /dev/null
+  cmake -S . -B "$build" "${cmake_args[@]}" > /dev/null
 fi
-cmake --build build -j"$(nproc)" >&2
+cmake --build "$build" -j"$(nproc)" "${targets[@]}" >&2
