@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/analyze.hpp"
 #include "cli/plot.hpp"
 #include "cli/progress.hpp"
 #include "io/atomic_file.hpp"
@@ -261,8 +262,11 @@ int main(int argc, char** argv) {
   paper_command->add_option("--simd", paper_options.simd, "scalar|sse2|avx2|avx512|auto");
   paper_command->add_flag("--quiet", paper_options.quiet, "no progress, no summary");
 
+  const cli::AnalysisCommands analysis_commands(app);
+
   try {
     app.parse(argc, argv);
+    if (const auto status = analysis_commands.run()) return *status;
     if (*cases_command) return command_cases();
     if (*theory_command) return command_theory(theory_model, theory_options);
     if (*run_command) return command_run(run_model, run_options);
