@@ -35,6 +35,8 @@ PEAK_NOTE = ("No peak near 4e4 rad/s: the model's equations overdamp the miniblo
              "(docs/model.md)")
 
 EQ1_ID = "eq1"  # marks the Eq. (1) lines, which share one legend entry
+FLOOR_ID = "floor"  # the sensor's noise floor of measured data
+FIT_ID = "fit"  # a power law fitted to measured data
 
 # name of the column holding the quantity, y-axis label
 KINDS = {
@@ -225,6 +227,8 @@ def plot_spectrum(axes, spectrum, label, color, args):
             error = _log_error_bars(values[keep], (columns["stderr"] * factor)[keep])
         handle = axes.errorbar(x, y, yerr=error, fmt="o", markersize=3, color=color,
                                elinewidth=0.8, capsize=0, label=label, zorder=3)
+        if "below_floor" in columns:
+            _plot_sensor_limits(axes, columns, factor, keep, x, y)
         if "theory" in columns:
             tx, ty, _ = _log_positive(omega, columns["theory"] * factor)
             axes.plot(tx, ty, "-", color=color, linewidth=1.2, zorder=2)
@@ -234,6 +238,21 @@ def plot_spectrum(axes, spectrum, label, color, args):
     if not args.no_eq1:
         _plot_eq1(axes, spectrum, columns, factor)
     return omega, handle
+
+
+def _plot_sensor_limits(axes, columns, factor, keep, x, y):
+    """Measured data (`slidespec analyze`): the sensor's noise floor as a grey dash-dot line,
+    points indistinguishable from it drawn hollow, and a fitted power law if there is one."""
+    below = columns["below_floor"][keep] > 0
+    axes.plot(x[below], y[below], "o", markersize=5, markerfacecolor="white",
+              markeredgecolor="0.5", zorder=4, gid=FLOOR_ID)
+    fx, fy, _ = _log_positive(columns["omega"], columns["floor"] * factor)
+    if fx.size >= 2:
+        axes.plot(fx, fy, "-.", color="0.45", linewidth=1.0, zorder=1, gid=FLOOR_ID)
+    if "fit" in columns:
+        sx, sy, _ = _log_positive(columns["omega"], columns["fit"] * factor)
+        if sx.size >= 2:
+            axes.plot(sx, sy, "-", color="black", linewidth=2.2, alpha=0.45, zorder=5, gid=FIT_ID)
 
 
 def _log_error_bars(values, stderr):
@@ -312,6 +331,14 @@ def render(spectra, labels, args):
     if any(line.get_gid() == EQ1_ID for line in axes.lines):
         handles.append(Line2D([], [], linestyle="--", color="black", linewidth=0.9,
                               label="Eq. (1)"))
+    if any(line.get_gid() == FLOOR_ID for line in axes.lines):
+        handles.append(Line2D([], [], linestyle="-.", color="0.45", marker="o",
+                              markerfacecolor="white", markeredgecolor="0.5",
+                              label="sensor floor; hollow: at or below it"))
+    if any(line.get_gid() == FIT_ID for line in axes.lines):
+        slope = spectra[0].metadata.get("slope", "").split()
+        text = f"fit: slope {float(slope[0]):.2f}" if slope and _is_float(slope[0]) else "fit"
+        handles.append(Line2D([], [], color="black", linewidth=2.2, alpha=0.45, label=text))
     axes.legend(handles=handles, fontsize=9, loc="best", framealpha=0.85, edgecolor="none")
     return figure
 

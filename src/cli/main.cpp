@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "cli/analyze.hpp"
 #ifdef SLIDESPEC_MPI
 #include "cli/mpi.hpp"
 #endif
@@ -470,10 +471,13 @@ int main(int argc, char** argv) {
   paper_command->add_option("--simd", paper_options.simd, "scalar|sse2|avx2|avx512|auto");
   paper_command->add_flag("--quiet", paper_options.quiet, "no progress, no summary");
 
+  const cli::AnalysisCommands analysis_commands(app);
+
   try {
     app.parse(argc, argv);
     for (RunOptions* options : {&run_options, &paper_options, &sweep_options})
       if (options->request.threads == 0) options->request.threads = default_threads;
+    if (const auto status = analysis_commands.run()) return *status;
     if (*cases_command) return command_cases();
     if (*theory_command) return command_theory(theory_model, theory_options);
     if (*run_command) return command_run(run_model, run_options, run_given);

@@ -1,0 +1,165 @@
+// Measured sliding-distance records (the paper's experimental half): reading a sensor
+// record, removing the mean sliding v t, the spectrum of xi with the sensor's
+// quantization floor, the slope of C_x ~ omega^-n and a fit of the model's alpha.
+// Method and error bars: docs/analysis.md.
+#pragma once
+
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "slidespec/estimator.hpp"
+#include "slidespec/parameters.hpp"
+
+namespace slidespec {
+
+/// Unit of a record's displacement column.
+enum class LengthUnit { m, mm, um };
+
+/// Parses m|mm|um; throws InputError.
+LengthUnit parse_length_unit(const std::string& name);
+const char* to_string(LengthUnit unit);
+/// Metres in one `unit`.
+double metres_per(LengthUnit unit);
+
+/// How to read a record. Without a header line, columns are named by number ("1", "2", ...).
+struct RecordFormat {
+  std::string column;         ///< displacement column; empty: "x", else the only non-time column
+  std::string time_column;    ///< empty: a column named t or time (any case), or column 1 of 2
+  double dt = 0;              ///< > 0: fixed sampling interval [s], no time column is read
+  LengthUnit unit = LengthUnit::m;
+  double time_tolerance = 0.01;  ///< largest |interval - dt| / dt accepted [-]
+};
+
+/// A uniformly sampled displacement record x_n = x(t_0 + n dt).
+struct Record {
+  std::vector<double> displacement;  ///< x_n [m]
+  double dt = 0;                     ///< sampling interval [s]
+  double start_time = 0;             ///< t_0 [s]
+  std::string column;                ///< the displacement column read
+};
+
+/// Reads CSV, TSV or whitespace-separated text: '#' comments, blank lines, an optional
+/// header. Throws InputError naming `source` and the line for a missing column, a field
+/// that is not a finite number, a wrong field count, non-increasing time, a gap or jitter
+/// beyond `time_tolerance`, or fewer than two samples.
+Record read_record(std::istream& in, const std::string& source, const RecordFormat& format);
+/// The same from a file; a file that cannot be opened is an InputError.
+Record read_record_file(const std::string& path, const RecordFormat& format);
+
+/// The mean sliding motion x = x_0 + v (t - t_0), fitted by least squares.
+struct SlidingFit {
+  double v = 0;         ///< mean sliding speed [m/s]
+  double v_error = 0;   ///< its standard error, from the scatter of the speeds of blocks [m/s]
+  double x0 = 0;        ///< x at t_0 [m]
+  double xi_rms = 0;    ///< rms of xi about the line [m]
+  int blocks = 0;       ///< blocks behind v_error
+};
+
+SlidingFit fit_sliding(const Record& record);
+/// xi_n = x_n - x_0 - v n dt [m].
+std::vector<double> sliding_fluctuation(const Record& record, const SlidingFit& fit);
+
+/// Friction coefficient of the paper's slider, mu = M'/M: M the mass loading the block
+/// (normal force M g), M' the hanging mass pulling it (driving force M' g). Throws
+/// InputError unless both are positive.
+double friction_coefficient(double normal_load_mass, double driving_mass);
+
+struct AnalysisRequest {
+  double omega_min = 0;        ///< [rad/s]; 0 = the lowest the record length allows
+  double omega_max = 0;        ///< [rad/s]; 0 = half of Nyquist
+  int points_per_decade = 8;
+  double resolution = 0;       ///< sensor resolution q [m]; 0 = no quantization floor
+  double sensor_noise = 0;     ///< rms white noise of the sensor before quantization [m]
+};
+
+/// One point of a measured spectrum.
+struct AnalysisPoint {
+  double omega;           ///< [rad/s]
+  double C_x;             ///< estimate of the sampled xi's spectrum, mean over the point's bins [m^2 s]
+  double standard_error;  ///< from the scatter between the record's segments [m^2 s]
+  double noise_floor;     ///< sensor noise q^2/12 + sigma^2, white, seen through the estimator [m^2 s]
+  double n_avg;           ///< periodogram values averaged
+  double bandwidth;       ///< resolution bandwidth [rad/s]
+  bool below_floor;       ///< C_x < noise_floor + 2 standard_error: indistinguishable from sensor noise
+};
+
+struct RecordSpectrum {
+  std::vector<AnalysisPoint> points;
+  SpectrumAccumulator accumulator;  ///< for expected(): any true spectrum seen through these bins
+  SlidingFit sliding;
+  std::size_t samples = 0;
+  double dt = 0;                    ///< [s]
+  double duration = 0;              ///< samples x dt [s]
+  double quantization_variance = 0; ///< q^2/12 [m^2]
+  double sensor_noise_variance = 0; ///< sigma^2 [m^2]
+  /// C_x / floor at the highest point: well below 1 means the quantization error is not
+  /// white (a steady ramp read without dither; docs/analysis.md), 0 without a floor.
+  double top_to_floor = 0;
+  /// The usable band: from the lowest point (set by the record length) to the highest point
+  /// below the first one where the floor exceeds a tenth of C_x (or the highest point).
+  double usable_low = 0, usable_high = 0;
+  bool usable_high_set_by_floor = false;  ///< else by the estimator's top (half of Nyquist)
+};
+
+/// Fits and removes v t, then estimates C_x(omega) with the SpectrumEstimator (one lane,
+/// the conventions of MODEL.md section 3). Throws InputError when the record is too short
+/// for a single point or the band does not fit the sampling.
+RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& request);
+
+/// C_x ~ omega^slope over a band: weighted least squares of ln(C_x - floor) on ln omega,
+/// over the points of the band that stand out of the floor.
+struct SlopeFit {
+  double omega_low = 0, omega_high = 0;  ///< the band asked for [rad/s]
+  int points = 0;                        ///< points inside it
+  double slope = 0;                      ///< exponent of C_x, -n [-]
+  double slope_error = 0;                ///< standard error, scaled up by sqrt(chi2/dof) when > 1
+  double chi2_per_dof = 0;
+  double amplitude = 0;                  ///< C_x at omega = 1 rad/s on the fitted line [m^2 s]
+  /// Exponent of the force spectrum M^2 omega^4 C_x (MODEL.md section 5): slope + 4.
+  double force_slope() const { return slope + 4; }
+  bool reaches_floor = false;            ///< a point of the band is beyond the usable band
+};
+
+/// Throws InputError when the band holds fewer than 3 points.
+SlopeFit fit_slope(const RecordSpectrum& spectrum, double omega_low, double omega_high);
+
+/// alpha of a model case fitted to the measured spectrum: C_x = alpha^2 T(omega) + floor,
+/// with T the exact theory at alpha = 1 seen through the estimator's bins and window.
+struct AlphaFit {
+  double omega_low = 0, omega_high = 0;  ///< [rad/s]
+  int points = 0;
+  double alpha = 0;
+  double alpha_error = 0;                ///< standard error, scaled up by sqrt(chi2/dof) when > 1
+  double chi2_per_dof = 0;
+};
+
+/// The model's spectrum at `params` (its own alpha) seen through the estimator, one value
+/// per point of `spectrum` [m^2 s], without the floor.
+std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Parameters& params);
+
+/// Weighted least squares for alpha^2 over the points in [omega_low, omega_high]; the
+/// alpha of `params` is ignored. Throws InputError when the band holds no point.
+AlphaFit fit_alpha(const RecordSpectrum& spectrum, const Parameters& params, double omega_low,
+                   double omega_high);
+
+/// What a displacement sensor records of a simulated slider.
+struct SensorRequest {
+  double sample_interval = 1e-3;  ///< [s]
+  double duration = 1000;         ///< [s]
+  double resolution = 0.5e-6;     ///< q [m]; readings are whole multiples of q; 0 = exact
+  /// rms white noise added before quantization [m]. At q/2 or more it makes the
+  /// quantization error white (q^2/12); without it the error of a steady ramp is not.
+  double sensor_noise = 0.25e-6;
+  std::uint64_t seed = 1;
+};
+
+/// Simulates one realization of the model with the library's stepper (time step = the
+/// sample interval, exact for any step) and returns x = v t + xi as the sensor reads it.
+Record synthesize_record(const Parameters& params, const SensorRequest& sensor);
+
+/// The record as CSV: '#' lines from `comments`, a header "t,x", time in s, x in `unit`.
+std::string record_csv(const Record& record, LengthUnit unit, const std::string& comments);
+
+}  // namespace slidespec

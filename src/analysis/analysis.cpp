@@ -1,0 +1,274 @@
+// From a record to its spectrum, the sensor's floor, and the two fits (docs/analysis.md).
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "slidespec/analysis.hpp"
+#include "slidespec/theory.hpp"
+
+namespace slidespec {
+
+namespace {
+
+struct Line {
+  double intercept, slope;
+};
+
+/// Least-squares line through (i dt, x_i) for i in [first, last).
+Line fit_line(const std::vector<double>& x, std::size_t first, std::size_t last, double dt) {
+  const double count = static_cast<double>(last - first);
+  const double t_mean = 0.5 * (count - 1) * dt;
+  double x_mean = 0;
+  for (std::size_t i = first; i < last; ++i) x_mean += x[i];
+  x_mean /= count;
+  double sxy = 0, sxx = 0;
+  for (std::size_t i = first; i < last; ++i) {
+    const double t = static_cast<double>(i - first) * dt - t_mean;
+    sxy += t * (x[i] - x_mean);
+    sxx += t * t;
+  }
+  const double slope = sxy / sxx;
+  return {x_mean - slope * t_mean, slope};
+}
+
+// xi is correlated over ~a/v (seconds) and diffusive beyond, so the per-sample least-squares
+// error of v would be far too small; the scatter of the speeds of long blocks is honest.
+constexpr int kSpeedBlocks = 16;
+constexpr std::size_t kMinBlockSamples = 8;
+
+// The usable band ends where the sensor's floor reaches this fraction of the estimate.
+constexpr double kFloorShareOfUsable = 0.1;
+
+/// Weighted least squares y = a + b u with standard errors of y; returns a, b, var(b), chi2.
+struct WeightedLine {
+  double a, b, b_variance, chi2;
+};
+
+WeightedLine weighted_line(const std::vector<double>& u, const std::vector<double>& y,
+                           const std::vector<double>& sigma) {
+  double s = 0, su = 0, sy = 0, suu = 0, suy = 0;
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    const double w = 1 / (sigma[k] * sigma[k]);
+    s += w, su += w * u[k], sy += w * y[k], suu += w * u[k] * u[k], suy += w * u[k] * y[k];
+  }
+  const double determinant = s * suu - su * su;
+  const double b = (s * suy - su * sy) / determinant;
+  const double a = (sy - b * su) / s;
+  double chi2 = 0;
+  for (std::size_t k = 0; k < u.size(); ++k) chi2 += std::pow((y[k] - a - b * u[k]) / sigma[k], 2);
+  return {a, b, s / determinant, chi2};
+}
+
+/// A least-squares error inflated when the scatter says the model does not describe the
+/// data to within the error bars (chi2/dof > 1), never shrunk below the statistical one.
+double inflated(double error, double chi2_per_dof) { return error * std::sqrt(std::max(1.0, chi2_per_dof)); }
+
+// A point needs 12 segments: the first after one segment, then one every quarter segment.
+constexpr double kSegmentsForLowestPoint = 1 + 11 / 4.0;
+
+/// The lowest omega of the log grid 10^(k/points_per_decade) whose band fits 12 segments
+/// into the record; the estimator leaves out a point that still falls short.
+double lowest_omega(const Record& record, const AnalysisRequest& request) {
+  const double duration = static_cast<double>(record.displacement.size()) * record.dt;
+  EstimatorConfig probe;
+  probe.dt = record.dt;
+  probe.omega_min = 2 * std::numbers::pi / duration;
+  probe.points_per_decade = request.points_per_decade;
+  const SpectrumEstimator layout(probe, 1);
+  const double step = std::pow(10.0, 1.0 / request.points_per_decade);
+  double omega = std::pow(10.0, std::ceil(std::log10(probe.omega_min) * request.points_per_decade) /
+                                    request.points_per_decade);
+  while (kSegmentsForLowestPoint * layout.segment_duration(omega) > duration && omega < 0.25 * std::numbers::pi / record.dt)
+    omega *= step;
+  return omega;
+}
+
+}  // namespace
+
+SlidingFit fit_sliding(const Record& record) {
+  const std::vector<double>& x = record.displacement;
+  const Line line = fit_line(x, 0, x.size(), record.dt);
+  SlidingFit fit;
+  fit.v = line.slope;
+  fit.x0 = line.intercept;
+  double sum2 = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) sum2 += std::pow(x[i] - fit.x0 - fit.v * i * record.dt, 2);
+  fit.xi_rms = std::sqrt(sum2 / static_cast<double>(x.size()));
+
+  const std::size_t block = x.size() / kSpeedBlocks;
+  if (block >= kMinBlockSamples) {
+    double mean = 0, mean2 = 0;
+    for (int b = 0; b < kSpeedBlocks; ++b) {
+      const double speed = fit_line(x, b * block, (b + 1) * block, record.dt).slope;
+      mean += speed / kSpeedBlocks;
+      mean2 += speed * speed / kSpeedBlocks;
+    }
+    const double variance = std::max(0.0, mean2 - mean * mean) * kSpeedBlocks / (kSpeedBlocks - 1);
+    fit.v_error = std::sqrt(variance / kSpeedBlocks);
+    fit.blocks = kSpeedBlocks;
+  }
+  return fit;
+}
+
+std::vector<double> sliding_fluctuation(const Record& record, const SlidingFit& fit) {
+  std::vector<double> xi(record.displacement.size());
+  for (std::size_t i = 0; i < xi.size(); ++i)
+    xi[i] = record.displacement[i] - fit.x0 - fit.v * static_cast<double>(i) * record.dt;
+  return xi;
+}
+
+double friction_coefficient(double normal_load_mass, double driving_mass) {
+  if (!(normal_load_mass > 0 && std::isfinite(normal_load_mass)))
+    throw InputError("--normal-mass: must be a positive mass in kg");
+  if (!(driving_mass > 0 && std::isfinite(driving_mass)))
+    throw InputError("--driving-mass: must be a positive mass in kg");
+  return driving_mass / normal_load_mass;
+}
+
+RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& request) {
+  if (request.resolution < 0 || !std::isfinite(request.resolution))
+    throw InputError("--resolution: must be a length >= 0 in metres");
+  if (request.sensor_noise < 0 || !std::isfinite(request.sensor_noise))
+    throw InputError("--sensor-noise: must be a length >= 0 in metres");
+  if (request.points_per_decade < 1 || request.points_per_decade > 100)
+    throw InputError("--points: must be between 1 and 100 per decade");
+  RecordSpectrum result;
+  result.samples = record.displacement.size();
+  result.dt = record.dt;
+  result.duration = static_cast<double>(result.samples) * record.dt;
+  result.sliding = fit_sliding(record);
+  result.quantization_variance = request.resolution * request.resolution / 12;
+  result.sensor_noise_variance = request.sensor_noise * request.sensor_noise;
+
+  EstimatorConfig config;
+  config.dt = record.dt;
+  config.omega_min = request.omega_min > 0 ? request.omega_min : lowest_omega(record, request);
+  config.omega_max = request.omega_max;
+  config.points_per_decade = request.points_per_decade;
+  config.input = SampleKind::value;
+  SpectrumEstimator estimator(config, 1);
+  const std::vector<double> xi = sliding_fluctuation(record, result.sliding);
+  estimator.push(xi.data(), xi.size());
+  result.accumulator = estimator.merged();
+
+  const std::vector<SpectrumPoint> estimate = result.accumulator.spectrum(PointValue::bin_average);
+  if (estimate.empty())
+    throw InputError("the record (" + std::to_string(result.samples) +
+                     " samples) is too short for a spectrum point in the band: the lowest point needs 12 "
+                     "segments; record longer or raise --omega-min");
+  // White noise of variance q^2/12 (+ sigma^2) per sample (MODEL.md 3: C = s^2 dt / 2 pi),
+  // through the same bins and window as the estimate so that the two compare point by point.
+  const double white =
+      (result.quantization_variance + result.sensor_noise_variance) * record.dt / (2 * std::numbers::pi);
+  const std::vector<SpectrumPoint> floor = result.accumulator.expected([white](double) { return white; });
+
+  bool floor_reached = false;
+  result.usable_low = estimate.front().omega;
+  result.usable_high = estimate.back().omega;
+  for (std::size_t k = 0; k < estimate.size(); ++k) {
+    const SpectrumPoint& e = estimate[k];
+    const double noise = floor[k].C;
+    result.points.push_back(
+        {e.omega, e.C, e.standard_error, noise, e.n_avg, e.bandwidth, e.C < noise + 2 * e.standard_error});
+    if (!floor_reached && noise > kFloorShareOfUsable * e.C && white > 0) {
+      floor_reached = true;
+      result.usable_high_set_by_floor = true;
+      result.usable_high = k > 0 ? estimate[k - 1].omega : 0;
+    }
+  }
+  result.top_to_floor = white > 0 ? estimate.back().C / floor.back().C : 0;
+  return result;
+}
+
+SlopeFit fit_slope(const RecordSpectrum& spectrum, double omega_low, double omega_high) {
+  if (!(omega_low > 0 && omega_high > omega_low))
+    throw InputError("--fit-slope: need 0 < LO < HI in rad/s");
+  SlopeFit fit;
+  fit.omega_low = omega_low;
+  fit.omega_high = omega_high;
+  std::vector<double> u, y, sigma;
+  // The exponent of the motion, not of motion plus sensor: the white floor is known, so it
+  // is subtracted; points that do not stand out of it carry no slope and are left out.
+  for (const AnalysisPoint& p : spectrum.points) {
+    if (p.omega < omega_low || p.omega > omega_high || p.below_floor) continue;
+    const double motion = p.C_x - p.noise_floor;
+    u.push_back(std::log(p.omega));
+    y.push_back(std::log(motion));
+    sigma.push_back(p.standard_error / motion);  // the error of ln C, to first order
+    fit.reaches_floor |= p.omega > spectrum.usable_high;
+  }
+  fit.points = static_cast<int>(u.size());
+  if (fit.points < 3)
+    throw InputError("--fit-slope: the band holds " + std::to_string(fit.points) +
+                     " points above the sensor floor; a slope and its error need at least 3");
+  const WeightedLine line = weighted_line(u, y, sigma);
+  fit.slope = line.b;
+  fit.chi2_per_dof = line.chi2 / (fit.points - 2);
+  fit.slope_error = inflated(std::sqrt(line.b_variance), fit.chi2_per_dof);
+  fit.amplitude = std::exp(line.a);
+  return fit;
+}
+
+std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Parameters& params) {
+  // A sensor takes point samples, so the frequencies above Nyquist fold onto the band; a few
+  // aliases are plenty for a spectrum that falls as omega^-8 above omega_c.
+  const LumpedTheory theory(params);
+  const double sampling_rate = 2 * std::numbers::pi / spectrum.dt;
+  const auto sampled = [&](double omega) {
+    double sum = theory(omega);
+    for (int k = 1; k <= 4; ++k) sum += theory(std::abs(omega - k * sampling_rate)) + theory(omega + k * sampling_rate);
+    return sum;
+  };
+  std::vector<double> model;
+  for (const SpectrumPoint& e : spectrum.accumulator.expected(sampled)) model.push_back(e.C);
+  return model;
+}
+
+AlphaFit fit_alpha(const RecordSpectrum& spectrum, const Parameters& params, double omega_low,
+                   double omega_high) {
+  if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("--fit-band: need 0 < LO < HI in rad/s");
+  Parameters unit_noise = params;
+  unit_noise.alpha = 1;
+  const std::vector<double> template_spectrum = model_spectrum(spectrum, unit_noise);
+
+  std::vector<std::size_t> inside;
+  for (std::size_t k = 0; k < spectrum.points.size(); ++k)
+    if (spectrum.points[k].omega >= omega_low && spectrum.points[k].omega <= omega_high) inside.push_back(k);
+  AlphaFit fit;
+  fit.omega_low = omega_low;
+  fit.omega_high = omega_high;
+  fit.points = static_cast<int>(inside.size());
+  if (inside.empty()) throw InputError("--fit-band: no spectrum point between LO and HI");
+
+  // Weights from the model, not from each point's own error bar: an estimate that happens
+  // to be high also has a high scatter, and 1/SE^2 weights would pull alpha down. The
+  // relative error SE/C is kept from the data (it depends on the segments, not the level).
+  double alpha2 = 0, sum_tt = 0, chi2 = 0;
+  std::vector<double> sigma(spectrum.points.size());
+  for (std::size_t k : inside) sigma[k] = spectrum.points[k].standard_error;
+  for (int iteration = 0; iteration < 4; ++iteration) {
+    double sum_ct = 0;
+    sum_tt = 0;
+    for (std::size_t k : inside) {
+      const AnalysisPoint& p = spectrum.points[k];
+      const double w = 1 / (sigma[k] * sigma[k]);
+      sum_ct += w * (p.C_x - p.noise_floor) * template_spectrum[k];
+      sum_tt += w * template_spectrum[k] * template_spectrum[k];
+    }
+    alpha2 = sum_ct / sum_tt;
+    chi2 = 0;
+    for (std::size_t k : inside) {
+      const AnalysisPoint& p = spectrum.points[k];
+      const double model = alpha2 * template_spectrum[k] + p.noise_floor;
+      chi2 += std::pow((p.C_x - model) / sigma[k], 2);
+      sigma[k] = p.standard_error / p.C_x * model;
+    }
+  }
+  if (!(alpha2 > 0)) throw InputError("--fit alpha: the measured spectrum gives no positive alpha^2 in the band");
+  fit.chi2_per_dof = fit.points > 1 ? chi2 / (fit.points - 1) : 0;
+  fit.alpha = std::sqrt(alpha2);
+  fit.alpha_error = inflated(1 / std::sqrt(sum_tt), fit.chi2_per_dof) / (2 * fit.alpha);
+  return fit;
+}
+
+}  // namespace slidespec

@@ -1,0 +1,282 @@
+#include "cli/analyze.hpp"
+
+#include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli/plot.hpp"
+#include "io/atomic_file.hpp"
+#include "io/tables.hpp"
+#include "slidespec/analysis.hpp"
+
+namespace slidespec::cli {
+
+struct AnalysisCommands::Options {
+  // analyze
+  std::string file;
+  RecordFormat format;
+  std::string units = "m";
+  AnalysisRequest request;
+  std::vector<double> slope_band;  // LO HI [rad/s]
+  std::string compare_case;
+  std::vector<std::string> overrides;
+  std::string fit;
+  std::vector<double> fit_band;    // LO HI [rad/s]
+  double normal_mass = 0, driving_mass = 0;
+  std::string out = "analysis";
+  bool quiet = false, no_plot = false;
+  // synth
+  std::string synth_case = "reference";
+  std::vector<std::string> synth_overrides;
+  SensorRequest sensor;
+  std::string synth_units = "um";
+  std::string synth_out = "record";
+};
+
+namespace {
+
+using Options = AnalysisCommands::Options;
+
+// Below this share of the white floor at the top of the band, the floor line misleads.
+constexpr double kWhiteFloorShortfall = 0.5;
+
+Parameters build_parameters(const std::string& case_name, const std::vector<std::string>& overrides) {
+  ParameterBuilder builder(case_name);
+  for (const auto& assignment : overrides) builder.set(assignment);
+  return builder.build();
+}
+
+std::string number(double x) { return io::format_number(x); }
+
+/// What was asked of analyze beyond the spectrum, and what came of it.
+struct Findings {
+  std::optional<double> mu;
+  std::optional<SlopeFit> slope;
+  std::optional<Parameters> model;    // the compared case, at the fitted alpha if fitted
+  std::optional<AlphaFit> alpha;
+  std::vector<double> model_values;   // model seen through the estimator, per point
+};
+
+std::string analysis_table(const Options& o, const RecordSpectrum& s, const Findings& f) {
+  std::ostringstream out;
+  if (f.model) out << io::metadata_lines(*f.model, o.compare_case);
+  else out << "# slidespec " << SLIDESPEC_VERSION << "\n";
+  const SlidingFit& v = s.sliding;
+  out << "# label = measured: " << o.file << " (column " << o.format.column << ")\n"
+      << "# record = " << o.file << "\n# samples = " << s.samples << "\n# dt = " << number(s.dt) << "  # [s]\n"
+      << "# duration = " << number(s.duration) << "  # [s]\n"
+      << "# measured_mean_speed = " << number(v.v) << "  # [m/s] +- " << number(v.v_error) << " (from "
+      << v.blocks << " blocks)\n"
+      << "# xi_rms = " << number(v.xi_rms) << "  # [m] rms of x - x0 - v t\n";
+  if (f.mu) out << "# mu = " << number(*f.mu) << "  # M'/M\n";
+  out << "# resolution = " << number(o.request.resolution) << "  # q [m]\n# sensor_noise = "
+      << number(o.request.sensor_noise) << "  # sigma [m]; floor = q^2/12 + sigma^2, white\n"
+      << "# top_to_floor = " << number(s.top_to_floor) << "  # C_x / floor at the highest point\n"
+      << "# usable_band = " << number(s.usable_low) << " .. " << number(s.usable_high) << "  # [rad/s], top set by "
+      << (s.usable_high_set_by_floor ? "the floor reaching 10% of C_x" : "half of Nyquist") << "\n";
+  if (f.slope)
+    out << "# slope = " << number(f.slope->slope) << "  # +- " << number(f.slope->slope_error) << ", C_x ~ omega^slope over "
+        << number(f.slope->omega_low) << " .. " << number(f.slope->omega_high) << " rad/s, " << f.slope->points
+        << " points, chi2/dof " << number(f.slope->chi2_per_dof) << "\n"
+        << "# force_slope = " << number(f.slope->force_slope()) << "  # +- " << number(f.slope->slope_error)
+        << ", M^2 omega^4 C_x ~ omega^force_slope\n";
+  if (f.alpha)
+    out << "# fitted_alpha = " << number(f.alpha->alpha) << "  # +- " << number(f.alpha->alpha_error) << " over "
+        << number(f.alpha->omega_low) << " .. " << number(f.alpha->omega_high) << " rad/s, " << f.alpha->points
+        << " points, chi2/dof " << number(f.alpha->chi2_per_dof) << "\n";
+  out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, mean over the bin's frequencies; stderr [m^2 s] from "
+         "the scatter between segments; floor [m^2 s] quantization noise q^2/12 seen through the estimator; "
+         "below_floor 1 when C_x < floor + 2 stderr; n_avg; bandwidth [rad/s]; C_v = omega^2 C_x [m^2/s]";
+  if (f.slope) out << "; fit [m^2 s] the fitted power law inside its band";
+  if (f.model) out << "; theory [m^2 s] the model seen through the estimator (no floor)";
+  out << "\nomega\tC_x\tstderr\tfloor\tbelow_floor\tn_avg\tbandwidth\tC_v" << (f.slope ? "\tfit" : "")
+      << (f.model ? "\ttheory" : "") << "\n";
+  for (std::size_t k = 0; k < s.points.size(); ++k) {
+    const AnalysisPoint& p = s.points[k];
+    out << number(p.omega) << "\t" << number(p.C_x) << "\t" << number(p.standard_error) << "\t"
+        << number(p.noise_floor) << "\t" << (p.below_floor ? 1 : 0) << "\t" << number(p.n_avg) << "\t"
+        << number(p.bandwidth) << "\t" << number(velocity_spectrum(p.omega, p.C_x));
+    if (f.slope) {
+      const bool inside = p.omega >= f.slope->omega_low && p.omega <= f.slope->omega_high;
+      out << "\t" << (inside ? number(f.slope->amplitude * std::pow(p.omega, f.slope->slope)) : "nan");
+    }
+    if (f.model) out << "\t" << number(f.model_values[k]);
+    out << "\n";
+  }
+  return out.str();
+}
+
+std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findings& f) {
+  nlohmann::ordered_json doc;
+  doc["slidespec_version"] = SLIDESPEC_VERSION;
+  doc["record"] = {{"file", o.file}, {"column", o.format.column}, {"units", o.units},
+                   {"samples", s.samples}, {"dt", s.dt}, {"duration", s.duration}};
+  doc["measured_mean_speed"] = {{"value", s.sliding.v}, {"standard_error", s.sliding.v_error},
+                                {"blocks", s.sliding.blocks}};
+  doc["xi_rms"] = s.sliding.xi_rms;
+  if (f.mu) doc["mu"] = *f.mu;
+  doc["resolution"] = o.request.resolution;
+  doc["sensor_noise"] = o.request.sensor_noise;
+  doc["quantization_variance"] = s.quantization_variance;
+  doc["top_to_floor"] = s.top_to_floor;
+  doc["usable_band"] = {{"omega_low", s.usable_low}, {"omega_high", s.usable_high},
+                        {"top_set_by", s.usable_high_set_by_floor ? "noise floor" : "half of Nyquist"}};
+  if (f.slope)
+    doc["slope_fit"] = {{"omega_low", f.slope->omega_low}, {"omega_high", f.slope->omega_high},
+                        {"points", f.slope->points}, {"slope", f.slope->slope},
+                        {"standard_error", f.slope->slope_error}, {"chi2_per_dof", f.slope->chi2_per_dof},
+                        {"force_slope", f.slope->force_slope()}, {"reaches_floor", f.slope->reaches_floor}};
+  if (f.model) {
+    doc["compare_case"] = o.compare_case;
+    for (const auto& [key, value] : describe(*f.model)) doc["model_parameters"][key] = value;
+  }
+  if (f.alpha)
+    doc["alpha_fit"] = {{"omega_low", f.alpha->omega_low}, {"omega_high", f.alpha->omega_high},
+                        {"points", f.alpha->points}, {"alpha", f.alpha->alpha},
+                        {"standard_error", f.alpha->alpha_error}, {"chi2_per_dof", f.alpha->chi2_per_dof}};
+  for (std::size_t k = 0; k < s.points.size(); ++k) {
+    const AnalysisPoint& p = s.points[k];
+    nlohmann::ordered_json point = {{"omega", p.omega}, {"C_x", p.C_x}, {"stderr", p.standard_error},
+                                    {"floor", p.noise_floor}, {"below_floor", p.below_floor},
+                                    {"n_avg", p.n_avg}, {"bandwidth", p.bandwidth}};
+    if (f.model) point["theory"] = f.model_values[k];
+    doc["points"].push_back(point);
+  }
+  return doc.dump(2) + "\n";
+}
+
+/// The default band of the alpha fit: where the data are usable and the model's Eq. (1)
+/// omega^-4 holds (5 v/a to omega_c/3), the band the paper's Fig. 6 compares.
+std::pair<double, double> default_fit_band(const RecordSpectrum& s, const Parameters& p) {
+  const Landmarks l = landmarks(p);
+  const double low = std::max(s.usable_low, 5 * l.renewal_rate);
+  const double high = std::min(s.usable_high, l.omega_c / 3);
+  if (!(high > low))
+    throw InputError("--fit alpha: the usable band " + number(s.usable_low) + " .. " + number(s.usable_high) +
+                     " rad/s misses the model's omega^-4 band; give --fit-band LO HI");
+  return {low, high};
+}
+
+int command_analyze(Options o) {
+  io::check_output_prefix(o.out);
+  o.format.unit = parse_length_unit(o.units);
+  Findings f;
+  if (o.normal_mass > 0 || o.driving_mass > 0) f.mu = friction_coefficient(o.normal_mass, o.driving_mass);
+  if (!o.fit.empty() && o.fit != "alpha") throw InputError("--fit: only 'alpha' can be fitted");
+  if (!o.fit.empty() && o.compare_case.empty()) throw InputError("--fit alpha needs --compare-case NAME");
+  if (!o.compare_case.empty()) f.model = build_parameters(o.compare_case, o.overrides);
+
+  const Record record = read_record_file(o.file, o.format);
+  o.format.column = record.column;
+  const RecordSpectrum s = analyze_record(record, o.request);
+  if (!o.slope_band.empty()) f.slope = fit_slope(s, o.slope_band[0], o.slope_band[1]);
+  if (f.model) {
+    if (!o.fit.empty()) {
+      const auto [low, high] = o.fit_band.empty() ? default_fit_band(s, *f.model)
+                                                  : std::pair{o.fit_band[0], o.fit_band[1]};
+      f.alpha = fit_alpha(s, *f.model, low, high);
+      f.model->alpha = f.alpha->alpha;
+    }
+    f.model_values = model_spectrum(s, *f.model);
+  }
+
+  io::write_atomically(o.out + ".tsv", analysis_table(o, s, f));
+  io::write_atomically(o.out + ".json", analysis_json(o, s, f));
+  const bool plotted = !o.no_plot && plot({o.out + ".tsv"}, o.out + ".png", "") == 0;
+  if (!o.no_plot && !plotted) std::cerr << "slidespec: warning: " << o.out << ".png not drawn\n";
+  if (o.quiet) return 0;
+  std::cerr << "slidespec: " << o.file << ": " << s.samples << " samples every " << s.dt << " s; v = " << s.sliding.v
+            << " +- " << s.sliding.v_error << " m/s";
+  if (f.mu) std::cerr << ", mu = M'/M = " << *f.mu;
+  std::cerr << "\nslidespec: usable band " << s.usable_low << " .. " << s.usable_high << " rad/s (top set by "
+            << (s.usable_high_set_by_floor ? "the sensor floor" : "half of Nyquist") << ")\n";
+  if (s.top_to_floor > 0 && s.top_to_floor < kWhiteFloorShortfall)
+    std::cerr << "slidespec: warning: the highest point lies at " << s.top_to_floor
+              << " of the white q^2/12 floor: the quantization error is not white (a steady ramp read "
+                 "without noise to dither it; docs/analysis.md), so the floor line is only a guide\n";
+  if (f.slope) {
+    std::cerr << "slidespec: C_x ~ omega^(" << f.slope->slope << " +- " << f.slope->slope_error << ") over "
+              << f.slope->omega_low << " .. " << f.slope->omega_high << " rad/s (" << f.slope->points
+              << " points, chi2/dof " << f.slope->chi2_per_dof << "); force spectrum ~ omega^("
+              << f.slope->force_slope() << ")\n";
+    if (f.slope->reaches_floor)
+      std::cerr << "slidespec: warning: the slope band reaches beyond the usable band, where the sensor floor "
+                   "bends the spectrum\n";
+  }
+  if (f.alpha)
+    std::cerr << "slidespec: alpha = " << f.alpha->alpha << " +- " << f.alpha->alpha_error << " (" << o.compare_case
+              << ", " << f.alpha->omega_low << " .. " << f.alpha->omega_high << " rad/s, chi2/dof "
+              << f.alpha->chi2_per_dof << ")\n";
+  std::cerr << "slidespec: wrote " << o.out << ".tsv, .json" << (plotted ? ", .png" : "") << "\n";
+  return 0;
+}
+
+int command_synth(const Options& o) {
+  io::check_output_prefix(o.synth_out);
+  const LengthUnit unit = parse_length_unit(o.synth_units);
+  const Parameters p = build_parameters(o.synth_case, o.synth_overrides);
+  const Record record = synthesize_record(p, o.sensor);
+  std::ostringstream comments;
+  comments << "slidespec " << SLIDESPEC_VERSION << " synth: a simulated slider read by a displacement sensor\n"
+           << "case = " << o.synth_case << "\n";
+  for (const auto& [key, value] : describe(p)) comments << key << " = " << value << "\n";
+  comments << "seed = " << o.sensor.seed << "\nsample_interval = " << o.sensor.sample_interval << " s\n"
+           << "resolution = " << o.sensor.resolution << " m\nsensor_noise = " << o.sensor.sensor_noise << " m\n"
+           << "columns: t [s], x [" << to_string(unit) << "]\n";
+  io::write_atomically(o.synth_out + ".csv", record_csv(record, unit, comments.str()));
+  std::cerr << "slidespec: wrote " << o.synth_out << ".csv (" << record.displacement.size()
+            << " samples); analyse it with: slidespec analyze " << o.synth_out << ".csv --units "
+            << to_string(unit) << " --resolution " << o.sensor.resolution << " --sensor-noise " << o.sensor.sensor_noise << "\n";
+  return 0;
+}
+
+}  // namespace
+
+AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Options>()) {
+  Options& o = *options_;
+  analyze_ = app.add_subcommand("analyze", "spectrum, slope and model fit of a measured sliding-distance record");
+  analyze_->add_option("file", o.file, "CSV/TSV record: a time column (or --dt) and a displacement column")
+      ->required();
+  analyze_->add_option("--column", o.format.column, "displacement column (default: x, or the only other column)");
+  analyze_->add_option("--time-column", o.format.time_column, "time column [s] (default: t or time)");
+  analyze_->add_option("--dt", o.format.dt, "fixed sampling interval [s] instead of a time column");
+  analyze_->add_option("--units", o.units, "unit of the displacement column: m|mm|um (default m)");
+  analyze_->add_option("--time-tolerance", o.format.time_tolerance,
+                       "largest relative deviation of a sampling interval (default 0.01)");
+  analyze_->add_option("--resolution", o.request.resolution, "sensor resolution q [m]: draws the q^2/12 floor");
+  analyze_->add_option("--sensor-noise", o.request.sensor_noise,
+                       "rms sensor noise before quantization [m]: adds sigma^2 to the floor");
+  analyze_->add_option("--omega-min", o.request.omega_min, "lowest omega [rad/s] (default: the record allows)");
+  analyze_->add_option("--omega-max", o.request.omega_max, "highest omega [rad/s] (default: half of Nyquist)");
+  analyze_->add_option("--points", o.request.points_per_decade, "points per decade (default 8)");
+  analyze_->add_option("--fit-slope", o.slope_band, "fit C_x ~ omega^-n over LO HI [rad/s]")->expected(2);
+  analyze_->add_option("--compare-case", o.compare_case, "overlay this model case's exact theory");
+  analyze_->add_option("--set", o.overrides, "override a parameter of the compared case, KEY=VALUE");
+  analyze_->add_option("--fit", o.fit, "fit the compared case's 'alpha' to the data");
+  analyze_->add_option("--fit-band", o.fit_band, "band of the alpha fit, LO HI [rad/s]")->expected(2);
+  analyze_->add_option("--normal-mass", o.normal_mass, "M, mass loading the slider [kg], for mu = M'/M");
+  analyze_->add_option("--driving-mass", o.driving_mass, "M', hanging mass driving it [kg], for mu = M'/M");
+  analyze_->add_option("--out", o.out, "output prefix: PREFIX.tsv, .json, .png (default analysis)");
+  analyze_->add_flag("--quiet", o.quiet, "no summary");
+  analyze_->add_flag("--no-plot", o.no_plot, "skip PREFIX.png");
+
+  synth_ = app.add_subcommand("synth", "a synthetic displacement-sensor record of a simulated slider (CSV)");
+  synth_->add_option("--case", o.synth_case, "named case (default reference)");
+  synth_->add_option("--set", o.synth_overrides, "override a parameter, KEY=VALUE (repeatable)");
+  synth_->add_option("--sample-interval", o.sensor.sample_interval, "sensor sampling interval [s] (default 1e-3)");
+  synth_->add_option("--duration", o.sensor.duration, "record length [s] (default 1000)");
+  synth_->add_option("--resolution", o.sensor.resolution, "sensor resolution q [m] (default 0.5e-6; 0 exact)");
+  synth_->add_option("--sensor-noise", o.sensor.sensor_noise, "rms noise before quantization [m] (default 0.25e-6, dithers the quantizer)");
+  synth_->add_option("--seed", o.sensor.seed, "random seed (default 1)");
+  synth_->add_option("--units", o.synth_units, "unit of the x column: m|mm|um (default um)");
+  synth_->add_option("--out", o.synth_out, "output prefix: PREFIX.csv (default record)");
+}
+
+std::optional<int> AnalysisCommands::run() const {
+  if (*analyze_) return command_analyze(*options_);
+  if (*synth_) return command_synth(*options_);
+  return std::nullopt;
+}
+
+}  // namespace slidespec::cli
