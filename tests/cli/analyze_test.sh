@@ -1,25 +1,7 @@
 #!/usr/bin/env bash
 # End-to-end checks of slidespec synth and analyze: files written, refusals with exit
 # status 2, one line naming the problem, and no output file touched.
-set -u
-bin=${SLIDESPEC:?set SLIDESPEC to the slidespec executable}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
-
-expect_refused() {
-  local name=$1 word=$2; shift 2
-  for ext in tsv json png csv; do echo "sentinel" > "$work/out.$ext"; done
-  "$bin" "$@" > "$work/stdout" 2> "$work/stderr"
-  local status=$?
-  [ $status -eq 2 ] || fail "$name: exit status $status, expected 2"
-  [ "$(wc -l < "$work/stderr")" -eq 1 ] || fail "$name: stderr is not one line: $(cat "$work/stderr")"
-  grep -q -- "$word" "$work/stderr" || fail "$name: stderr does not name '$word': $(cat "$work/stderr")"
-  for ext in tsv json png csv; do
-    [ "$(cat "$work/out.$ext")" = "sentinel" ] || fail "$name: output file out.$ext was touched"
-  done
-}
+source "$(dirname "$0")/common.sh"
 
 # A short synthetic record (60 s at 1 kHz, a fine sensor so that a band shows) through the whole path.
 "$bin" synth --set alpha=0.4 --duration 60 --resolution 1e-8 --sensor-noise 5e-9 --out "$work/rec" 2> "$work/synth.err" || fail "synth failed: $(cat "$work/synth.err")"

@@ -1,23 +1,6 @@
 #!/usr/bin/env bash
 # End-to-end checks of the command line: exit codes, one-line errors, files untouched.
-set -u
-bin=${SLIDESPEC:?set SLIDESPEC to the slidespec executable}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
-
-# expect_refused NAME WORD ARGS...: exit 2, one line on stderr naming WORD, no output file.
-expect_refused() {
-  local name=$1 word=$2; shift 2
-  echo "sentinel" > "$work/out.tsv"
-  "$bin" "$@" > "$work/stdout" 2> "$work/stderr"
-  local status=$?
-  [ $status -eq 2 ] || fail "$name: exit status $status, expected 2"
-  [ "$(wc -l < "$work/stderr")" -eq 1 ] || fail "$name: stderr is not one line: $(cat "$work/stderr")"
-  grep -q -- "$word" "$work/stderr" || fail "$name: stderr does not name '$word': $(cat "$work/stderr")"
-  [ "$(cat "$work/out.tsv")" = "sentinel" ] || fail "$name: output file was touched"
-}
+source "$(dirname "$0")/common.sh"
 
 out="--out $work/out"
 expect_refused drive-below-friction F_drive theory $out --set F_drive=4

@@ -1,13 +1,8 @@
 #!/usr/bin/env bash
 # mpirun with 1, 2 and 3 ranks gives bitwise the table of a single process, for a fixed
 # realization count and for a precision-driven run (whose rounds every rank must plan alike).
-set -u
-bin=${SLIDESPEC:?set SLIDESPEC to the MPI-built slidespec executable}
+source "$(dirname "$0")/common.sh"
 mpiexec=${MPIEXEC:-mpirun}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 # OpenMPI refuses root unless told; CI containers run as root.
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 # Ranks on a two-core machine: more ranks than cores is allowed here, and nothing is bound.

@@ -1,0 +1,23 @@
+# Shared by the command-line tests (sourced): a scratch directory, failure counting, and
+# the check every refusal must pass.
+set -u
+bin=${SLIDESPEC:?set SLIDESPEC to the slidespec executable}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+# expect_refused NAME WORD ARGS...: exit 2, one line on stderr naming WORD, and no output
+# file $work/out.* touched.
+expect_refused() {
+  local name=$1 word=$2; shift 2
+  for ext in tsv json png csv state; do echo "sentinel" > "$work/out.$ext"; done
+  "$bin" "$@" > "$work/stdout" 2> "$work/stderr"
+  local status=$?
+  [ $status -eq 2 ] || fail "$name: exit status $status, expected 2"
+  [ "$(wc -l < "$work/stderr")" -eq 1 ] || fail "$name: stderr is not one line: $(cat "$work/stderr")"
+  grep -q -- "$word" "$work/stderr" || fail "$name: stderr does not name '$word': $(cat "$work/stderr")"
+  for ext in tsv json png csv state; do
+    [ "$(cat "$work/out.$ext")" = "sentinel" ] || fail "$name: output file out.$ext was touched"
+  done
+}
