@@ -1,0 +1,63 @@
+// What a run session holds: shared by the run loop (run.cpp) and its saved form
+// (session_state.cpp).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "io/binary.hpp"
+#include "slidespec/estimator.hpp"
+#include "slidespec/run.hpp"
+
+namespace slidespec {
+
+namespace run_detail {
+
+// Realizations per stepper batch. Fixed, so the work a batch does is the same whatever the
+// SIMD width or thread count (and a multiple of every lane width).
+constexpr int kBatchRealizations = 8;
+
+/// One batch of realizations, as the stepper and estimator leave it.
+struct BatchRecord {
+  SpectrumAccumulator spectrum;              // its lanes merged in lane order
+  std::vector<std::vector<double>> own_mean; // per realization: its mean periodogram per output point
+  std::vector<double> control;               // per realization: forcing_control
+  std::vector<double> speed;                 // per realization: its mean sliding speed [m/s]
+};
+
+/// What one sub-band has accumulated: its batches in realization order, from its first.
+struct BandTotals {
+  std::vector<BatchRecord> batches;
+  std::uint64_t realizations = 0;
+  std::uint64_t planned = 0;  // realizations through the end of the current round
+  int rounds = 0;             // rounds completed
+  bool finished = false;
+
+  /// The batches' spectra merged in realization order.
+  SpectrumAccumulator merged() const {
+    SpectrumAccumulator all;
+    for (const BatchRecord& batch : batches) all.merge(batch.spectrum);
+    return all;
+  }
+};
+
+std::uint64_t realizations_in(const std::vector<BatchRecord>& batches);
+void put_batch(std::string& bytes, const BatchRecord& batch);
+BatchRecord get_batch(io::Reader& in);
+
+}  // namespace run_detail
+
+struct RunSession::Impl {
+  Parameters params;
+  RunRequest request;
+  std::string case_name;
+  std::vector<SubBand> plan;
+  std::vector<std::int64_t> steps;  // per sub-band realization
+  std::vector<run_detail::BandTotals> bands;
+  double wall_seconds = 0;          // over every advance, including before a resume
+
+  Impl(const Parameters& p, const RunRequest& r, std::string name);
+};
+
+}  // namespace slidespec

@@ -1,0 +1,229 @@
+// The saved form of a run session (checkpoints, parts of a run) and the merge of parts.
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+
+#include "run/session.hpp"
+
+namespace slidespec {
+
+using namespace run_detail;
+
+namespace {
+
+constexpr char kStateMagic[8] = {'S', 'L', 'S', 'P', 'R', 'U', 'N', 'S'};
+constexpr std::uint32_t kStateVersion = 1;
+
+std::string number_text(double x) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.17g", x);
+  return text;
+}
+
+/// What makes two runs the same run, as ordered (key, value) text: every parameter and
+/// every request field that changes a number, and the program version.
+std::vector<std::pair<std::string, std::string>> fingerprint(const Parameters& p, const RunRequest& r) {
+  auto fields = describe(p);
+  fields.emplace_back("omega_min", number_text(r.omega_min));
+  fields.emplace_back("omega_max", number_text(r.omega_max));
+  fields.emplace_back("points_per_decade", std::to_string(r.points_per_decade));
+  fields.emplace_back("precision", number_text(r.precision));
+  fields.emplace_back("duration", number_text(r.duration));
+  fields.emplace_back("realizations", std::to_string(r.realizations));
+  fields.emplace_back("first_realization", std::to_string(r.first_realization));
+  fields.emplace_back("seed", std::to_string(r.seed));
+  fields.emplace_back("version", SLIDESPEC_VERSION);
+  return fields;
+}
+
+std::string first_difference(const std::vector<std::pair<std::string, std::string>>& here,
+                             const std::vector<std::pair<std::string, std::string>>& given,
+                             const std::vector<std::string>& ignored = {}) {
+  for (std::size_t k = 0; k < std::max(here.size(), given.size()); ++k) {
+    const std::string key = k < here.size() ? here[k].first : given[k].first;
+    if (std::find(ignored.begin(), ignored.end(), key) != ignored.end()) continue;
+    const std::string a = k < here.size() ? here[k].second : "(none)";
+    const std::string b = k < given.size() ? given[k].second : "(none)";
+    if (a != b || k >= here.size() || k >= given.size() || here[k].first != given[k].first)
+      return key + ": " + a + " there, " + b + " here";
+  }
+  return "";
+}
+
+/// Parameters back from describe(): one of v and eta1 was derived from the other, and
+/// only rebuilding from the one that was given reproduces both bit for bit.
+Parameters rebuild_parameters(const std::vector<std::pair<std::string, std::string>>& described) {
+  for (const char* derived : {"eta1", "v"}) {
+    ParameterBuilder builder("reference");
+    try {
+      for (const auto& [key, value] : described)
+        if (key != derived) builder.set(key, value);
+      const Parameters p = builder.build();
+      if (describe(p) == described) return p;
+    } catch (const InputError&) {
+    }
+  }
+  throw InputError("run state: its parameters do not rebuild exactly (made by another version?)");
+}
+
+}  // namespace
+
+namespace run_detail {
+
+void put_batch(std::string& bytes, const BatchRecord& batch) {
+  io::put_bytes(bytes, batch.spectrum.save());
+  io::put<std::uint64_t>(bytes, batch.control.size());
+  io::put<std::uint64_t>(bytes, batch.own_mean.empty() ? 0 : batch.own_mean.front().size());
+  for (const auto& mean : batch.own_mean)
+    for (double x : mean) io::put<double>(bytes, x);
+  for (double x : batch.control) io::put<double>(bytes, x);
+  for (double x : batch.speed) io::put<double>(bytes, x);
+}
+
+BatchRecord get_batch(io::Reader& in) {
+  BatchRecord batch;
+  batch.spectrum = SpectrumAccumulator::load(in.get_bytes());
+  const auto count = in.get<std::uint64_t>();
+  const auto points = in.get<std::uint64_t>();
+  if (count > kBatchRealizations || points > 100000) throw InputError("run state: corrupt batch record");
+  batch.own_mean.assign(count, std::vector<double>(points));
+  for (auto& mean : batch.own_mean)
+    for (double& x : mean) x = in.get<double>();
+  batch.control.resize(count);
+  for (double& x : batch.control) x = in.get<double>();
+  batch.speed.resize(count);
+  for (double& x : batch.speed) x = in.get<double>();
+  return batch;
+}
+
+std::uint64_t realizations_in(const std::vector<BatchRecord>& batches) {
+  std::uint64_t count = 0;
+  for (const BatchRecord& batch : batches) count += batch.control.size();
+  return count;
+}
+
+}  // namespace run_detail
+
+std::string RunSession::save() const {
+  const Impl& s = *impl_;
+  std::string bytes(kStateMagic, sizeof kStateMagic);
+  io::put<std::uint32_t>(bytes, kStateVersion);
+  const auto fields = fingerprint(s.params, s.request);
+  io::put<std::uint64_t>(bytes, fields.size());
+  for (const auto& [key, value] : fields) io::put_bytes(bytes, key), io::put_bytes(bytes, value);
+  io::put<std::int32_t>(bytes, s.request.threads);
+  io::put<std::int32_t>(bytes, static_cast<std::int32_t>(s.request.simd));
+  io::put_bytes(bytes, s.case_name);
+  io::put<double>(bytes, s.wall_seconds);
+  io::put<std::uint64_t>(bytes, s.bands.size());
+  for (const BandTotals& totals : s.bands) {
+    io::put<std::uint64_t>(bytes, totals.planned);
+    io::put<std::int32_t>(bytes, totals.rounds);
+    io::put<std::uint8_t>(bytes, totals.finished ? 1 : 0);
+    io::put<std::uint64_t>(bytes, totals.batches.size());
+    for (const BatchRecord& batch : totals.batches) put_batch(bytes, batch);
+  }
+  return bytes;
+}
+
+RunSession RunSession::load(const std::string& bytes) {
+  if (bytes.size() < sizeof kStateMagic || std::memcmp(bytes.data(), kStateMagic, sizeof kStateMagic) != 0)
+    throw InputError("run state: not a slidespec run state file");
+  io::Reader in(bytes, "run state");
+  for (std::size_t i = 0; i < sizeof kStateMagic; ++i) in.get<char>();
+  const auto version = in.get<std::uint32_t>();
+  if (version != kStateVersion)
+    throw InputError("run state: format version " + std::to_string(version) + ", this build reads version " +
+                     std::to_string(kStateVersion));
+  std::vector<std::pair<std::string, std::string>> fields(in.get<std::uint64_t>());
+  for (auto& [key, value] : fields) key = in.get_bytes(), value = in.get_bytes();
+  auto field = [&](const std::string& key) {
+    for (const auto& [k, value] : fields)
+      if (k == key) return value;
+    throw InputError("run state: no " + key + " recorded");
+  };
+  if (field("version") != SLIDESPEC_VERSION)
+    throw InputError("run state: made by slidespec " + field("version") + ", this is " SLIDESPEC_VERSION);
+  RunRequest request;
+  request.omega_min = std::stod(field("omega_min"));
+  request.omega_max = std::stod(field("omega_max"));
+  request.points_per_decade = std::stoi(field("points_per_decade"));
+  request.precision = std::stod(field("precision"));
+  request.duration = std::stod(field("duration"));
+  request.realizations = std::stoull(field("realizations"));
+  request.first_realization = std::stoull(field("first_realization"));
+  request.seed = std::stoull(field("seed"));
+  request.threads = in.get<std::int32_t>();
+  request.simd = static_cast<SimdPath>(in.get<std::int32_t>());
+  const std::vector<std::pair<std::string, std::string>> described(fields.begin(), fields.end() - 9);
+  const Parameters params = rebuild_parameters(described);
+  auto impl = std::make_unique<Impl>(params, request, in.get_bytes());
+  if (fingerprint(params, request) != fields) throw InputError("run state: its request does not rebuild exactly");
+  impl->wall_seconds = in.get<double>();
+  if (in.get<std::uint64_t>() != impl->bands.size())
+    throw InputError("run state: sub-band count does not match its request");
+  for (BandTotals& totals : impl->bands) {
+    totals.planned = in.get<std::uint64_t>();
+    totals.rounds = in.get<std::int32_t>();
+    totals.finished = in.get<std::uint8_t>() != 0;
+    totals.batches.resize(in.get<std::uint64_t>());
+    for (BatchRecord& batch : totals.batches) batch = get_batch(in);
+    totals.realizations = realizations_in(totals.batches);
+  }
+  if (!in.at_end()) throw InputError("run state: trailing bytes after the data");
+  return RunSession(std::move(impl));
+}
+
+std::string RunSession::difference(const Parameters& params, const RunRequest& request) const {
+  return first_difference(fingerprint(impl_->params, impl_->request), fingerprint(params, request));
+}
+
+RunSession RunSession::merge(std::vector<RunSession> parts) {
+  if (parts.empty()) throw InputError("merge: no parts given");
+  std::sort(parts.begin(), parts.end(), [](const RunSession& x, const RunSession& y) {
+    return x.request().first_realization < y.request().first_realization;
+  });
+  const auto reference = fingerprint(parts[0].parameters(), parts[0].request());
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const Impl& part = *parts[k].impl_;
+    const std::string differs =
+        first_difference(reference, fingerprint(part.params, part.request), {"realizations", "first_realization"});
+    if (!differs.empty()) throw InputError("merge: parts of different runs (" + differs + ")");
+    if (!parts[k].finished())
+      throw InputError("merge: part " + std::to_string(part.request.first_realization) + ":" +
+                       std::to_string(part.request.realizations) + " is incomplete (interrupted?)");
+    if (k > 0) {
+      const RunRequest& before = parts[k - 1].request();
+      const std::uint64_t end = before.first_realization + before.realizations;
+      if (part.request.first_realization < end)
+        throw InputError("merge: realization ranges overlap (" + std::to_string(before.first_realization) + ":" +
+                         std::to_string(before.realizations) + " and " +
+                         std::to_string(part.request.first_realization) + ":" +
+                         std::to_string(part.request.realizations) + ")");
+      if (end % kBatchRealizations != 0 || part.request.first_realization != end)
+        throw InputError("merge: realizations " + std::to_string(end) + " to " +
+                         std::to_string(part.request.first_realization) +
+                         " are missing, or a part other than the last ends inside a batch of " +
+                         std::to_string(kBatchRealizations));
+    }
+  }
+  RunRequest whole = parts[0].request();
+  whole.realizations = 0;
+  for (const RunSession& part : parts) whole.realizations += part.request().realizations;
+  auto impl = std::make_unique<Impl>(parts[0].parameters(), whole, parts[0].case_name());
+  for (RunSession& part : parts) {
+    impl->wall_seconds += part.impl_->wall_seconds;
+    for (std::size_t b = 0; b < impl->bands.size(); ++b) {
+      BandTotals& into = impl->bands[b];
+      BandTotals& from = part.impl_->bands[b];
+      for (BatchRecord& batch : from.batches) into.batches.push_back(std::move(batch));
+      into.realizations += from.realizations;
+      into.planned = into.realizations;
+      into.rounds = 1;
+      into.finished = true;
+    }
+  }
+  return RunSession(std::move(impl));
+}
+
+}  // namespace slidespec
