@@ -397,7 +397,13 @@ struct SpectrumEstimator::Impl {
   std::vector<std::vector<double>> band_input;  // [band]: samples entering the band
   std::vector<std::vector<double>> extended;    // [band]: history followed by new samples
 
+  // Scratch of one band's call, reused by the next band (kChunk + 2 * kHistory each).
+  std::array<std::vector<double>, 2> difference_scratch;
+  std::vector<double> decimator_centre, decimator_side;
+
   void feed(Lane& lane, int band, const double* increments, std::size_t n);
+  void difference_into_segments(Lane& lane, int band, const double* y, std::size_t n);
+  std::size_t decimate(const BandStream& stream, const double* y, std::size_t n, double* out);
   void close_segment(Lane& lane, int band);
 };
 
@@ -434,39 +440,72 @@ void SpectrumEstimator::Impl::feed(Lane& lane, int b, const double* increments, 
   std::copy(stream.history.begin(), stream.history.end(), ext);
   std::copy(increments, increments + n, ext + kHistory);
   const double* y = ext + kHistory;  // y[-kHistory..-1] is the previous samples
-
-  // Differencing whitens the band before the window sees it; the first samples lack
-  // history and are dropped rather than differenced against zeros.
-  for (std::size_t i = 0; i < n; ++i) {
-    if (stream.received + i < static_cast<std::uint64_t>(detail::kBandDifferences)) continue;
-    double d[detail::kBandDifferences + 1];
-    for (int k = 0; k <= detail::kBandDifferences; ++k) d[k] = y[static_cast<std::ptrdiff_t>(i) - k];
-    for (int order = 1; order <= detail::kBandDifferences; ++order)
-      for (int k = 0; k + order <= detail::kBandDifferences; ++k) d[k] = d[k] - d[k + 1];
-    stream.ring[stream.differenced & kSegmentMask] = d[0];
-    ++stream.differenced;
-    if (stream.differenced >= static_cast<std::uint64_t>(detail::kSegmentLength) &&
-        (stream.differenced - detail::kSegmentLength) % detail::kSegmentHop == 0)
-      close_segment(lane, b);
-  }
-
-  std::size_t produced = 0;
-  if (b + 1 < layout->band_count) {
-    const std::vector<double>& h = layout->taps;
-    constexpr int reach = detail::kHalfBandReach;
-    double* out = band_input[b + 1].data();
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint64_t g = stream.received + i;
-      if (g < static_cast<std::uint64_t>(kHistory) || (g & 1) != 0) continue;
-      const double* centre = y + static_cast<std::ptrdiff_t>(i) - reach;
-      double sum = h[reach] * centre[0];
-      for (int t = 1; t <= reach; t += 2) sum += h[reach + t] * (centre[-t] + centre[t]);
-      out[produced++] = sum;
-    }
-  }
+  difference_into_segments(lane, b, y, n);
+  const std::size_t produced = b + 1 < layout->band_count ? decimate(stream, y, n, band_input[b + 1].data()) : 0;
   std::copy(ext + n, ext + n + kHistory, stream.history.begin());
   stream.received += n;
   feed(lane, b + 1, band_input[b + 1 < layout->band_count ? b + 1 : b].data(), produced);
+}
+
+// Differencing whitens the band before the window sees it; the first samples lack
+// history and are dropped rather than differenced against zeros. Each order is one pass
+// over the whole call (contiguous, so it vectorizes), forming exactly the same
+// differences of differences as sample-by-sample differencing would.
+void SpectrumEstimator::Impl::difference_into_segments(Lane& lane, int b, const double* y, std::size_t n) {
+  constexpr int D = detail::kBandDifferences;
+  BandStream& stream = lane.bands[b];
+  const auto count = static_cast<std::ptrdiff_t>(n);
+  const double* source = y;
+  double* target = difference_scratch[0].data() + D;  // indices -D .. n-1
+  for (int order = 1; order <= D; ++order) {
+    for (std::ptrdiff_t i = order - D; i < count; ++i) target[i] = source[i] - source[i - 1];
+    source = target;
+    target = difference_scratch[order % 2].data() + D;
+  }
+  const double* differenced = source;
+
+  const std::uint64_t received = stream.received;
+  std::size_t i = received < static_cast<std::uint64_t>(D) ? std::min<std::size_t>(n, D - received) : 0;
+  constexpr std::uint64_t L = detail::kSegmentLength, hop = detail::kSegmentHop;
+  while (i < n) {
+    // A segment closes whenever the differenced count reaches L, L + hop, L + 2 hop, ...
+    const std::uint64_t done = stream.differenced;
+    const std::uint64_t next_close = done < L ? L : L + ((done - L) / hop + 1) * hop;
+    const std::size_t take = static_cast<std::size_t>(std::min<std::uint64_t>(n - i, next_close - done));
+    for (std::size_t k = 0; k < take; ++k) stream.ring[(done + k) & kSegmentMask] = differenced[i + k];
+    stream.differenced += take;
+    i += take;
+    if (stream.differenced == next_close) close_segment(lane, b);
+  }
+}
+
+// Half-band decimation by two: an output at every even stream index from kHistory on,
+// centred kHalfBandReach samples back. Only the centre tap and odd offsets are nonzero,
+// so the input is split into its centre (even) and side (odd) samples and every tap
+// becomes one contiguous pass over all outputs; each output's sum keeps the tap order.
+std::size_t SpectrumEstimator::Impl::decimate(const BandStream& stream, const double* y, std::size_t n,
+                                              double* out) {
+  constexpr int reach = detail::kHalfBandReach;
+  constexpr int side_before = (reach + 1) / 2;  // side samples before the first centre
+  const std::uint64_t received = stream.received;
+  std::size_t first = received >= kHistory ? 0 : static_cast<std::size_t>(kHistory - received);
+  if (((received + first) & 1) != 0) ++first;
+  if (first >= n) return 0;
+  const auto outputs = static_cast<std::ptrdiff_t>((n - first + 1) / 2);
+  const double* centre_of_first = y + static_cast<std::ptrdiff_t>(first) - reach;
+  double* centre = decimator_centre.data();
+  double* side = decimator_side.data() + side_before;  // side[k] = centre_of_first[2k + 1]
+  for (std::ptrdiff_t j = 0; j < outputs; ++j) centre[j] = centre_of_first[2 * j];
+  for (std::ptrdiff_t k = -side_before; k < outputs + (reach - 1) / 2; ++k) side[k] = centre_of_first[2 * k + 1];
+  const std::vector<double>& h = layout->taps;
+  for (std::ptrdiff_t j = 0; j < outputs; ++j) out[j] = h[reach] * centre[j];
+  for (int t = 1; t <= reach; t += 2) {
+    const double tap = h[reach + t];
+    const double* before = side - (t + 1) / 2;  // centre[-t]
+    const double* after = side + (t - 1) / 2;   // centre[+t]
+    for (std::ptrdiff_t j = 0; j < outputs; ++j) out[j] += tap * (before[j] + after[j]);
+  }
+  return static_cast<std::size_t>(outputs);
 }
 
 SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes) {
@@ -485,6 +524,9 @@ SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes) {
     impl_->band_input[b].assign(capacity, 0.0);
     impl_->extended[b].assign(capacity + kHistory, 0.0);
   }
+  for (auto& scratch : impl_->difference_scratch) scratch.assign(kChunk + 2 * kHistory, 0.0);
+  impl_->decimator_centre.assign(kChunk + 2 * kHistory, 0.0);
+  impl_->decimator_side.assign(kChunk + 2 * kHistory, 0.0);
 }
 
 SpectrumEstimator::~SpectrumEstimator() = default;
