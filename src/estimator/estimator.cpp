@@ -374,6 +374,31 @@ static_assert(detail::kBandDifferences <= kHistory);
 // Steps processed per lane at a time: bounds the scratch memory whatever push() gets.
 constexpr std::size_t kChunk = 4096;
 
+// The two streaming passes, cloned per instruction set by GCC (target_clones, resolved
+// once at load time). Every element's arithmetic is the same at any vector width and no
+// clone may contract to FMA (-ffp-contract=off), so all clones give the same bits.
+#define SLIDESPEC_ESTIMATOR_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+
+/// target[i] = source[i] - source[i - 1] for i in [from, to).
+SLIDESPEC_ESTIMATOR_CLONES void difference(const double* source, double* target, std::ptrdiff_t from,
+                                           std::ptrdiff_t to) {
+  for (std::ptrdiff_t i = from; i < to; ++i) target[i] = source[i] - source[i - 1];
+}
+
+/// The half-band filter on split input: out[j] = h[reach] centre[j] + sum over odd t of
+/// h[reach + t] (side[j - (t+1)/2] + side[j + (t-1)/2]), summed in the order of t.
+SLIDESPEC_ESTIMATOR_CLONES void half_band(const double* taps, const double* centre, const double* side,
+                                          std::ptrdiff_t outputs, double* out) {
+  constexpr int reach = detail::kHalfBandReach;
+  for (std::ptrdiff_t j = 0; j < outputs; ++j) out[j] = taps[reach] * centre[j];
+  for (int t = 1; t <= reach; t += 2) {
+    const double tap = taps[reach + t];
+    const double* before = side - (t + 1) / 2;  // centre[-t]
+    const double* after = side + (t - 1) / 2;   // centre[+t]
+    for (std::ptrdiff_t j = 0; j < outputs; ++j) out[j] += tap * (before[j] + after[j]);
+  }
+}
+
 struct BandStream {
   std::array<double, detail::kSegmentLength> ring{};
   std::array<double, kHistory> history{};
@@ -458,7 +483,7 @@ void SpectrumEstimator::Impl::difference_into_segments(Lane& lane, int b, const 
   const double* source = y;
   double* target = difference_scratch[0].data() + D;  // indices -D .. n-1
   for (int order = 1; order <= D; ++order) {
-    for (std::ptrdiff_t i = order - D; i < count; ++i) target[i] = source[i] - source[i - 1];
+    difference(source, target, order - D, count);
     source = target;
     target = difference_scratch[order % 2].data() + D;
   }
@@ -497,14 +522,7 @@ std::size_t SpectrumEstimator::Impl::decimate(const BandStream& stream, const do
   double* side = decimator_side.data() + side_before;  // side[k] = centre_of_first[2k + 1]
   for (std::ptrdiff_t j = 0; j < outputs; ++j) centre[j] = centre_of_first[2 * j];
   for (std::ptrdiff_t k = -side_before; k < outputs + (reach - 1) / 2; ++k) side[k] = centre_of_first[2 * k + 1];
-  const std::vector<double>& h = layout->taps;
-  for (std::ptrdiff_t j = 0; j < outputs; ++j) out[j] = h[reach] * centre[j];
-  for (int t = 1; t <= reach; t += 2) {
-    const double tap = h[reach + t];
-    const double* before = side - (t + 1) / 2;  // centre[-t]
-    const double* after = side + (t - 1) / 2;   // centre[+t]
-    for (std::ptrdiff_t j = 0; j < outputs; ++j) out[j] += tap * (before[j] + after[j]);
-  }
+  half_band(layout->taps.data(), centre, side, outputs, out);
   return static_cast<std::size_t>(outputs);
 }
 
