@@ -399,6 +399,12 @@ SLIDESPEC_ESTIMATOR_CLONES void half_band(const double* taps, const double* cent
   }
 }
 
+/// in[n] = window[n] * segment[n] for n < count.
+SLIDESPEC_ESTIMATOR_CLONES void window_into(const double* window, const double* segment, double* in,
+                                            std::size_t count) {
+  for (std::size_t n = 0; n < count; ++n) in[n] = window[n] * segment[n];
+}
+
 struct BandStream {
   std::array<double, detail::kSegmentLength> ring{};
   std::array<double, kHistory> history{};
@@ -435,9 +441,11 @@ struct SpectrumEstimator::Impl {
 void SpectrumEstimator::Impl::close_segment(Lane& lane, int b) {
   BandStream& stream = lane.bands[b];
   double* in = fft.input();
-  const std::uint64_t start = stream.differenced - detail::kSegmentLength;
-  for (int n = 0; n < detail::kSegmentLength; ++n)
-    in[n] = layout->window[n] * stream.ring[(start + n) & kSegmentMask];
+  // The segment is the whole ring, oldest sample at `start`: two contiguous pieces.
+  const std::size_t start = stream.differenced & kSegmentMask;
+  const std::size_t wrapped = detail::kSegmentLength - start;
+  window_into(layout->window.data(), stream.ring.data() + start, in, wrapped);
+  window_into(layout->window.data() + wrapped, stream.ring.data(), in + wrapped, start);
   fft.execute();
   const std::complex<double>* X = fft.output();
   const detail::BandLayout& band = layout->bands[b];
