@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <numbers>
 #include <string>
 
@@ -40,6 +41,22 @@ double overlap_correlation(const std::vector<double>& w, int shift, int bins) {
     return total;
   };
   return paired_power(shift) / paired_power(0);
+}
+
+// The correlations at every lag for points of `bins` FFT bins. They depend only on the
+// fixed window and the bin count, and cost ~10^5 sines each; a run makes one layout per
+// batch of realizations, so they are computed once per process (at most L/2 entries).
+std::array<double, kOverlapLags> overlap_correlations(const std::vector<double>& w, int bins) {
+  static std::mutex guard;
+  static std::map<int, std::array<double, kOverlapLags>> by_bins;
+  std::lock_guard<std::mutex> lock(guard);
+  auto found = by_bins.find(bins);
+  if (found == by_bins.end()) {
+    std::array<double, kOverlapLags> rho{};
+    for (int lag = 1; lag <= kOverlapLags; ++lag) rho[lag - 1] = overlap_correlation(w, lag * kSegmentHop, bins);
+    found = by_bins.emplace(bins, rho).first;
+  }
+  return found->second;
 }
 
 }  // namespace
@@ -135,7 +152,6 @@ std::shared_ptr<const Layout> Layout::make(const EstimatorConfig& requested) {
   const long steps = std::lround(std::floor(std::log10(c.omega_max / c.omega_min) * ppd + 1e-9));
   const double half_bin = std::pow(10.0, 0.5 / ppd);
   const int lowest_bin = (kSegmentLength + 9) / 10;
-  std::map<int, std::array<double, kOverlapLags>> correlation_by_bins;
   for (long k = 0; k <= steps; ++k) {
     const double omega = c.omega_min * std::pow(10.0, static_cast<double>(k) / ppd);
     int band = 0;
@@ -150,14 +166,7 @@ std::shared_ptr<const Layout> Layout::make(const EstimatorConfig& requested) {
     last = std::min(last, band == 0 ? kSegmentLength / 2 - 1 : 3 * kSegmentLength / 10);
     if (last < first) continue;  // log bin narrower than one FFT bin here
     OutputPoint point{omega, band, first, last - first + 1, {}};
-    auto found = correlation_by_bins.find(point.bin_count);
-    if (found == correlation_by_bins.end()) {
-      std::array<double, kOverlapLags> rho{};
-      for (int lag = 1; lag <= kOverlapLags; ++lag)
-        rho[lag - 1] = overlap_correlation(w, lag * kSegmentHop, point.bin_count);
-      found = correlation_by_bins.emplace(point.bin_count, rho).first;
-    }
-    point.overlap_correlation = found->second;
+    point.overlap_correlation = overlap_correlations(w, point.bin_count);
     layout->points.push_back(point);
     layout->band_count = std::max(layout->band_count, band + 1);
   }
