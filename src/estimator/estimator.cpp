@@ -199,25 +199,40 @@ std::vector<SpectrumPoint> SpectrumAccumulator::spectrum(PointValue value) const
   return out;
 }
 
+namespace {
+
+// The window's spectral kernel, sampled kSub times per FFT bin out to kReach bins and
+// normalised to unit area: E[periodogram at bin j] = int C T kernel / T(omega_j).
+constexpr int kSub = 16, kReach = 24;
+
+// The window is fixed by the design, so its kernel (4e5 complex exponentials) is
+// computed once per process rather than at every call.
+const std::vector<double>& window_kernel(const std::vector<double>& window) {
+  static const std::vector<double> kernel = [&] {
+    const int L = detail::kSegmentLength;
+    std::vector<double> k(2 * kSub * kReach + 1);
+    double area = 0;
+    for (std::size_t m = 0; m < k.size(); ++m) {
+      const double delta = (static_cast<double>(m) - kSub * kReach) / kSub;  // in bins
+      std::complex<double> sum = 0;
+      for (int n = 0; n < L; ++n) sum += window[n] * std::polar(1.0, -2 * M_PI * delta * n / L);
+      k[m] = std::norm(sum);
+      area += k[m] / kSub;
+    }
+    for (double& value : k) value /= area;
+    return k;
+  }();
+  return kernel;
+}
+
+}  // namespace
+
 std::vector<SpectrumPoint> SpectrumAccumulator::expected(const std::function<double(double)>& true_spectrum,
                                                          PointValue value) const {
   const std::vector<SpectrumPoint> measured = spectrum(value);
   if (measured.empty()) return {};
   const detail::Layout& layout = *impl_->layout;
-  // The window's spectral kernel, sampled kSub times per FFT bin out to kReach bins and
-  // normalised to unit area: E[periodogram at bin j] = int C T kernel / T(omega_j).
-  constexpr int kSub = 16, kReach = 24;
-  const int L = detail::kSegmentLength;
-  std::vector<double> kernel(2 * kSub * kReach + 1);
-  double area = 0;
-  for (std::size_t m = 0; m < kernel.size(); ++m) {
-    const double delta = (static_cast<double>(m) - kSub * kReach) / kSub;  // in bins
-    std::complex<double> sum = 0;
-    for (int n = 0; n < L; ++n) sum += layout.window[n] * std::polar(1.0, -2 * M_PI * delta * n / L);
-    kernel[m] = std::norm(sum);
-    area += kernel[m] / kSub;
-  }
-  for (double& k : kernel) k /= area;
+  const std::vector<double>& kernel = window_kernel(layout.window);
 
   std::vector<SpectrumPoint> out;
   std::vector<int> index;
