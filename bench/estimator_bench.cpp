@@ -1,11 +1,16 @@
 // Cost of the streaming estimator per sample, in the configuration a sub-run uses:
-// increments at dt = 1e-4 s, two decades below pi/(2 dt), 8 lanes.
+// increments at dt = 1e-4 s, two decades below pi/(2 dt), 8 lanes; and the share of a
+// reference run's time that goes to the estimator.
 #include <benchmark/benchmark.h>
 
+#include <chrono>
+#include <cmath>
+#include <memory>
 #include <random>
 #include <vector>
 
 #include "slidespec/estimator.hpp"
+#include "slidespec/run.hpp"
 
 namespace {
 
@@ -38,5 +43,63 @@ void BM_ReadSamples(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(steps) * lanes);
 }
 BENCHMARK(BM_ReadSamples)->Arg(8);
+
+}  // namespace
+
+namespace {
+
+using namespace slidespec;
+
+/// Wall time of the plan `result` ran (same sub-bands, time steps, streams and
+/// realizations, in batches of 8 as a run makes them), stepping alone or stepping into one
+/// estimator per batch as run_spectrum does.
+double replay_plan(const Parameters& p, const RunRequest& request, const RunResult& result, bool estimate) {
+  const auto start = std::chrono::steady_clock::now();
+  for (std::size_t b = 0; b < result.sub_bands.size(); ++b) {
+    const SubBand& band = result.sub_bands[b];
+    StepperConfig config;
+    config.dt = band.dt;
+    config.seed = request.seed;
+    config.stream = b;
+    config.simd = result.simd_path;
+    EstimatorConfig estimator_config{band.dt, band.omega_low, band.omega_high, request.points_per_decade,
+                                     SampleKind::increment};
+    auto make_sink = [&](std::uint64_t, int count) -> IncrementSink {
+      if (!estimate) return {};
+      auto estimator = std::make_shared<SpectrumEstimator>(estimator_config, count);
+      return [estimator](const double* data, std::size_t n) { estimator->push(data, n); };
+    };
+    run_batches(p, config, 0, band.realizations, std::llround(band.duration / band.dt), result.threads, 8,
+                make_sink, {});
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Args: threads. The reference case over 0.1 .. 1e5 rad/s at 5% precision: one
+// run_spectrum, then its plan replayed stepping alone and stepping into the estimators,
+// in the same iteration so that the three times see the same machine load.
+void ReferenceRun(benchmark::State& state) {
+  const Parameters p = ParameterBuilder("reference").build();
+  RunRequest request;
+  request.threads = static_cast<int>(state.range(0));
+  double run = 0, stepping = 0, both = 0, samples = 0;
+  for (auto _ : state) {
+    const RunResult result = run_spectrum(p, request);
+    run += result.wall_seconds;
+    stepping += replay_plan(p, request, result, false);
+    both += replay_plan(p, request, result, true);
+    samples = result.miniblock_steps / p.N;
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["run_s"] = run / n;
+  state.counters["stepping_s"] = stepping / n;
+  state.counters["stepping_and_estimation_s"] = both / n;
+  state.counters["estimator_share_of_run"] = (both - stepping) / run;
+  state.counters["stepping_share_of_run"] = stepping / run;
+  state.counters["estimator_samples_per_s"] = samples * n / (both - stepping);
+  state.counters["realization_steps"] = samples;
+}
+BENCHMARK(ReferenceRun)->Arg(1)->Arg(2)->ArgName("threads")->Iterations(1)->Unit(benchmark::kSecond)
+    ->UseRealTime();
 
 }  // namespace
