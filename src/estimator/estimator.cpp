@@ -446,6 +446,7 @@ struct SpectrumEstimator::Impl {
   // Scratch of one band's call, reused by the next band (kChunk + 2 * kHistory each).
   std::array<std::vector<double>, 2> difference_scratch;
   std::vector<double> decimator_centre, decimator_side;
+  std::vector<double> lane_major;  // [lane][kChunk]: one chunk of push()'s data
 
   void feed(Lane& lane, int band, const double* increments, std::size_t n);
   void difference_into_segments(Lane& lane, int band, const double* y, std::size_t n);
@@ -520,7 +521,10 @@ void SpectrumEstimator::Impl::difference_into_segments(Lane& lane, int b, const 
     const std::uint64_t done = stream.differenced;
     const std::uint64_t next_close = done < L ? L : L + ((done - L) / hop + 1) * hop;
     const std::size_t take = static_cast<std::size_t>(std::min<std::uint64_t>(n - i, next_close - done));
-    for (std::size_t k = 0; k < take; ++k) stream.ring[(done + k) & kSegmentMask] = differenced[i + k];
+    // At most one wrap of the ring: two contiguous copies.
+    const std::size_t at = done & kSegmentMask, before_wrap = std::min(take, detail::kSegmentLength - at);
+    std::copy_n(differenced + i, before_wrap, stream.ring.data() + at);
+    std::copy_n(differenced + i + before_wrap, take - before_wrap, stream.ring.data());
     stream.differenced += take;
     i += take;
     if (stream.differenced == next_close) close_segment(lane, b);
@@ -568,6 +572,7 @@ SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes) {
   for (auto& scratch : impl_->difference_scratch) scratch.assign(kChunk + 2 * kHistory, 0.0);
   impl_->decimator_centre.assign(kChunk + 2 * kHistory, 0.0);
   impl_->decimator_side.assign(kChunk + 2 * kHistory, 0.0);
+  impl_->lane_major.assign(kChunk * static_cast<std::size_t>(lanes), 0.0);
 }
 
 SpectrumEstimator::~SpectrumEstimator() = default;
@@ -581,21 +586,25 @@ void SpectrumEstimator::push(const double* data, std::size_t steps) {
   const std::size_t lane_count = impl_->lanes.size();
   for (std::size_t start = 0; start < steps; start += kChunk) {
     const std::size_t n = std::min(kChunk, steps - start);
+    // Lane-major once per chunk: one sequential read of the step-major data, where
+    // reading each lane's column in place would pull every cache line in once per lane.
+    double* lane_major = impl_->lane_major.data();
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t l = 0; l < lane_count; ++l) lane_major[l * kChunk + i] = data[(start + i) * lane_count + l];
     for (std::size_t l = 0; l < lane_count; ++l) {
       Lane& lane = impl_->lanes[l];
-      const double* column = data + start * lane_count + l;
+      const double* column = lane_major + l * kChunk;
+      if (impl_->layout->config.input == SampleKind::increment) {
+        impl_->feed(lane, 0, column, n);
+        continue;
+      }
       double* y = impl_->band_input[0].data();
       std::size_t m = 0;
-      if (impl_->layout->config.input == SampleKind::increment) {
-        for (std::size_t i = 0; i < n; ++i) y[i] = column[i * lane_count];
-        m = n;
-      } else {
-        for (std::size_t i = 0; i < n; ++i) {
-          const double value = column[i * lane_count];
-          if (lane.has_last_value) y[m++] = value - lane.last_value;
-          lane.last_value = value;
-          lane.has_last_value = true;
-        }
+      for (std::size_t i = 0; i < n; ++i) {
+        const double value = column[i];
+        if (lane.has_last_value) y[m++] = value - lane.last_value;
+        lane.last_value = value;
+        lane.has_last_value = true;
       }
       impl_->feed(lane, 0, y, m);
     }
