@@ -2,6 +2,7 @@
 // increments at dt = 1e-4 s, two decades below pi/(2 dt), 8 lanes; and the share of a
 // reference run's time that goes to the estimator.
 #include <benchmark/benchmark.h>
+#include <sys/resource.h>
 
 #include <chrono>
 #include <cmath>
@@ -50,11 +51,24 @@ namespace {
 
 using namespace slidespec;
 
-/// Wall time of the plan `result` ran (same sub-bands, time steps, streams and
+/// CPU seconds of this process, all threads (robust to other processes' load).
+double process_cpu_seconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+struct Cost {
+  double wall = 0, cpu = 0;
+};
+
+/// Wall and CPU time of the plan `result` ran (same sub-bands, time steps, streams and
 /// realizations, in batches of 8 as a run makes them), stepping alone or stepping into one
 /// estimator per batch as run_spectrum does.
-double replay_plan(const Parameters& p, const RunRequest& request, const RunResult& result, bool estimate) {
+Cost replay_plan(const Parameters& p, const RunRequest& request, const RunResult& result, bool estimate) {
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = process_cpu_seconds();
   for (std::size_t b = 0; b < result.sub_bands.size(); ++b) {
     const SubBand& band = result.sub_bands[b];
     StepperConfig config;
@@ -72,7 +86,8 @@ double replay_plan(const Parameters& p, const RunRequest& request, const RunResu
     run_batches(p, config, 0, band.realizations, std::llround(band.duration / band.dt), result.threads, 8,
                 make_sink, {});
   }
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+          process_cpu_seconds() - cpu_start};
 }
 
 // Args: threads. The reference case over 0.1 .. 1e5 rad/s at 5% precision: one
@@ -82,21 +97,30 @@ void ReferenceRun(benchmark::State& state) {
   const Parameters p = ParameterBuilder("reference").build();
   RunRequest request;
   request.threads = static_cast<int>(state.range(0));
-  double run = 0, stepping = 0, both = 0, samples = 0;
+  Cost run, stepping, both;
+  double samples = 0;
   for (auto _ : state) {
+    const double cpu_start = process_cpu_seconds();
     const RunResult result = run_spectrum(p, request);
-    run += result.wall_seconds;
-    stepping += replay_plan(p, request, result, false);
-    both += replay_plan(p, request, result, true);
+    run.cpu += process_cpu_seconds() - cpu_start;
+    run.wall += result.wall_seconds;
+    const Cost alone = replay_plan(p, request, result, false), estimated = replay_plan(p, request, result, true);
+    stepping.wall += alone.wall;
+    stepping.cpu += alone.cpu;
+    both.wall += estimated.wall;
+    both.cpu += estimated.cpu;
     samples = result.miniblock_steps / p.N;
   }
   const double n = static_cast<double>(state.iterations());
-  state.counters["run_s"] = run / n;
-  state.counters["stepping_s"] = stepping / n;
-  state.counters["stepping_and_estimation_s"] = both / n;
-  state.counters["estimator_share_of_run"] = (both - stepping) / run;
-  state.counters["stepping_share_of_run"] = stepping / run;
-  state.counters["estimator_samples_per_s"] = samples * n / (both - stepping);
+  state.counters["run_s"] = run.wall / n;
+  state.counters["run_cpu_s"] = run.cpu / n;
+  state.counters["stepping_cpu_s"] = stepping.cpu / n;
+  state.counters["stepping_and_estimation_cpu_s"] = both.cpu / n;
+  // Shares in CPU time: the machine is shared, and wall-time differences of a few tenths
+  // of a second between the three passes are mostly other processes.
+  state.counters["estimator_share_of_run"] = (both.cpu - stepping.cpu) / run.cpu;
+  state.counters["stepping_share_of_run"] = stepping.cpu / run.cpu;
+  state.counters["estimator_samples_per_cpu_s"] = samples * n / (both.cpu - stepping.cpu);
   state.counters["realization_steps"] = samples;
 }
 BENCHMARK(ReferenceRun)->Arg(1)->Arg(2)->ArgName("threads")->Iterations(1)->Unit(benchmark::kSecond)

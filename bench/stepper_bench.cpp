@@ -5,6 +5,7 @@
 // state has 3 components for any N), so its miniblock-steps/s grows in proportion to N;
 // realization_steps_per_s is the number that measures the kernel. See bench/README.md.
 #include <benchmark/benchmark.h>
+#include <sys/resource.h>
 
 #include <chrono>
 #include <map>
@@ -43,6 +44,15 @@ void PlainBaseline(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(plain.advance(steps));
   set_rates(state, double(steps), p.N);
   state.SetLabel(state.range(1) ? "plain periodic" : "plain poisson");
+}
+
+/// CPU seconds of this process, all threads: under load from other processes, work per
+/// CPU second is what stays comparable between runs; wall rates need an idle machine.
+double process_cpu_seconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
 
 /// Miniblock-steps per second of the plain baseline on one core, measured once per shape
@@ -85,12 +95,15 @@ double step_realizations(benchmark::State& state, double dt, std::int64_t steps)
   config.simd = paths[path_index];
   const int per_thread = 64;
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = process_cpu_seconds();
   for (auto _ : state)
     run_batches(p, config, 0, static_cast<std::uint64_t>(per_thread * threads), steps, threads,
                 per_thread, {}, {});
+  const double cpu = process_cpu_seconds() - cpu_start;
   const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
   const double realization_steps = double(per_thread) * threads * double(steps);
   set_rates(state, realization_steps, p.N);
+  state.counters["realization_steps_per_cpu_s"] = realization_steps * double(state.iterations()) / cpu;
   state.SetLabel(std::string(to_string(config.simd)) + (periodic ? " periodic" : " poisson"));
   return elapsed.count() / (realization_steps * p.N * double(state.iterations()));
 }
