@@ -5,6 +5,8 @@
 #include <mutex>
 #include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "slidespec/parameters.hpp"
 
@@ -117,7 +119,9 @@ double Layout::transfer(int band, double omega) const {
   return t;
 }
 
-std::shared_ptr<const Layout> Layout::make(const EstimatorConfig& requested) {
+namespace {
+
+std::shared_ptr<const Layout> build_layout(const EstimatorConfig& requested) {
   EstimatorConfig c = requested;
   if (!(c.dt > 0) || !std::isfinite(c.dt))
     throw InputError("estimator: dt must be a positive finite number of seconds");
@@ -199,6 +203,27 @@ std::shared_ptr<const Layout> Layout::make(const EstimatorConfig& requested) {
       band.bin_factor[j] = band.interval / (2.0 * kPi * layout->window_power) / t;
     }
   }
+  return layout;
+}
+
+}  // namespace
+
+std::shared_ptr<const Layout> Layout::make(const EstimatorConfig& requested) {
+  // A run makes one estimator per batch of 8 realizations, with a handful of
+  // configurations: each layout (transfer functions at every bin, ~10^4 cosines) is built
+  // once and shared, as it is immutable. A few recent ones are kept, so memory stays bounded.
+  constexpr std::size_t kRecentLayouts = 16;
+  static std::mutex guard;
+  static std::vector<std::pair<EstimatorConfig, std::shared_ptr<const Layout>>> recent;
+  {
+    std::lock_guard<std::mutex> lock(guard);
+    for (const auto& [config, layout] : recent)
+      if (same_config(config, requested)) return layout;
+  }
+  std::shared_ptr<const Layout> layout = build_layout(requested);
+  std::lock_guard<std::mutex> lock(guard);
+  if (recent.size() >= kRecentLayouts) recent.erase(recent.begin());
+  recent.emplace_back(requested, layout);
   return layout;
 }
 
