@@ -2,7 +2,6 @@
 // increments at dt = 1e-4 s, two decades below pi/(2 dt), 8 lanes; and the share of a
 // reference run's time that goes to the estimator.
 #include <benchmark/benchmark.h>
-#include <sys/resource.h>
 
 #include <chrono>
 #include <cmath>
@@ -10,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "process_time.hpp"
 #include "slidespec/estimator.hpp"
 #include "slidespec/run.hpp"
 
@@ -50,14 +50,7 @@ BENCHMARK(BM_ReadSamples)->Arg(8);
 namespace {
 
 using namespace slidespec;
-
-/// CPU seconds of this process, all threads (robust to other processes' load).
-double process_cpu_seconds() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
-         1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
-}
+using bench::process_cpu_seconds;
 
 struct Cost {
   double wall = 0, cpu = 0;

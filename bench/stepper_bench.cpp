@@ -5,7 +5,6 @@
 // state has 3 components for any N), so its miniblock-steps/s grows in proportion to N;
 // realization_steps_per_s is the number that measures the kernel. See bench/README.md.
 #include <benchmark/benchmark.h>
-#include <sys/resource.h>
 
 #include <chrono>
 #include <map>
@@ -13,10 +12,12 @@
 #include <utility>
 
 #include "plain_model.hpp"
+#include "process_time.hpp"
 #include "slidespec/stepper.hpp"
 
 using namespace slidespec;
 using slidespec::bench::PlainModel;
+using slidespec::bench::process_cpu_seconds;
 
 namespace {
 
@@ -44,15 +45,6 @@ void PlainBaseline(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(plain.advance(steps));
   set_rates(state, double(steps), p.N);
   state.SetLabel(state.range(1) ? "plain periodic" : "plain poisson");
-}
-
-/// CPU seconds of this process, all threads: under load from other processes, work per
-/// CPU second is what stays comparable between runs; wall rates need an idle machine.
-double process_cpu_seconds() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
-         1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
 
 /// Miniblock-steps per second of the plain baseline on one core, measured once per shape
