@@ -1,11 +1,17 @@
 // Cost of the streaming estimator per sample, in the configuration a sub-run uses:
-// increments at dt = 1e-4 s, two decades below pi/(2 dt), 8 lanes.
+// increments at dt = 1e-4 s, two decades below pi/(2 dt), 8 lanes; and the share of a
+// reference run's time that goes to the estimator.
 #include <benchmark/benchmark.h>
 
+#include <chrono>
+#include <cmath>
+#include <memory>
 #include <random>
 #include <vector>
 
+#include "process_time.hpp"
 #include "slidespec/estimator.hpp"
+#include "slidespec/run.hpp"
 
 namespace {
 
@@ -38,5 +44,79 @@ void BM_ReadSamples(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(steps) * lanes);
 }
 BENCHMARK(BM_ReadSamples)->Arg(8);
+
+}  // namespace
+
+namespace {
+
+using namespace slidespec;
+using bench::process_cpu_seconds;
+
+struct Cost {
+  double wall = 0, cpu = 0;
+};
+
+/// Wall and CPU time of the plan `result` ran (same sub-bands, time steps, streams and
+/// realizations, in batches of 8 as a run makes them), stepping alone or stepping into one
+/// estimator per batch as run_spectrum does.
+Cost replay_plan(const Parameters& p, const RunRequest& request, const RunResult& result, bool estimate) {
+  const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = process_cpu_seconds();
+  for (std::size_t b = 0; b < result.sub_bands.size(); ++b) {
+    const SubBand& band = result.sub_bands[b];
+    StepperConfig config;
+    config.dt = band.dt;
+    config.seed = request.seed;
+    config.stream = b;
+    config.simd = result.simd_path;
+    EstimatorConfig estimator_config{band.dt, band.omega_low, band.omega_high, request.points_per_decade,
+                                     SampleKind::increment};
+    auto make_sink = [&](std::uint64_t, int count) -> IncrementSink {
+      if (!estimate) return {};
+      auto estimator = std::make_shared<SpectrumEstimator>(estimator_config, count);
+      return [estimator](const double* data, std::size_t n) { estimator->push(data, n); };
+    };
+    run_batches(p, config, 0, band.realizations, std::llround(band.duration / band.dt), result.threads, 8,
+                make_sink, {});
+  }
+  return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+          process_cpu_seconds() - cpu_start};
+}
+
+// Args: threads. The reference case over 0.1 .. 1e5 rad/s at 5% precision: one
+// run_spectrum, then its plan replayed stepping alone and stepping into the estimators,
+// in the same iteration so that the three times see the same machine load.
+void ReferenceRun(benchmark::State& state) {
+  const Parameters p = ParameterBuilder("reference").build();
+  RunRequest request;
+  request.threads = static_cast<int>(state.range(0));
+  Cost run, stepping, both;
+  double samples = 0;
+  for (auto _ : state) {
+    const double cpu_start = process_cpu_seconds();
+    const RunResult result = run_spectrum(p, request);
+    run.cpu += process_cpu_seconds() - cpu_start;
+    run.wall += result.wall_seconds;
+    const Cost alone = replay_plan(p, request, result, false), estimated = replay_plan(p, request, result, true);
+    stepping.wall += alone.wall;
+    stepping.cpu += alone.cpu;
+    both.wall += estimated.wall;
+    both.cpu += estimated.cpu;
+    samples = result.miniblock_steps / p.N;
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["run_s"] = run.wall / n;
+  state.counters["run_cpu_s"] = run.cpu / n;
+  state.counters["stepping_cpu_s"] = stepping.cpu / n;
+  state.counters["stepping_and_estimation_cpu_s"] = both.cpu / n;
+  // Shares in CPU time: the machine is shared, and wall-time differences of a few tenths
+  // of a second between the three passes are mostly other processes.
+  state.counters["estimator_share_of_run"] = (both.cpu - stepping.cpu) / run.cpu;
+  state.counters["stepping_share_of_run"] = stepping.cpu / run.cpu;
+  state.counters["estimator_samples_per_cpu_s"] = samples * n / (both.cpu - stepping.cpu);
+  state.counters["realization_steps"] = samples;
+}
+BENCHMARK(ReferenceRun)->Arg(1)->Arg(2)->ArgName("threads")->Iterations(1)->Unit(benchmark::kSecond)
+    ->UseRealTime();
 
 }  // namespace

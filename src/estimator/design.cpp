@@ -5,7 +5,8 @@
 #include <mutex>
 #include <numbers>
 #include <string>
-#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "slidespec/parameters.hpp"
 
@@ -42,6 +43,22 @@ double overlap_correlation(const std::vector<double>& w, int shift, int bins) {
     return total;
   };
   return paired_power(shift) / paired_power(0);
+}
+
+// The correlations at every lag for points of `bins` FFT bins. They depend only on the
+// fixed window and the bin count, and cost ~10^5 sines each; a run makes one layout per
+// batch of realizations, so they are computed once per process (at most L/2 entries).
+std::array<double, kOverlapLags> overlap_correlations(const std::vector<double>& w, int bins) {
+  static std::mutex guard;
+  static std::map<int, std::array<double, kOverlapLags>> by_bins;
+  std::lock_guard<std::mutex> lock(guard);
+  auto found = by_bins.find(bins);
+  if (found == by_bins.end()) {
+    std::array<double, kOverlapLags> rho{};
+    for (int lag = 1; lag <= kOverlapLags; ++lag) rho[lag - 1] = overlap_correlation(w, lag * kSegmentHop, bins);
+    found = by_bins.emplace(bins, rho).first;
+  }
+  return found->second;
 }
 
 }  // namespace
@@ -103,6 +120,7 @@ double Layout::transfer(int band, double omega) const {
 }
 
 namespace {
+
 std::shared_ptr<const Layout> build_layout(const EstimatorConfig& requested) {
   EstimatorConfig c = requested;
   if (!(c.dt > 0) || !std::isfinite(c.dt))
@@ -138,7 +156,6 @@ std::shared_ptr<const Layout> build_layout(const EstimatorConfig& requested) {
   const long steps = std::lround(std::floor(std::log10(c.omega_max / c.omega_min) * ppd + 1e-9));
   const double half_bin = std::pow(10.0, 0.5 / ppd);
   const int lowest_bin = (kSegmentLength + 9) / 10;
-  std::map<int, std::array<double, kOverlapLags>> correlation_by_bins;
   for (long k = 0; k <= steps; ++k) {
     const double omega = c.omega_min * std::pow(10.0, static_cast<double>(k) / ppd);
     int band = 0;
@@ -153,14 +170,7 @@ std::shared_ptr<const Layout> build_layout(const EstimatorConfig& requested) {
     last = std::min(last, band == 0 ? kSegmentLength / 2 - 1 : 3 * kSegmentLength / 10);
     if (last < first) continue;  // log bin narrower than one FFT bin here
     OutputPoint point{omega, band, first, last - first + 1, {}};
-    auto found = correlation_by_bins.find(point.bin_count);
-    if (found == correlation_by_bins.end()) {
-      std::array<double, kOverlapLags> rho{};
-      for (int lag = 1; lag <= kOverlapLags; ++lag)
-        rho[lag - 1] = overlap_correlation(w, lag * kSegmentHop, point.bin_count);
-      found = correlation_by_bins.emplace(point.bin_count, rho).first;
-    }
-    point.overlap_correlation = found->second;
+    point.overlap_correlation = overlap_correlations(w, point.bin_count);
     layout->points.push_back(point);
     layout->band_count = std::max(layout->band_count, band + 1);
   }
@@ -197,22 +207,23 @@ std::shared_ptr<const Layout> build_layout(const EstimatorConfig& requested) {
 }
 }  // namespace
 
-// Building a layout designs the filters and tabulates every transfer (~15 ms); a run
-// makes an estimator per batch of realizations and loads accumulators by the thousand,
-// all with a handful of configurations, so layouts are built once and shared.
-std::shared_ptr<const Layout> Layout::make(const EstimatorConfig& config) {
-  using Key = std::tuple<double, double, double, int, int>;
+std::shared_ptr<const Layout> Layout::make(const EstimatorConfig& requested) {
+  // A run makes one estimator per batch of 8 realizations, with a handful of
+  // configurations: each layout (transfer functions at every bin, ~10^4 cosines) is built
+  // once and shared, as it is immutable. A few recent ones are kept, so memory stays bounded.
+  constexpr std::size_t kRecentLayouts = 16;
   static std::mutex guard;
-  static std::map<Key, std::shared_ptr<const Layout>> built;
-  const Key key{config.dt, config.omega_min, config.omega_max, config.points_per_decade,
-                static_cast<int>(config.input)};
+  static std::vector<std::pair<EstimatorConfig, std::shared_ptr<const Layout>>> recent;
   {
     std::lock_guard<std::mutex> lock(guard);
-    if (auto found = built.find(key); found != built.end()) return found->second;
+    for (const auto& [config, layout] : recent)
+      if (same_config(config, requested)) return layout;
   }
-  auto layout = build_layout(config);  // outside the lock: it may throw InputError
+  std::shared_ptr<const Layout> layout = build_layout(requested);
   std::lock_guard<std::mutex> lock(guard);
-  return built.emplace(key, std::move(layout)).first->second;
+  if (recent.size() >= kRecentLayouts) recent.erase(recent.begin());
+  recent.emplace_back(requested, layout);
+  return layout;
 }
 
 }  // namespace slidespec::estimator_detail

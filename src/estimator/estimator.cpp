@@ -200,25 +200,40 @@ std::vector<SpectrumPoint> SpectrumAccumulator::spectrum(PointValue value) const
   return out;
 }
 
+namespace {
+
+// The window's spectral kernel, sampled kSub times per FFT bin out to kReach bins and
+// normalised to unit area: E[periodogram at bin j] = int C T kernel / T(omega_j).
+constexpr int kSub = 16, kReach = 24;
+
+// The window is fixed by the design, so its kernel (4e5 complex exponentials) is
+// computed once per process rather than at every call.
+const std::vector<double>& window_kernel(const std::vector<double>& window) {
+  static const std::vector<double> kernel = [&] {
+    const int L = detail::kSegmentLength;
+    std::vector<double> k(2 * kSub * kReach + 1);
+    double area = 0;
+    for (std::size_t m = 0; m < k.size(); ++m) {
+      const double delta = (static_cast<double>(m) - kSub * kReach) / kSub;  // in bins
+      std::complex<double> sum = 0;
+      for (int n = 0; n < L; ++n) sum += window[n] * std::polar(1.0, -2 * M_PI * delta * n / L);
+      k[m] = std::norm(sum);
+      area += k[m] / kSub;
+    }
+    for (double& value : k) value /= area;
+    return k;
+  }();
+  return kernel;
+}
+
+}  // namespace
+
 std::vector<SpectrumPoint> SpectrumAccumulator::expected(const std::function<double(double)>& true_spectrum,
                                                          PointValue value) const {
   const std::vector<SpectrumPoint> measured = spectrum(value);
   if (measured.empty()) return {};
   const detail::Layout& layout = *impl_->layout;
-  // The window's spectral kernel, sampled kSub times per FFT bin out to kReach bins and
-  // normalised to unit area: E[periodogram at bin j] = int C T kernel / T(omega_j).
-  constexpr int kSub = 16, kReach = 24;
-  const int L = detail::kSegmentLength;
-  std::vector<double> kernel(2 * kSub * kReach + 1);
-  double area = 0;
-  for (std::size_t m = 0; m < kernel.size(); ++m) {
-    const double delta = (static_cast<double>(m) - kSub * kReach) / kSub;  // in bins
-    std::complex<double> sum = 0;
-    for (int n = 0; n < L; ++n) sum += layout.window[n] * std::polar(1.0, -2 * M_PI * delta * n / L);
-    kernel[m] = std::norm(sum);
-    area += kernel[m] / kSub;
-  }
-  for (double& k : kernel) k /= area;
+  const std::vector<double>& kernel = window_kernel(layout.window);
 
   std::vector<SpectrumPoint> out;
   std::vector<int> index;
@@ -351,6 +366,37 @@ static_assert(detail::kBandDifferences <= kHistory);
 // Steps processed per lane at a time: bounds the scratch memory whatever push() gets.
 constexpr std::size_t kChunk = 4096;
 
+// The two streaming passes, cloned per instruction set by GCC (target_clones, resolved
+// once at load time). Every element's arithmetic is the same at any vector width and no
+// clone may contract to FMA (-ffp-contract=off), so all clones give the same bits.
+#define SLIDESPEC_ESTIMATOR_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+
+/// target[i] = source[i] - source[i - 1] for i in [from, to).
+SLIDESPEC_ESTIMATOR_CLONES void difference(const double* source, double* target, std::ptrdiff_t from,
+                                           std::ptrdiff_t to) {
+  for (std::ptrdiff_t i = from; i < to; ++i) target[i] = source[i] - source[i - 1];
+}
+
+/// The half-band filter on split input: out[j] = h[reach] centre[j] + sum over odd t of
+/// h[reach + t] (side[j - (t+1)/2] + side[j + (t-1)/2]), summed in the order of t.
+SLIDESPEC_ESTIMATOR_CLONES void half_band(const double* taps, const double* centre, const double* side,
+                                          std::ptrdiff_t outputs, double* out) {
+  constexpr int reach = detail::kHalfBandReach;
+  for (std::ptrdiff_t j = 0; j < outputs; ++j) out[j] = taps[reach] * centre[j];
+  for (int t = 1; t <= reach; t += 2) {
+    const double tap = taps[reach + t];
+    const double* before = side - (t + 1) / 2;  // centre[-t]
+    const double* after = side + (t - 1) / 2;   // centre[+t]
+    for (std::ptrdiff_t j = 0; j < outputs; ++j) out[j] += tap * (before[j] + after[j]);
+  }
+}
+
+/// in[n] = window[n] * segment[n] for n < count.
+SLIDESPEC_ESTIMATOR_CLONES void window_into(const double* window, const double* segment, double* in,
+                                            std::size_t count) {
+  for (std::size_t n = 0; n < count; ++n) in[n] = window[n] * segment[n];
+}
+
 struct BandStream {
   std::array<double, detail::kSegmentLength> ring{};
   std::array<double, kHistory> history{};
@@ -374,16 +420,25 @@ struct SpectrumEstimator::Impl {
   std::vector<std::vector<double>> band_input;  // [band]: samples entering the band
   std::vector<std::vector<double>> extended;    // [band]: history followed by new samples
 
+  // Scratch of one band's call, reused by the next band (kChunk + 2 * kHistory each).
+  std::array<std::vector<double>, 2> difference_scratch;
+  std::vector<double> decimator_centre, decimator_side;
+  std::vector<double> lane_major;  // [lane][kChunk]: one chunk of push()'s data
+
   void feed(Lane& lane, int band, const double* increments, std::size_t n);
+  void difference_into_segments(Lane& lane, int band, const double* y, std::size_t n);
+  std::size_t decimate(const BandStream& stream, const double* y, std::size_t n, double* out);
   void close_segment(Lane& lane, int band);
 };
 
 void SpectrumEstimator::Impl::close_segment(Lane& lane, int b) {
   BandStream& stream = lane.bands[b];
   double* in = fft.input();
-  const std::uint64_t start = stream.differenced - detail::kSegmentLength;
-  for (int n = 0; n < detail::kSegmentLength; ++n)
-    in[n] = layout->window[n] * stream.ring[(start + n) & kSegmentMask];
+  // The segment is the whole ring, oldest sample at `start`: two contiguous pieces.
+  const std::size_t start = stream.differenced & kSegmentMask;
+  const std::size_t wrapped = detail::kSegmentLength - start;
+  window_into(layout->window.data(), stream.ring.data() + start, in, wrapped);
+  window_into(layout->window.data() + wrapped, stream.ring.data(), in + wrapped, start);
   fft.execute();
   const std::complex<double>* X = fft.output();
   const detail::BandLayout& band = layout->bands[b];
@@ -411,39 +466,68 @@ void SpectrumEstimator::Impl::feed(Lane& lane, int b, const double* increments, 
   std::copy(stream.history.begin(), stream.history.end(), ext);
   std::copy(increments, increments + n, ext + kHistory);
   const double* y = ext + kHistory;  // y[-kHistory..-1] is the previous samples
-
-  // Differencing whitens the band before the window sees it; the first samples lack
-  // history and are dropped rather than differenced against zeros.
-  for (std::size_t i = 0; i < n; ++i) {
-    if (stream.received + i < static_cast<std::uint64_t>(detail::kBandDifferences)) continue;
-    double d[detail::kBandDifferences + 1];
-    for (int k = 0; k <= detail::kBandDifferences; ++k) d[k] = y[static_cast<std::ptrdiff_t>(i) - k];
-    for (int order = 1; order <= detail::kBandDifferences; ++order)
-      for (int k = 0; k + order <= detail::kBandDifferences; ++k) d[k] = d[k] - d[k + 1];
-    stream.ring[stream.differenced & kSegmentMask] = d[0];
-    ++stream.differenced;
-    if (stream.differenced >= static_cast<std::uint64_t>(detail::kSegmentLength) &&
-        (stream.differenced - detail::kSegmentLength) % detail::kSegmentHop == 0)
-      close_segment(lane, b);
-  }
-
-  std::size_t produced = 0;
-  if (b + 1 < layout->band_count) {
-    const std::vector<double>& h = layout->taps;
-    constexpr int reach = detail::kHalfBandReach;
-    double* out = band_input[b + 1].data();
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint64_t g = stream.received + i;
-      if (g < static_cast<std::uint64_t>(kHistory) || (g & 1) != 0) continue;
-      const double* centre = y + static_cast<std::ptrdiff_t>(i) - reach;
-      double sum = h[reach] * centre[0];
-      for (int t = 1; t <= reach; t += 2) sum += h[reach + t] * (centre[-t] + centre[t]);
-      out[produced++] = sum;
-    }
-  }
+  difference_into_segments(lane, b, y, n);
+  const std::size_t produced = b + 1 < layout->band_count ? decimate(stream, y, n, band_input[b + 1].data()) : 0;
   std::copy(ext + n, ext + n + kHistory, stream.history.begin());
   stream.received += n;
   feed(lane, b + 1, band_input[b + 1 < layout->band_count ? b + 1 : b].data(), produced);
+}
+
+// Differencing whitens the band before the window sees it; the first samples lack
+// history and are dropped rather than differenced against zeros. Each order is one pass
+// over the whole call (contiguous, so it vectorizes), forming exactly the same
+// differences of differences as sample-by-sample differencing would.
+void SpectrumEstimator::Impl::difference_into_segments(Lane& lane, int b, const double* y, std::size_t n) {
+  constexpr int D = detail::kBandDifferences;
+  BandStream& stream = lane.bands[b];
+  const auto count = static_cast<std::ptrdiff_t>(n);
+  const double* source = y;
+  double* target = difference_scratch[0].data() + D;  // indices -D .. n-1
+  for (int order = 1; order <= D; ++order) {
+    difference(source, target, order - D, count);
+    source = target;
+    target = difference_scratch[order % 2].data() + D;
+  }
+  const double* differenced = source;
+
+  const std::uint64_t received = stream.received;
+  std::size_t i = received < static_cast<std::uint64_t>(D) ? std::min<std::size_t>(n, D - received) : 0;
+  constexpr std::uint64_t L = detail::kSegmentLength, hop = detail::kSegmentHop;
+  while (i < n) {
+    // A segment closes whenever the differenced count reaches L, L + hop, L + 2 hop, ...
+    const std::uint64_t done = stream.differenced;
+    const std::uint64_t next_close = done < L ? L : L + ((done - L) / hop + 1) * hop;
+    const std::size_t take = static_cast<std::size_t>(std::min<std::uint64_t>(n - i, next_close - done));
+    // At most one wrap of the ring: two contiguous copies.
+    const std::size_t at = done & kSegmentMask, before_wrap = std::min(take, detail::kSegmentLength - at);
+    std::copy_n(differenced + i, before_wrap, stream.ring.data() + at);
+    std::copy_n(differenced + i + before_wrap, take - before_wrap, stream.ring.data());
+    stream.differenced += take;
+    i += take;
+    if (stream.differenced == next_close) close_segment(lane, b);
+  }
+}
+
+// Half-band decimation by two: an output at every even stream index from kHistory on,
+// centred kHalfBandReach samples back. Only the centre tap and odd offsets are nonzero,
+// so the input is split into its centre (even) and side (odd) samples and every tap
+// becomes one contiguous pass over all outputs; each output's sum keeps the tap order.
+std::size_t SpectrumEstimator::Impl::decimate(const BandStream& stream, const double* y, std::size_t n,
+                                              double* out) {
+  constexpr int reach = detail::kHalfBandReach;
+  constexpr int side_before = (reach + 1) / 2;  // side samples before the first centre
+  const std::uint64_t received = stream.received;
+  std::size_t first = received >= kHistory ? 0 : static_cast<std::size_t>(kHistory - received);
+  if (((received + first) & 1) != 0) ++first;
+  if (first >= n) return 0;
+  const auto outputs = static_cast<std::ptrdiff_t>((n - first + 1) / 2);
+  const double* centre_of_first = y + static_cast<std::ptrdiff_t>(first) - reach;
+  double* centre = decimator_centre.data();
+  double* side = decimator_side.data() + side_before;  // side[k] = centre_of_first[2k + 1]
+  for (std::ptrdiff_t j = 0; j < outputs; ++j) centre[j] = centre_of_first[2 * j];
+  for (std::ptrdiff_t k = -side_before; k < outputs + (reach - 1) / 2; ++k) side[k] = centre_of_first[2 * k + 1];
+  half_band(layout->taps.data(), centre, side, outputs, out);
+  return static_cast<std::size_t>(outputs);
 }
 
 SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes) {
@@ -462,6 +546,10 @@ SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes) {
     impl_->band_input[b].assign(capacity, 0.0);
     impl_->extended[b].assign(capacity + kHistory, 0.0);
   }
+  for (auto& scratch : impl_->difference_scratch) scratch.assign(kChunk + 2 * kHistory, 0.0);
+  impl_->decimator_centre.assign(kChunk + 2 * kHistory, 0.0);
+  impl_->decimator_side.assign(kChunk + 2 * kHistory, 0.0);
+  impl_->lane_major.assign(kChunk * static_cast<std::size_t>(lanes), 0.0);
 }
 
 SpectrumEstimator::~SpectrumEstimator() = default;
@@ -475,21 +563,25 @@ void SpectrumEstimator::push(const double* data, std::size_t steps) {
   const std::size_t lane_count = impl_->lanes.size();
   for (std::size_t start = 0; start < steps; start += kChunk) {
     const std::size_t n = std::min(kChunk, steps - start);
+    // Lane-major once per chunk: one sequential read of the step-major data, where
+    // reading each lane's column in place would pull every cache line in once per lane.
+    double* lane_major = impl_->lane_major.data();
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t l = 0; l < lane_count; ++l) lane_major[l * kChunk + i] = data[(start + i) * lane_count + l];
     for (std::size_t l = 0; l < lane_count; ++l) {
       Lane& lane = impl_->lanes[l];
-      const double* column = data + start * lane_count + l;
+      const double* column = lane_major + l * kChunk;
+      if (impl_->layout->config.input == SampleKind::increment) {
+        impl_->feed(lane, 0, column, n);
+        continue;
+      }
       double* y = impl_->band_input[0].data();
       std::size_t m = 0;
-      if (impl_->layout->config.input == SampleKind::increment) {
-        for (std::size_t i = 0; i < n; ++i) y[i] = column[i * lane_count];
-        m = n;
-      } else {
-        for (std::size_t i = 0; i < n; ++i) {
-          const double value = column[i * lane_count];
-          if (lane.has_last_value) y[m++] = value - lane.last_value;
-          lane.last_value = value;
-          lane.has_last_value = true;
-        }
+      for (std::size_t i = 0; i < n; ++i) {
+        const double value = column[i];
+        if (lane.has_last_value) y[m++] = value - lane.last_value;
+        lane.last_value = value;
+        lane.has_last_value = true;
       }
       impl_->feed(lane, 0, y, m);
     }

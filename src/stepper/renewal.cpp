@@ -51,6 +51,7 @@ RenewalState::RenewalState(const Parameters& p, std::uint64_t seed, std::uint64_
   renewals_.assign(lanes_, 0);
   jump_energy_.assign(lanes_, 0.0);
   tree_.assign(static_cast<size_t>(2 * leaves_) * lanes_, -1);
+  tree_mark_.assign(static_cast<size_t>(2 * leaves_) * lanes_, INFINITY);  // empty leaves never win
 
   // Stationary start: fresh forces; the first mark is where a stationary renewal process
   // puts it ahead of x = 0 (memoryless exponential for Poisson, uniform phase for periodic).
@@ -69,18 +70,29 @@ RenewalState::RenewalState(const Parameters& p, std::uint64_t seed, std::uint64_
 
 void RenewalState::update_tree(int lane, int contact) {
   // Tournament tree over the contacts' marks: each node holds the contact with the
-  // earliest mark below it, so finding and replacing the next renewal costs O(log N).
-  int* tree = tree_.data() + static_cast<size_t>(2 * leaves_) * lane;
-  auto mark_of = [&](int j) {
-    return j < 0 ? INFINITY : mark_[static_cast<size_t>(j) * lanes_ + lane];
-  };
+  // earliest mark below it (and that mark), so finding and replacing the next renewal
+  // costs O(log N). Walking up, the new winner stays in registers and only the
+  // siblings are read: their loads do not wait on the level below, so the chain per
+  // level is one compare and select (it was load, load, compare, store per level).
+  const size_t base = static_cast<size_t>(2 * leaves_) * lane;
+  int* tree = tree_.data() + base;
+  double* tree_mark = tree_mark_.data() + base;
   int node = leaves_ + contact;
-  tree[node] = contact;
-  for (node /= 2; node >= 1; node /= 2) {
-    const int left = tree[2 * node], right = tree[2 * node + 1];
-    tree[node] = mark_of(right) < mark_of(left) ? right : left;
+  int winner = contact;
+  double winner_mark = mark_[static_cast<size_t>(contact) * lanes_ + lane];
+  tree[node] = winner;
+  tree_mark[node] = winner_mark;
+  for (; node > 1; node /= 2) {
+    const int sibling = tree[node ^ 1];
+    const double sibling_mark = tree_mark[node ^ 1];
+    // Ties go to the left child, as they always have: the renewal order is part of the trajectory.
+    const bool take_sibling = (node & 1) == 0 ? sibling_mark < winner_mark : !(winner_mark < sibling_mark);
+    winner = take_sibling ? sibling : winner;
+    winner_mark = take_sibling ? sibling_mark : winner_mark;
+    tree[node / 2] = winner;
+    tree_mark[node / 2] = winner_mark;
   }
-  next_mark_[lane] = mark_of(tree[1]);
+  next_mark_[lane] = winner_mark;
 }
 
 void RenewalState::refresh_inputs(int lane) {

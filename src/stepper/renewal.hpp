@@ -65,6 +65,7 @@ class RenewalState {
   std::vector<std::uint64_t> renewals_;
   std::vector<double> jump_energy_;
   std::vector<int> tree_;                   // per lane: tournament tree of the earliest mark
+  std::vector<double> tree_mark_;           // per lane: the mark of each tree node's contact
 };
 
 }  // namespace slidespec::stepper

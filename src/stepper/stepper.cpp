@@ -146,10 +146,9 @@ void Stepper::advance(std::int64_t steps, const IncrementSink& sink) {
     const std::int64_t chunk = std::min(steps, s.chunk_steps);
     args.first_step = s.steps_done;
     args.steps = chunk;
-    for (int lane0 = 0; lane0 < s.padded; lane0 += s.width) {
-      args.lane0 = lane0;
-      s.kernel(args);
-    }
+    args.lane0 = 0;
+    args.lanes = s.padded;
+    s.kernel(args);
     if (sink) {
       if (s.padded == s.count) {
         sink(s.increments.data(), static_cast<std::size_t>(chunk));
