@@ -93,6 +93,10 @@ struct Landmarks {
 
 Landmarks landmarks(const Parameters& p);
 
+/// Expected sum of (f_new - f_old)^2 over the renewals while the block slides `distance`
+/// [N^2]: 2 s2_l per mark passed, a mark every a_l on each contact of each touching level.
+double expected_jump_energy(const Parameters& p, double distance);
+
 /// A named case of MODEL.md section 2: the reference case with some keys changed.
 struct Case {
   std::string name;

@@ -66,6 +66,14 @@ Landmarks landmarks(const Parameters& p) {
   return l;
 }
 
+double expected_jump_energy(const Parameters& p, double distance) {
+  double energy = 0;
+  for (int l = 1; l <= p.levels; ++l)
+    if (p.touches(l))
+      energy += 2 * p.random_force_variance(l) * static_cast<double>(p.blocks(l)) * distance / p.level(l).a;
+  return energy;
+}
+
 const std::vector<Case>& cases() {
   static const std::vector<Case> all = {
       {"reference", "the paper's reference case (Fig. 2 violet, Fig. 3 alpha=1)", {}},
