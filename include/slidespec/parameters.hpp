@@ -79,9 +79,11 @@ struct Parameters {
   double mean_miniblock_offset() const { return -F_drive / (N * k0); }
 };
 
-/// Landmarks of MODEL.md section 4 that follow from the parameters.
+/// Landmarks of MODEL.md section 4 that follow from the parameters. For a tree the force
+/// terms are summed over the touching levels (docs/hierarchy.md); omega_c stays the
+/// block's resonance against the level-1 blocks.
 struct Landmarks {
-  double renewal_rate;       ///< v/a [1/s]
+  double renewal_rate;       ///< v/a [1/s] (the fastest touching level's)
   double omega_c;            ///< sqrt(N k0 / M) [rad/s]
   double diffusion;          ///< D = alpha^2 F_kin^2 a v / (12 N (F_drive-F_kin)^2) [m^2/s]
   double eq1_prefactor;      ///< C_x ~ prefactor / omega^4 for v/a << omega << omega_c [m^2 rad^4/s^3]

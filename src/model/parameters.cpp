@@ -55,7 +55,7 @@ double Parameters::renewal_rate() const {
 Landmarks landmarks(const Parameters& p) {
   const double drive_excess = p.F_drive - p.F_kin;
   Landmarks l{};
-  l.renewal_rate = p.v / p.a;
+  l.renewal_rate = p.renewal_rate();
   l.omega_c = std::sqrt(p.N * p.k0 / p.M);
   l.diffusion = p.alpha * p.alpha * p.F_kin * p.F_kin * p.a * p.v /
                 (12.0 * p.N * drive_excess * drive_excess);
@@ -63,6 +63,25 @@ Landmarks landmarks(const Parameters& p) {
                     (12.0 * M_PI * p.N * p.a * drive_excess * drive_excess);
   l.coupling_eps = p.alpha * p.F_kin / (drive_excess * std::sqrt(6.0 * p.N));
   l.forces_can_stall = p.alpha * p.F_kin >= 2.0 * drive_excess;
+  if (p.levels > 1) {
+    // The same landmarks summed over the touching levels (for one level the sums reduce
+    // to the expressions above, which are kept so that flat outputs stay bit for bit).
+    // Below every corner the tree moves as one body with drag (F_drive - F_kin)/v.
+    double force_variance = 0, diffusion = 0, eq1 = 0, resistance = 0;
+    for (int level = 1; level <= p.levels; ++level) {
+      if (!p.touches(level)) continue;
+      const double contacts = static_cast<double>(p.blocks(level));
+      const double s2 = p.random_force_variance(level);
+      force_variance += contacts * s2;
+      diffusion += contacts * s2 * p.level(level).a;
+      eq1 += contacts * s2 / p.level(level).a;
+      resistance += contacts * p.level(level).alpha * p.friction_per_miniblock() / 2;
+    }
+    l.diffusion = diffusion * p.v / (drive_excess * drive_excess);
+    l.eq1_prefactor = eq1 * p.v * p.v * p.v / (M_PI * drive_excess * drive_excess);
+    l.coupling_eps = std::sqrt(2 * force_variance) / drive_excess;
+    l.forces_can_stall = resistance >= drive_excess;
+  }
   return l;
 }
 
