@@ -6,28 +6,15 @@
 #include <cstring>
 
 #include "slidespec/stepper.hpp"
+#include "trajectories.hpp"
 
 using namespace slidespec;
 
 namespace {
 
-struct Trajectories {
-  std::vector<double> increments;  // [step][realization]
-  std::vector<RealizationSummary> summaries;
-};
-
-Trajectories simulate(const Parameters& p, StepperConfig config, std::uint64_t first, int count,
-                      std::int64_t steps) {
-  Stepper stepper(p, config, first, count);
-  Trajectories t;
-  stepper.advance(steps, [&](const double* data, std::size_t n) {
-    t.increments.insert(t.increments.end(), data, data + n * count);
-  });
-  t.summaries = stepper.summaries();
-  return t;
-}
-
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+using stepper_test::same_bits;
+using stepper_test::simulate;
+using stepper_test::Trajectories;
 
 std::uint64_t fnv_hash(const std::vector<double>& x) {
   std::uint64_t h = 1469598103934665603ull;
@@ -88,26 +75,7 @@ TEST(HierarchyStepper, EverySimdPathMatchesTheScalarPathBitwiseOnATree) {
     ParameterBuilder builder("hierarchical");
     for (const char* c : changes) builder.set(c);
     const Parameters p = builder.build();
-    for (SimdPath path : available_simd_paths()) {
-      const int w = lane_width(path);
-      for (int count : {1, w - 1, w + 1, 3 * w + 2}) {
-        if (count < 1) continue;
-        config.simd = SimdPath::scalar;
-        const Trajectories scalar = simulate(p, config, 5, count, 800);
-        config.simd = path;
-        const Trajectories simd = simulate(p, config, 5, count, 800);
-        ASSERT_EQ(scalar.increments.size(), simd.increments.size());
-        size_t differing = 0;
-        for (size_t i = 0; i < scalar.increments.size(); ++i)
-          differing += !same_bits(scalar.increments[i], simd.increments[i]);
-        EXPECT_EQ(differing, 0u) << to_string(path) << " count " << count << " " << changes[0];
-        for (int k = 0; k < count; ++k) {
-          EXPECT_TRUE(same_bits(scalar.summaries[k].xi_end, simd.summaries[k].xi_end));
-          EXPECT_EQ(scalar.summaries[k].renewals, simd.summaries[k].renewals);
-          EXPECT_GT(scalar.summaries[k].renewals, 100u);
-        }
-      }
-    }
+    stepper_test::expect_every_path_matches_scalar(p, config, 800, changes[0]);
   }
 }
 
@@ -115,9 +83,7 @@ TEST(HierarchyStepper, ARealizationOfATreeDoesNotDependOnItsBatch) {
   const Parameters p = ParameterBuilder("hierarchical").build();
   StepperConfig config;
   config.dt = 1e-3;
-  const Trajectories wide = simulate(p, config, 0, 11, 500);
-  const Trajectories alone = simulate(p, config, 6, 1, 500);
-  for (size_t s = 0; s < 500; ++s) ASSERT_TRUE(same_bits(wide.increments[s * 11 + 6], alone.increments[s]));
+  stepper_test::expect_realization_independent_of_batch(p, config, 500);
 }
 
 // Marks every a_l on each of the blocks(l) contacts of each touching level, and jumps of
