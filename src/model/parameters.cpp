@@ -229,8 +229,9 @@ ParameterBuilder& ParameterBuilder::set(const std::string& assignment) {
 
 ParameterBuilder& ParameterBuilder::set(const std::string& key, const std::string& value) {
   Parameters& p = params_;
-  if (const auto [name, l] = split_level_key(key); l == 1) return set(name, value);
-  else if (l >= 2) {
+  const auto [name, l] = split_level_key(key);
+  if (l == 1) return set(name, value);
+  if (l >= 2) {
     Level check;
     set_level_key(check, name, key, value);  // a malformed value fails here, naming the key
     if (level_keys_.size() < static_cast<std::size_t>(l - 1)) level_keys_.resize(static_cast<std::size_t>(l - 1));
