@@ -15,25 +15,28 @@ std::vector<double> log_spaced_omegas(double omega_min, double omega_max, int po
 
 /// Spectrum of one miniblock's random force S_f(omega) [N^2 s], two-sided, angular.
 double random_force_spectrum(const Parameters& p, double omega);
+/// The same for one contact of touching level `level` (its own a, alpha; rate v / a).
+double random_force_spectrum(const Parameters& p, int level, double omega);
 
 /// The paper's Eq. (1) asymptote, prefactor / omega^4 [m^2 s].
 double eq1_asymptote(const Parameters& p, double omega);
 
-/// C_x(omega) = S_f(omega) sum_i |G_0i(omega)|^2 [m^2 s] at each omega, from a sparse
-/// complex solve per frequency over the full structure (O(N) for a chain).
+/// C_x(omega) = sum over contacts j of S_f,j(omega) |G_0j(omega)|^2 [m^2 s] at each omega,
+/// from a sparse complex solve per frequency over every block of the tree (O(blocks) for
+/// chains of children; the flat model is the one-level tree).
 std::vector<double> exact_spectrum(const Parameters& p, const std::vector<double>& omegas);
 
-/// C_x(omega) prepared once for a parameter set and evaluated many times: the lumped
-/// structure (block and mean miniblock, docs/numerics.md) makes each value a 2x2 solve.
+/// C_x(omega) prepared once for a parameter set and evaluated many times: the structure
+/// lumped by level (block and mean block of each level, docs/numerics.md) makes each value
+/// a (levels + 1)-square solve, 2x2 for the flat model, whatever the number of blocks.
 class LumpedTheory {
  public:
   explicit LumpedTheory(const Parameters& p);
   double operator()(double omega) const;
+  struct Impl;
 
  private:
-  Parameters params_;
-  double mass_[2][2], damping_[2][2], stiffness_[2][2];
-  double contacts_;
+  std::shared_ptr<const Impl> impl_;
 };
 
 /// The spectrum of xi as the stepper samples it every dt [m^2 s]: the random forces held
@@ -52,8 +55,8 @@ class SampledTheory {
   std::shared_ptr<const Impl> impl_;
 };
 
-/// The same C_x from the lumped structure (block and mean miniblock, see docs/numerics.md):
-/// a 2x2 solve per frequency, for the dense sampling that interval averages need.
+/// The same C_x from the lumped structure (see LumpedTheory and docs/numerics.md): a small
+/// solve per frequency, for the dense sampling that interval averages need.
 std::vector<double> lumped_spectrum(const Parameters& p, const std::vector<double>& omegas);
 
 /// The mean of C_x over each interval [low, high] of omega (uniform measure, as FFT bins

@@ -331,6 +331,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& paper_figur
       {"fig2", {"reference", "fast", "short-renewal", "many-contacts"}},
       {"fig3", {"reference", "medium-noise", "weak-noise"}},
       {"fig6", {"concrete-fit"}},
+      {"hierarchy", {"reference", "hierarchical"}},  // MODEL.md section 6, docs/hierarchy.md
   };
   return figures;
 }
@@ -338,7 +339,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& paper_figur
 int command_paper(const std::string& figure, RunOptions options, const std::string& directory) {
   const auto& figures = paper_figures();
   const auto found = std::find_if(figures.begin(), figures.end(), [&](const auto& f) { return f.first == figure; });
-  if (found == figures.end()) throw InputError("paper: unknown figure '" + figure + "' (known: fig2, fig3, fig6)");
+  if (found == figures.end()) throw InputError("paper: unknown figure '" + figure + "' (known: fig2, fig3, fig6, hierarchy)");
   options.request.simd = parse_simd_path(options.simd);
   resolve_simd_path(options.request.simd);
   io::check_output_prefix(directory + "/" + figure);
@@ -357,8 +358,9 @@ int command_paper(const std::string& figure, RunOptions options, const std::stri
     tables.push_back(out + ".tsv");
     if (!result.complete && stop_requested) return 128 + stop_signal;
   }
-  const std::string title = figure == "fig6" ? "concrete-fit model (alpha = 0.4), Fig. 6 of the paper"
-                                             : "the paper's " + figure.substr(0, 3) + ". " + figure.substr(3);
+  const std::string title = figure == "fig6"        ? "concrete-fit model (alpha = 0.4), Fig. 6 of the paper"
+                            : figure == "hierarchy" ? "flat and two-level contacts (the paper's Fig. 1c)"
+                                                    : "the paper's " + figure.substr(0, 3) + ". " + figure.substr(3);
   const int status = cli::plot(tables, directory + "/" + figure + ".png", title);
   if (status == 0 && !options.quiet) std::cerr << "slidespec: drew " << directory << "/" << figure << ".png\n";
   return status == 0 ? 0 : 1;
@@ -461,7 +463,7 @@ int main(int argc, char** argv) {
   std::string figure, paper_directory = ".";
   RunOptions paper_options;
   CLI::App* paper_command = app.add_subcommand("paper", "run the paper's cases and draw its figure");
-  paper_command->add_option("figure", figure, "fig2 | fig3 | fig6")->required();
+  paper_command->add_option("figure", figure, "fig2 | fig3 | fig6 | hierarchy")->required();
   paper_command->add_option("--out-dir", paper_directory, "directory for the tables and the figure");
   paper_command->add_option("--precision", paper_options.request.precision, "target relative standard error");
   paper_command->add_option("--omega-min", paper_options.request.omega_min, "lowest omega [rad/s]");

@@ -6,10 +6,39 @@
 
 namespace slidespec::model {
 
+namespace {
+
+/// The entries of M, D and K as they are emitted; duplicates are summed in emission
+/// order, so the flat model and the one-level tree, emitting alike, agree bit for bit.
+struct Entries {
+  std::vector<Eigen::Triplet<double>> mass, damping, stiffness;
+
+  /// A chain spring k1 between neighbours i and j.
+  void link(int i, int j, double k1) {
+    stiffness.emplace_back(i, i, k1);
+    stiffness.emplace_back(j, j, k1);
+    stiffness.emplace_back(i, j, -k1);
+    stiffness.emplace_back(j, i, -k1);
+  }
+
+  LinearStructure assemble(int n) const {
+    LinearStructure s;
+    s.mass.resize(n, n);
+    s.damping.resize(n, n);
+    s.stiffness.resize(n, n);
+    s.mass.setFromTriplets(mass.begin(), mass.end());
+    s.damping.setFromTriplets(damping.begin(), damping.end());
+    s.stiffness.setFromTriplets(stiffness.begin(), stiffness.end());
+    return s;
+  }
+};
+
+}  // namespace
+
 LinearStructure flat_structure(const Parameters& p) {
   const int n = p.N + 1;
-  using Triplet = Eigen::Triplet<double>;
-  std::vector<Triplet> mass, damping, stiffness;
+  Entries entries;
+  auto& [mass, damping, stiffness] = entries;
   mass.emplace_back(0, 0, p.M);
   damping.emplace_back(0, 0, p.N * p.m * p.eta0);
   stiffness.emplace_back(0, 0, p.N * p.k0);
@@ -24,23 +53,69 @@ LinearStructure flat_structure(const Parameters& p) {
     stiffness.emplace_back(i, i, p.k0);
   }
   // Chain springs k1 between neighbours; the ring closes N -> 1.
-  auto link = [&](int i, int j) {
-    stiffness.emplace_back(i, i, p.k1);
-    stiffness.emplace_back(j, j, p.k1);
-    stiffness.emplace_back(i, j, -p.k1);
-    stiffness.emplace_back(j, i, -p.k1);
-  };
-  for (int i = 1; i + 1 < n; ++i) link(i, i + 1);
-  if (p.chain == ChainEnds::ring) link(n - 1, 1);
+  for (int i = 1; i + 1 < n; ++i) entries.link(i, i + 1, p.k1);
+  if (p.chain == ChainEnds::ring) entries.link(n - 1, 1, p.k1);
 
-  LinearStructure s;
-  s.mass.resize(n, n);
-  s.damping.resize(n, n);
-  s.stiffness.resize(n, n);
-  s.mass.setFromTriplets(mass.begin(), mass.end());
-  s.damping.setFromTriplets(damping.begin(), damping.end());
-  s.stiffness.setFromTriplets(stiffness.begin(), stiffness.end());
-  for (int i = 1; i < n; ++i) s.contacts.push_back({i, p.random_force_variance(), p.a});
+  LinearStructure s = entries.assemble(n);
+  for (int i = 1; i < n; ++i)
+    s.contacts.push_back({i, p.random_force_variance(), p.a, p.alpha * p.friction_per_miniblock()});
+  return s;
+}
+
+std::vector<int> level_of_coordinates(const Parameters& p) {
+  std::vector<int> level_of = {0};
+  for (int l = 1; l <= p.levels; ++l) level_of.insert(level_of.end(), static_cast<std::size_t>(p.blocks(l)), l);
+  return level_of;
+}
+
+LinearStructure tree_structure(const Parameters& p) {
+  // Entries are emitted in flat_structure's order (block, then each level's blocks, then
+  // its chain links), so that duplicates sum in the same order and one level is bitwise flat.
+  const std::vector<int> level_of = level_of_coordinates(p);
+  const int n = static_cast<int>(level_of.size());
+  Entries entries;
+  auto& [mass, damping, stiffness] = entries;
+  const Level first = p.level(1);
+  mass.emplace_back(0, 0, p.M);
+  damping.emplace_back(0, 0, first.N * first.m * first.eta0);
+  stiffness.emplace_back(0, 0, first.N * first.k0);
+  int level_start = 1;  // first coordinate of the current level
+  for (int l = 1; l <= p.levels; ++l) {
+    const Level level = p.level(l);
+    const int count = static_cast<int>(p.blocks(l));
+    const int parent_start = l == 1 ? 0 : level_start - static_cast<int>(p.blocks(l - 1));
+    const double substrate = p.touches(l) ? p.eta1 : 0.0;
+    for (int b = 0; b < count; ++b) {
+      const int i = level_start + b, parent = l == 1 ? 0 : parent_start + b / level.N;
+      mass.emplace_back(i, i, level.m);
+      // Viscoelastic spring to the parent: k0 and m*eta0 act on the difference.
+      damping.emplace_back(parent, i, -level.m * level.eta0);
+      damping.emplace_back(i, parent, -level.m * level.eta0);
+      damping.emplace_back(i, i, level.m * (level.eta0 + substrate));
+      stiffness.emplace_back(parent, i, -level.k0);
+      stiffness.emplace_back(i, parent, -level.k0);
+      stiffness.emplace_back(i, i, level.k0);
+      if (l < p.levels) {  // the springs to its own children, as the block's are to level 1
+        const Level below = p.level(l + 1);
+        damping.emplace_back(i, i, below.N * below.m * below.eta0);
+        stiffness.emplace_back(i, i, below.N * below.k0);
+      }
+    }
+    // Chain springs k1 between neighbouring siblings; a ring closes the last to the first.
+    for (int family = level_start; family < level_start + count; family += level.N) {
+      for (int i = family; i + 1 < family + level.N; ++i) entries.link(i, i + 1, level.k1);
+      if (level.chain == ChainEnds::ring) entries.link(family + level.N - 1, family, level.k1);
+    }
+    level_start += count;
+  }
+
+  LinearStructure s = entries.assemble(n);
+  const double f_kin = p.friction_per_miniblock();
+  for (int i = 1; i < n; ++i) {
+    const int l = level_of[static_cast<std::size_t>(i)];
+    if (p.touches(l))
+      s.contacts.push_back({i, p.random_force_variance(l), p.level(l).a, p.level(l).alpha * f_kin});
+  }
   return s;
 }
 
@@ -80,6 +155,10 @@ LumpedStructure lumped_flat_structure(const Parameters& p) {
   std::vector<int> class_of(p.N + 1, 1);
   class_of[0] = 0;
   return lump(flat_structure(p), class_of);
+}
+
+LumpedStructure lumped_tree_structure(const Parameters& p) {
+  return lump(tree_structure(p), level_of_coordinates(p));
 }
 
 }  // namespace slidespec::model

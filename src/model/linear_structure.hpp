@@ -16,9 +16,12 @@ namespace slidespec::model {
 /// A coordinate that touches the substrate: it feels -(f_kin + f_j) with f_j renewed
 /// every renewal distance.
 struct Contact {
-  int coordinate;               ///< index into the coordinates (0 is the big block)
-  double random_force_variance; ///< s2 = alpha^2 f_kin^2 / 12 [N^2]
-  double renewal_distance;      ///< a [m]
+  int coordinate;                ///< index into the coordinates (0 is the big block)
+  double random_force_variance;  ///< s2 = alpha^2 f_kin^2 / 12 [N^2]
+  double renewal_distance;       ///< a [m]
+  /// alpha f_kin [N]: the force is uniform on [-1/2, 1/2) times this (s2 = amplitude^2 / 12,
+  /// kept separately because the two are rounded from alpha and f_kin in different orders).
+  double random_force_amplitude;
 };
 
 /// M q'' + D q' + K q = (random forces on the contacts), for the fluctuation q of the
@@ -35,6 +38,16 @@ struct LinearStructure {
 
 /// The flat model of MODEL.md section 1: the big block and N miniblocks in a chain.
 LinearStructure flat_structure(const Parameters& p);
+
+/// Blocks on blocks (MODEL.md section 6): the big block, then every level's blocks in
+/// order, each block's children consecutive and chained to each other; the touching
+/// levels' blocks are the contacts. For one level it is flat_structure, bit for bit.
+LinearStructure tree_structure(const Parameters& p);
+
+/// Level of each coordinate of tree_structure(p) (0 for the big block): an equitable
+/// partition, since all blocks of a level see the same springs to parent, children and
+/// siblings' sums.
+std::vector<int> level_of_coordinates(const Parameters& p);
 
 /// The same structure in class-mean coordinates of an equitable partition (coordinates
 /// in one class are interchangeable: every row of M, D, K sums the same over each class).
@@ -53,5 +66,9 @@ LumpedStructure lump(const LinearStructure& structure, const std::vector<int>& c
 
 /// The coarsest exact lumping of the flat model: block, and the mean of the miniblocks.
 LumpedStructure lumped_flat_structure(const Parameters& p);
+
+/// The tree lumped by level: levels + 1 coordinates whatever the number of blocks; input
+/// class l carries the forces of level l (the flat model's lumping for one level).
+LumpedStructure lumped_tree_structure(const Parameters& p);
 
 }  // namespace slidespec::model

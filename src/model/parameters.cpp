@@ -1,5 +1,6 @@
 #include "slidespec/parameters.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -15,15 +16,46 @@ const char* to_string(Renewal renewal) {
   return renewal == Renewal::poisson ? "poisson" : "periodic";
 }
 
-double Parameters::random_force_variance() const {
+Level Parameters::level(int l) const {
+  if (l == 1) return {N, m, k0, k1, eta0, a, alpha, chain};
+  return sublevels.at(static_cast<std::size_t>(l - 2));
+}
+
+bool Parameters::touches(int l) const {
+  if (touching.empty()) return l == levels;
+  return std::find(touching.begin(), touching.end(), l) != touching.end();
+}
+
+long long Parameters::blocks(int l) const {
+  long long count = 1;
+  for (int k = 1; k <= l; ++k) count *= level(k).N;
+  return count;
+}
+
+long long Parameters::touching_blocks() const {
+  long long count = 0;
+  for (int l = 1; l <= levels; ++l)
+    if (touches(l)) count += blocks(l);
+  return count;
+}
+
+double Parameters::random_force_variance(int l) const {
   const double f_kin = friction_per_miniblock();
-  return alpha * alpha * f_kin * f_kin / 12.0;
+  const double strength = level(l).alpha;
+  return strength * strength * f_kin * f_kin / 12.0;
+}
+
+double Parameters::renewal_rate() const {
+  double fastest = 0;
+  for (int l = 1; l <= levels; ++l)
+    if (touches(l)) fastest = std::max(fastest, renewal_rate(l));
+  return fastest;
 }
 
 Landmarks landmarks(const Parameters& p) {
   const double drive_excess = p.F_drive - p.F_kin;
   Landmarks l{};
-  l.renewal_rate = p.v / p.a;
+  l.renewal_rate = p.renewal_rate();
   l.omega_c = std::sqrt(p.N * p.k0 / p.M);
   l.diffusion = p.alpha * p.alpha * p.F_kin * p.F_kin * p.a * p.v /
                 (12.0 * p.N * drive_excess * drive_excess);
@@ -31,7 +63,34 @@ Landmarks landmarks(const Parameters& p) {
                     (12.0 * M_PI * p.N * p.a * drive_excess * drive_excess);
   l.coupling_eps = p.alpha * p.F_kin / (drive_excess * std::sqrt(6.0 * p.N));
   l.forces_can_stall = p.alpha * p.F_kin >= 2.0 * drive_excess;
+  if (p.levels > 1) {
+    // The same landmarks summed over the touching levels (for one level the sums reduce
+    // to the expressions above, which are kept so that flat outputs stay bit for bit).
+    // Below every corner the tree moves as one body with drag (F_drive - F_kin)/v.
+    double force_variance = 0, diffusion = 0, eq1 = 0, resistance = 0;
+    for (int level = 1; level <= p.levels; ++level) {
+      if (!p.touches(level)) continue;
+      const double contacts = static_cast<double>(p.blocks(level));
+      const double s2 = p.random_force_variance(level);
+      force_variance += contacts * s2;
+      diffusion += contacts * s2 * p.level(level).a;
+      eq1 += contacts * s2 / p.level(level).a;
+      resistance += contacts * p.level(level).alpha * p.friction_per_miniblock() / 2;
+    }
+    l.diffusion = diffusion * p.v / (drive_excess * drive_excess);
+    l.eq1_prefactor = eq1 * p.v * p.v * p.v / (M_PI * drive_excess * drive_excess);
+    l.coupling_eps = std::sqrt(2 * force_variance) / drive_excess;
+    l.forces_can_stall = resistance >= drive_excess;
+  }
   return l;
+}
+
+double expected_jump_energy(const Parameters& p, double distance) {
+  double energy = 0;
+  for (int l = 1; l <= p.levels; ++l)
+    if (p.touches(l))
+      energy += 2 * p.random_force_variance(l) * static_cast<double>(p.blocks(l)) * distance / p.level(l).a;
+  return energy;
 }
 
 const std::vector<Case>& cases() {
@@ -43,6 +102,12 @@ const std::vector<Case>& cases() {
       {"weak-noise", "weak random forces (Fig. 3)", {{"alpha", "0.1"}}},
       {"medium-noise", "medium random forces (Fig. 3)", {{"alpha", "0.5"}}},
       {"concrete-fit", "fit to rubber on concrete (Fig. 6)", {{"alpha", "0.4"}}},
+      // Level 2: contacts ten times smaller, D = 0.1 mm (k0 ~ E D, m ~ rho D^3, eta0 ~
+      // sqrt(k0/m), a ~ D); both levels touch. docs/hierarchy.md derives each value.
+      {"hierarchical",
+       "blocks on blocks: ten 0.1 mm microcontacts on each miniblock (MODEL.md section 6)",
+       {{"levels", "2"}, {"N_2", "10"}, {"m_2", "1e-8"}, {"k0_2", "1e3"}, {"k1_2", "10"},
+        {"eta0_2", "8e4"}, {"a_2", "1e-4"}, {"alpha_2", "1"}, {"touching", "1,2"}}},
   };
   return all;
 }
@@ -50,11 +115,26 @@ const std::vector<Case>& cases() {
 const std::vector<std::string>& parameter_keys() {
   static const std::vector<std::string> keys = {"N",     "M",     "m",     "k0",      "k1",
                                                 "eta0",  "eta1",  "v",     "a",       "alpha",
-                                                "F_drive", "F_kin", "chain", "renewal"};
+                                                "F_drive", "F_kin", "chain", "renewal",
+                                                "levels", "touching", "N_l", "m_l", "k0_l",
+                                                "k1_l", "eta0_l", "a_l", "alpha_l", "chain_l"};
   return keys;
 }
 
 namespace {
+
+// "_l", built by appending: GCC 12 warns falsely (-Wrestrict) on "_" + std::to_string(l).
+std::string level_suffix(int l) {
+  std::string suffix = "_";
+  suffix += std::to_string(l);
+  return suffix;
+}
+
+// Keys that every level has; KEY_l sets level l's.
+const std::vector<std::string>& level_key_names() {
+  static const std::vector<std::string> names = {"N", "m", "k0", "k1", "eta0", "a", "alpha", "chain"};
+  return names;
+}
 
 std::string trim(const std::string& s) {
   const auto first = s.find_first_not_of(" \t");
@@ -83,6 +163,48 @@ int parse_count(const std::string& key, const std::string& text) {
   return static_cast<int>(value);
 }
 
+ChainEnds parse_chain(const std::string& key, const std::string& value) {
+  const std::string t = trim(value);
+  if (t == "open") return ChainEnds::open;
+  if (t == "ring") return ChainEnds::ring;
+  throw InputError("parameter " + key + ": '" + value + "' is not open or ring");
+}
+
+void set_level_key(Level& level, const std::string& name, const std::string& key, const std::string& value) {
+  if (name == "N") level.N = parse_count(key, value);
+  else if (name == "m") level.m = parse_real(key, value);
+  else if (name == "k0") level.k0 = parse_real(key, value);
+  else if (name == "k1") level.k1 = parse_real(key, value);
+  else if (name == "eta0") level.eta0 = parse_real(key, value);
+  else if (name == "a") level.a = parse_real(key, value);
+  else if (name == "alpha") level.alpha = parse_real(key, value);
+  else level.chain = parse_chain(key, value);
+}
+
+/// Splits "KEY_l" into a per-level key name and l >= 1; l = 0 when it is not one.
+std::pair<std::string, int> split_level_key(const std::string& key) {
+  const auto underscore = key.rfind('_');
+  if (underscore == std::string::npos || underscore + 1 == key.size()) return {key, 0};
+  const std::string name = key.substr(0, underscore), suffix = key.substr(underscore + 1);
+  if (suffix.find_first_not_of("0123456789") != std::string::npos || suffix.size() > 3) return {key, 0};
+  if (std::find(level_key_names().begin(), level_key_names().end(), name) == level_key_names().end())
+    return {key, 0};
+  return {name, std::stoi(suffix)};
+}
+
+/// A deeper level's defaults: the level above scaled to a contact ten times smaller
+/// (k0 ~ E D, k1 ~ k0, m ~ rho D^3, eta0 ~ sqrt(k0/m), a ~ D; docs/hierarchy.md).
+Level scaled_below(const Level& above) {
+  Level below = above;
+  below.N = 10;
+  below.m = above.m / 1000;
+  below.k0 = above.k0 / 10;
+  below.k1 = above.k1 / 10;
+  below.eta0 = above.eta0 * 10;
+  below.a = above.a / 10;
+  return below;
+}
+
 }  // namespace
 
 ParameterBuilder::ParameterBuilder(const std::string& case_name) {
@@ -107,7 +229,23 @@ ParameterBuilder& ParameterBuilder::set(const std::string& assignment) {
 
 ParameterBuilder& ParameterBuilder::set(const std::string& key, const std::string& value) {
   Parameters& p = params_;
-  if (key == "N") p.N = parse_count(key, value);
+  const auto [name, l] = split_level_key(key);
+  if (l == 1) return set(name, value);
+  if (l >= 2) {
+    Level check;
+    set_level_key(check, name, key, value);  // a malformed value fails here, naming the key
+    if (level_keys_.size() < static_cast<std::size_t>(l - 1)) level_keys_.resize(static_cast<std::size_t>(l - 1));
+    level_keys_[static_cast<std::size_t>(l - 2)].emplace_back(name, value);
+    return *this;
+  }
+  if (key == "levels") p.levels = parse_count(key, value);
+  else if (key == "touching") {
+    p.touching.clear();
+    std::stringstream list(value);
+    for (std::string item; std::getline(list, item, ',');) p.touching.push_back(parse_count(key, item));
+    std::sort(p.touching.begin(), p.touching.end());
+    p.touching.erase(std::unique(p.touching.begin(), p.touching.end()), p.touching.end());
+  } else if (key == "N") p.N = parse_count(key, value);
   else if (key == "M") p.M = parse_real(key, value);
   else if (key == "m") p.m = parse_real(key, value);
   else if (key == "k0") p.k0 = parse_real(key, value);
@@ -119,12 +257,8 @@ ParameterBuilder& ParameterBuilder::set(const std::string& key, const std::strin
   else if (key == "alpha") p.alpha = parse_real(key, value);
   else if (key == "F_drive") p.F_drive = parse_real(key, value);
   else if (key == "F_kin") p.F_kin = parse_real(key, value);
-  else if (key == "chain") {
-    const std::string t = trim(value);
-    if (t == "open") p.chain = ChainEnds::open;
-    else if (t == "ring") p.chain = ChainEnds::ring;
-    else throw InputError("parameter chain: '" + value + "' is not open or ring");
-  } else if (key == "renewal") {
+  else if (key == "chain") p.chain = parse_chain(key, value);
+  else if (key == "renewal") {
     const std::string t = trim(value);
     if (t == "poisson") p.renewal = Renewal::poisson;
     else if (t == "periodic") p.renewal = Renewal::periodic;
@@ -139,15 +273,13 @@ ParameterBuilder& ParameterBuilder::set(const std::string& key, const std::strin
 
 Parameters ParameterBuilder::build() const {
   Parameters p = params_;
-  auto positive = [](const char* key, double value) {
+  auto positive = [](const std::string& key, double value) {
     if (!(value > 0))
-      throw InputError(std::string("parameter ") + key + ": must be > 0 (got " +
-                       std::to_string(value) + ")");
+      throw InputError("parameter " + key + ": must be > 0 (got " + std::to_string(value) + ")");
   };
-  auto non_negative = [](const char* key, double value) {
+  auto non_negative = [](const std::string& key, double value) {
     if (!(value >= 0))
-      throw InputError(std::string("parameter ") + key + ": must be >= 0 (got " +
-                       std::to_string(value) + ")");
+      throw InputError("parameter " + key + ": must be >= 0 (got " + std::to_string(value) + ")");
   };
   if (user_set_v_ && user_set_eta1_)
     throw InputError("parameters v and eta1: give one of them, the other is derived");
@@ -162,19 +294,71 @@ Parameters ParameterBuilder::build() const {
   positive("a", p.a);
   non_negative("alpha", p.alpha);
   non_negative("F_kin", p.F_kin);
+  build_levels(p);
+  for (int l = 2; l <= p.levels; ++l) {
+    const Level level = p.level(l);
+    const std::string suffix = level_suffix(l);
+    if (level.chain == ChainEnds::ring && level.N < 3)
+      throw InputError("parameter chain" + suffix + ": a ring needs N" + suffix + " >= 3 (got " +
+                       std::to_string(level.N) + ")");
+    positive("m" + suffix, level.m);
+    positive("k0" + suffix, level.k0);
+    non_negative("k1" + suffix, level.k1);
+    non_negative("eta0" + suffix, level.eta0);
+    positive("a" + suffix, level.a);
+    non_negative("alpha" + suffix, level.alpha);
+  }
+  // Substrate damping acts on the touching blocks, at one rate eta1 for all of them.
+  double touching_mass = 0;
+  for (int l = 1; l <= p.levels; ++l)
+    if (p.touches(l)) touching_mass += static_cast<double>(p.blocks(l)) * p.level(l).m;
   if (!(p.F_drive > p.F_kin))
     throw InputError("parameters F_drive, F_kin: F_drive must exceed F_kin for steady sliding (got " +
                      std::to_string(p.F_drive) + " <= " + std::to_string(p.F_kin) + ")");
   if (user_set_eta1_) {
     positive("eta1", p.eta1);
-    p.v = (p.F_drive - p.F_kin) / (p.N * p.m * p.eta1);
+    p.v = (p.F_drive - p.F_kin) / (touching_mass * p.eta1);
   } else {
     positive("v", p.v);
-    p.eta1 = (p.F_drive - p.F_kin) / (p.N * p.m * p.v);
+    p.eta1 = (p.F_drive - p.F_kin) / (touching_mass * p.v);
   }
   if (!std::isfinite(p.v) || !std::isfinite(p.eta1) || !(p.v > 0) || !(p.eta1 > 0))
     throw InputError("parameters v, eta1: the derived value is not a finite positive number");
   return p;
+}
+
+void ParameterBuilder::build_levels(Parameters& p) const {
+  // At most 10^7 blocks in all: the exact theory solves over every one of them.
+  if (p.levels < 1 || p.levels > 8)
+    throw InputError("parameter levels: must be between 1 and 8 (got " + std::to_string(p.levels) + ")");
+  if (level_keys_.size() > static_cast<std::size_t>(p.levels - 1)) {
+    const std::size_t deepest = level_keys_.size() + 1;
+    throw InputError("parameter " + level_keys_.back().front().first + level_suffix(static_cast<int>(deepest)) +
+                     ": level " + std::to_string(deepest) + " is below the lowest (levels=" +
+                     std::to_string(p.levels) + ")");
+  }
+  p.sublevels.clear();
+  for (int l = 2; l <= p.levels; ++l) {
+    Level level = scaled_below(p.level(l - 1));
+    if (static_cast<std::size_t>(l - 2) < level_keys_.size())
+      for (const auto& [name, value] : level_keys_[static_cast<std::size_t>(l - 2)])
+        set_level_key(level, name, name + level_suffix(l), value);
+    p.sublevels.push_back(level);
+  }
+  for (int l : p.touching)
+    if (l < 1 || l > p.levels)
+      throw InputError("parameter touching: level " + std::to_string(l) + " is not in 1.." +
+                       std::to_string(p.levels));
+  for (int l = 2; l <= p.levels; ++l)
+    if (p.level(l).N < 1)
+      throw InputError("parameter N_" + std::to_string(l) + ": must be at least 1 (got " +
+                       std::to_string(p.level(l).N) + ")");
+  long long total = 0;
+  for (int l = 1; l <= p.levels; ++l) {
+    total += p.blocks(l);
+    if (total > 10000000)
+      throw InputError("parameter levels: the tree would have more than 10^7 blocks");
+  }
 }
 
 std::vector<std::string> read_parameter_file(const std::string& path) {
@@ -211,13 +395,37 @@ std::vector<std::pair<std::string, std::string>> describe(const Parameters& p) {
     s << x;
     return s.str();
   };
-  return {{"N", std::to_string(p.N)}, {"M", num(p.M)},
+  std::vector<std::pair<std::string, std::string>> described = {
+          {"N", std::to_string(p.N)}, {"M", num(p.M)},
           {"m", num(p.m)},           {"k0", num(p.k0)},
           {"k1", num(p.k1)},         {"eta0", num(p.eta0)},
           {"eta1", num(p.eta1)},     {"v", num(p.v)},
           {"a", num(p.a)},           {"alpha", num(p.alpha)},
           {"F_drive", num(p.F_drive)}, {"F_kin", num(p.F_kin)},
           {"chain", to_string(p.chain)}, {"renewal", to_string(p.renewal)}};
+  if (p.levels > 1) {
+    described.emplace_back("levels", std::to_string(p.levels));
+    std::string touching;
+    for (int l = 1; l <= p.levels; ++l)
+      if (p.touches(l)) {
+        if (!touching.empty()) touching += ',';
+        touching += std::to_string(l);
+      }
+    described.emplace_back("touching", touching);
+    for (int l = 2; l <= p.levels; ++l) {
+      const Level level = p.level(l);
+      const std::string suffix = level_suffix(l);
+      described.emplace_back("N" + suffix, std::to_string(level.N));
+      described.emplace_back("m" + suffix, num(level.m));
+      described.emplace_back("k0" + suffix, num(level.k0));
+      described.emplace_back("k1" + suffix, num(level.k1));
+      described.emplace_back("eta0" + suffix, num(level.eta0));
+      described.emplace_back("a" + suffix, num(level.a));
+      described.emplace_back("alpha" + suffix, num(level.alpha));
+      described.emplace_back("chain" + suffix, to_string(level.chain));
+    }
+  }
+  return described;
 }
 
 }  // namespace slidespec

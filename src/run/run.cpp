@@ -60,11 +60,11 @@ EstimatorConfig estimator_config(const SubBand& band, int points_per_decade) {
 constexpr std::uint64_t kMinimumForControl = 8;
 
 /// The relative excess of a realization's forcing over what the model prescribes:
-/// sum (f_new - f_old)^2 over its renewals against 2 s2 per renewal mark passed, N x/a
-/// of them (exactly its expectation: marks and forces are drawn independently of x).
+/// sum (f_new - f_old)^2 over its renewals against 2 s2 per renewal mark passed, x/a per
+/// contact (exactly its expectation: marks and forces are drawn independently of x).
 double forcing_control(const Parameters& p, const RealizationSummary& r) {
   const double distance = p.v * r.duration + r.xi_end;
-  const double expected = 2 * p.random_force_variance() * p.N * distance / p.a;
+  const double expected = expected_jump_energy(p, distance);
   return expected > 0 ? r.jump_energy / expected - 1 : 0.0;
 }
 

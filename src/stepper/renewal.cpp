@@ -3,6 +3,9 @@
 #include <Random123/philox.h>
 
 #include <cmath>
+#include <stdexcept>
+
+#include "model/linear_structure.hpp"
 
 namespace slidespec::stepper {
 
@@ -25,12 +28,11 @@ RenewalDraw draw_renewal(std::uint64_t seed, std::uint64_t stream, std::uint64_t
   return draw;
 }
 
-RenewalState::RenewalState(const Parameters& p, std::uint64_t seed, std::uint64_t stream,
-                           std::uint64_t first_realization, int lanes,
-                           const std::vector<int>& class_of_contact)
-    : force_unit_(p.alpha * p.friction_per_miniblock() * two_to_minus_53),
-      renewal_distance_(p.a),
-      poisson_(p.renewal == Renewal::poisson),
+RenewalState::RenewalState(const std::vector<model::Contact>& contacts,
+                           const std::vector<int>& class_of_contact, Renewal renewal,
+                           std::uint64_t seed, std::uint64_t stream,
+                           std::uint64_t first_realization, int lanes)
+    : poisson_(renewal == Renewal::poisson),
       seed_(seed),
       stream_(stream),
       first_(first_realization),
@@ -40,6 +42,17 @@ RenewalState::RenewalState(const Parameters& p, std::uint64_t seed, std::uint64_
       leaves_(1),
       class_of_contact_(class_of_contact) {
   for (int c : class_of_contact_) inputs_ = std::max(inputs_, c);
+  if (contacts.size() != class_of_contact.size())
+    throw std::invalid_argument("renewal: one class per contact expected");
+  force_unit_.assign(static_cast<size_t>(inputs_), 0.0);
+  for (int j = 0; j < contacts_; ++j) {
+    const double unit = contacts[j].random_force_amplitude * two_to_minus_53;
+    double& class_unit = force_unit_[static_cast<size_t>(class_of_contact_[j] - 1)];
+    if (class_unit != 0.0 && class_unit != unit)
+      throw std::invalid_argument("renewal: the contacts of an input class differ in force amplitude");
+    class_unit = unit;
+    renewal_distance_.push_back(contacts[j].renewal_distance);
+  }
   while (leaves_ < contacts_) leaves_ *= 2;
   const size_t cells = static_cast<size_t>(contacts_) * lanes_;
   force_units_.assign(cells, 0);
@@ -60,8 +73,8 @@ RenewalState::RenewalState(const Parameters& p, std::uint64_t seed, std::uint64_
       const RenewalDraw d = draw_renewal(seed_, stream_, first_ + lane, j, 0);
       const size_t cell = static_cast<size_t>(j) * lanes_ + lane;
       force_units_[cell] = d.force_units;
-      mark_[cell] = poisson_ ? -renewal_distance_ * std::log1p(-d.spacing_uniform)
-                             : renewal_distance_ * d.spacing_uniform;
+      mark_[cell] = poisson_ ? -renewal_distance_[j] * std::log1p(-d.spacing_uniform)
+                             : renewal_distance_[j] * d.spacing_uniform;
       update_tree(lane, j);
     }
     refresh_inputs(lane);
@@ -100,9 +113,13 @@ void RenewalState::refresh_inputs(int lane) {
   for (int j = 0; j < contacts_; ++j)
     input_units_[static_cast<size_t>(class_of_contact_[j] - 1) * lanes_ + lane] +=
         force_units_[static_cast<size_t>(j) * lanes_ + lane];
+  publish_inputs(lane);
+}
+
+void RenewalState::publish_inputs(int lane) {
   for (int k = 0; k < inputs_; ++k) {
     const size_t cell = static_cast<size_t>(k) * lanes_ + lane;
-    input_forces_[cell] = force_unit_ * static_cast<double>(input_units_[cell]);
+    input_forces_[cell] = force_unit_[static_cast<size_t>(k)] * static_cast<double>(input_units_[cell]);
   }
 }
 
@@ -113,19 +130,19 @@ void RenewalState::renew_passed(int lane, double x) {
     const size_t cell = static_cast<size_t>(j) * lanes_ + lane;
     const std::uint64_t count = ++count_[cell];
     const RenewalDraw d = draw_renewal(seed_, stream_, first_ + lane, j, count);
-    const size_t input = static_cast<size_t>(class_of_contact_[j] - 1) * lanes_ + lane;
+    const size_t input_class = static_cast<size_t>(class_of_contact_[j] - 1);
+    const size_t input = input_class * lanes_ + lane;
     const std::int64_t jump = d.force_units - force_units_[cell];
     input_units_[input] += jump;
-    jump_energy_[lane] += (force_unit_ * static_cast<double>(jump)) * (force_unit_ * static_cast<double>(jump));
+    const double unit = force_unit_[input_class];
+    jump_energy_[lane] += (unit * static_cast<double>(jump)) * (unit * static_cast<double>(jump));
     force_units_[cell] = d.force_units;
-    mark_[cell] += poisson_ ? -renewal_distance_ * std::log1p(-d.spacing_uniform) : renewal_distance_;
+    const double spacing = renewal_distance_[static_cast<size_t>(j)];
+    mark_[cell] += poisson_ ? -spacing * std::log1p(-d.spacing_uniform) : spacing;
     ++renewals_[lane];
     update_tree(lane, j);
   }
-  for (int k = 0; k < inputs_; ++k) {
-    const size_t cell = static_cast<size_t>(k) * lanes_ + lane;
-    input_forces_[cell] = force_unit_ * static_cast<double>(input_units_[cell]);
-  }
+  publish_inputs(lane);
 }
 
 }  // namespace slidespec::stepper

@@ -6,6 +6,10 @@
 
 #include "slidespec/parameters.hpp"
 
+namespace slidespec::model {
+struct Contact;  // kept out of the kernel's translation units: they must not see Eigen
+}
+
 namespace slidespec::stepper {
 
 // Exact sums of up to 2^74 forces in units of 2^-53 alpha f_kin.
@@ -24,12 +28,15 @@ RenewalDraw draw_renewal(std::uint64_t seed, std::uint64_t stream, std::uint64_t
 
 /// The renewal state of a batch of lanes, laid out contact-major (structure of arrays:
 /// contact i of every lane is contiguous). The sums of the forces per input class are
-/// kept exactly, as integers, so they never drift however many renewals happen.
+/// kept exactly, as integers, so they never drift however many renewals happen; that
+/// needs one force amplitude per class (a level), while renewal distances are per contact.
 class RenewalState {
  public:
-  /// `class_of_contact[j]` in 1..inputs; `lanes` lanes of which lane k is realization first + k.
-  RenewalState(const Parameters& p, std::uint64_t seed, std::uint64_t stream,
-               std::uint64_t first_realization, int lanes, const std::vector<int>& class_of_contact);
+  /// `class_of_contact[j]` in 1..inputs for `contacts[j]`; `lanes` lanes of which lane k is
+  /// realization first + k. Throws std::invalid_argument if a class mixes amplitudes.
+  RenewalState(const std::vector<model::Contact>& contacts, const std::vector<int>& class_of_contact,
+               Renewal renewal, std::uint64_t seed, std::uint64_t stream,
+               std::uint64_t first_realization, int lanes);
 
   /// Renews every contact of `lane` whose mark the block has passed (x >= mark), in order
   /// of the marks, and refreshes the lane's input sums and next mark.
@@ -49,9 +56,10 @@ class RenewalState {
  private:
   void update_tree(int lane, int contact);
   void refresh_inputs(int lane);
+  void publish_inputs(int lane);  // input_forces_ from the exact integer sums
 
-  double force_unit_;      // alpha f_kin 2^-53 [N]
-  double renewal_distance_;
+  std::vector<double> force_unit_;        // per input class: alpha f_kin 2^-53 [N]
+  std::vector<double> renewal_distance_;  // per contact [m]
   bool poisson_;
   std::uint64_t seed_, stream_, first_;
   int lanes_, contacts_, inputs_, leaves_;

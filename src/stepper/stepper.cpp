@@ -78,13 +78,16 @@ struct Stepper::Impl {
         first(first_realization),
         count(n),
         padded((n + width - 1) / width * width),
-        lumped(model::lumped_flat_structure(p)),
+        lumped(model::lumped_tree_structure(p)),
         step(stepper::exact_step(lumped, c.dt)),
         kernel(kernel_for(path, step.dimension, step.inputs)),
-        renewal(p, c.seed, c.stream, first_realization, padded, lumped.class_of_contact) {
+        renewal(model::tree_structure(p).contacts, lumped.class_of_contact, p.renewal, c.seed, c.stream,
+                first_realization, padded) {
     if (!(c.dt > 0) || !std::isfinite(c.dt)) throw InputError("time step dt must be > 0");
     if (n < 1) throw InputError("a batch needs at least one realization");
-    if (kernel == nullptr) throw std::logic_error("stepper: no kernel for this model shape");
+    if (kernel == nullptr)
+      throw InputError("parameters levels, touching: the stepper is compiled for up to 3 levels (got " +
+                       std::to_string(p.levels) + ")");
     z.assign(static_cast<size_t>(step.dimension) * padded, 0.0);
     xi.assign(padded, 0.0);
     offset_sum.assign(padded, 0.0);

@@ -18,20 +18,20 @@ struct SampledTheory::Impl {
   Eigen::RowVectorXcd increment_forcing;
   std::vector<double> contacts_per_input;      // independent forces summed into each input
 
-  /// Spectrum of one contact's force sampled every dt [N^2 s]: (dt / 2 pi) times the
-  /// discrete-time Fourier transform of its sampled autocovariance.
-  double sampled_force_spectrum(double omega) const {
-    const double s2 = params.random_force_variance();
+  /// Spectrum of one force of input class `level` sampled every dt [N^2 s]: (dt / 2 pi)
+  /// times the discrete-time Fourier transform of its sampled autocovariance.
+  double sampled_force_spectrum(int level, double omega) const {
+    const double s2 = params.random_force_variance(level);
     const double theta = omega * dt;
     if (params.renewal == Renewal::poisson) {
       // R(tau) = s2 exp(-lambda |tau|): a geometric series in q = exp(-lambda dt).
-      const double q = std::exp(-params.renewal_rate() * dt);
+      const double q = std::exp(-params.renewal_rate(level) * dt);
       return dt / (2 * M_PI) * s2 * (1 - q * q) / (1 - 2 * q * std::cos(theta) + q * q);
     }
     // Periodic renewal, random phase: R(tau) = s2 (1 - |tau|/T)_+ with r = T/dt steps. The
     // sampled triangle is a mixture of the Fejer kernels of half widths K and K+1
     // (K = floor r), which matches it at every integer lag and is stable as theta -> 0.
-    const double r = params.a / params.v / dt;
+    const double r = params.level(level).a / params.v / dt;
     const double K = std::floor(r);
     const double weight_K = K * (K + 1 - r) / r;
     auto fejer = [&](double width) {
@@ -47,7 +47,7 @@ struct SampledTheory::Impl {
 
 SampledTheory::SampledTheory(const Parameters& p, double dt) {
   if (!(dt > 0) || !std::isfinite(dt)) throw InputError("time step: dt must be a positive number");
-  const model::LumpedStructure lumped = model::lumped_flat_structure(p);
+  const model::LumpedStructure lumped = model::lumped_tree_structure(p);
   const stepper::ExactStep step = stepper::exact_step(lumped, dt);
   auto impl = std::make_shared<Impl>();
   impl->params = p;
@@ -78,9 +78,11 @@ double SampledTheory::operator()(double omega) const {
           .partialPivLu()
           .solve(s.forcing);
   const Eigen::RowVectorXcd transfer = s.increment * resolvent_forcing + s.increment_forcing;
+  // Input class k is level k + 1; each level's forces have their own spectrum.
   double increments = 0;
-  for (int k = 0; k < transfer.size(); ++k) increments += s.contacts_per_input[k] * std::norm(transfer(k));
-  increments *= s.sampled_force_spectrum(omega);
+  for (int k = 0; k < transfer.size(); ++k)
+    if (s.contacts_per_input[k] > 0)
+      increments += s.contacts_per_input[k] * std::norm(transfer(k)) * s.sampled_force_spectrum(k + 1, omega);
   // xi from its increments: |1 - e^{-i theta}|^2 = 4 sin^2(theta/2).
   const double half = std::sin(0.5 * theta);
   return increments / (4 * half * half);

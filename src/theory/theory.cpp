@@ -24,13 +24,15 @@ std::vector<double> log_spaced_omegas(double omega_min, double omega_max, int po
   return omegas;
 }
 
-double random_force_spectrum(const Parameters& p, double omega) {
-  const double s2 = p.random_force_variance();
+double random_force_spectrum(const Parameters& p, double omega) { return random_force_spectrum(p, 1, omega); }
+
+double random_force_spectrum(const Parameters& p, int level, double omega) {
+  const double s2 = p.random_force_variance(level);
   if (p.renewal == Renewal::poisson) {
-    const double lambda = p.renewal_rate();
+    const double lambda = p.renewal_rate(level);
     return s2 * lambda / (M_PI * (lambda * lambda + omega * omega));
   }
-  const double T = p.a / p.v;  // renewal period
+  const double T = p.level(level).a / p.v;  // renewal period
   const double half = 0.5 * omega * T;
   const double sinc = half == 0.0 ? 1.0 : std::sin(half) / half;
   return s2 * T / (2.0 * M_PI) * sinc * sinc;
@@ -41,7 +43,8 @@ double eq1_asymptote(const Parameters& p, double omega) {
 }
 
 std::vector<double> exact_spectrum(const Parameters& p, const std::vector<double>& omegas) {
-  const model::LinearStructure s = model::flat_structure(p);
+  const model::LinearStructure s = model::tree_structure(p);
+  const std::vector<int> level_of = model::level_of_coordinates(p);
   using Complex = std::complex<double>;
   using SparseC = Eigen::SparseMatrix<Complex>;
   const SparseC K = s.stiffness.cast<Complex>();
@@ -64,35 +67,57 @@ std::vector<double> exact_spectrum(const Parameters& p, const std::vector<double
     }
     solver.factorize(Z);
     const Eigen::VectorXcd G0 = solver.solve(unit_block);
+    // The contacts of a level share one force spectrum: sum their responses first.
+    std::vector<double> per_level(static_cast<std::size_t>(p.levels) + 1, 0.0);
+    for (const model::Contact& c : s.contacts)
+      per_level[static_cast<std::size_t>(level_of[static_cast<std::size_t>(c.coordinate)])] +=
+          std::norm(G0(c.coordinate));
     double total = 0.0;
-    for (const model::Contact& c : s.contacts) total += std::norm(G0(c.coordinate));
-    spectrum.push_back(random_force_spectrum(p, omega) * total);
+    for (int l = 1; l <= p.levels; ++l)
+      if (p.touches(l)) total += random_force_spectrum(p, l, omega) * per_level[static_cast<std::size_t>(l)];
+    spectrum.push_back(total);
   }
   return spectrum;
 }
 
-LumpedTheory::LumpedTheory(const Parameters& p) : params_(p) {
-  const model::LumpedStructure lumped = model::lumped_flat_structure(p);
-  if (lumped.mass.rows() != 2) throw std::logic_error("LumpedTheory: expected block and one class");
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j) {
-      mass_[i][j] = lumped.mass(i, j);
-      damping_[i][j] = lumped.damping(i, j);
-      stiffness_[i][j] = lumped.stiffness(i, j);
-    }
-  contacts_ = static_cast<double>(lumped.class_of_contact.size());
+struct LumpedTheory::Impl {
+  Parameters params;
+  Eigen::MatrixXd mass, damping, stiffness;
+  std::vector<double> contacts_per_level;  // index = lumped coordinate = level
+};
+
+LumpedTheory::LumpedTheory(const Parameters& p) {
+  const model::LumpedStructure lumped = model::lumped_tree_structure(p);
+  auto impl = std::make_shared<Impl>();
+  impl->params = p;
+  impl->mass = lumped.mass;
+  impl->damping = lumped.damping;
+  impl->stiffness = lumped.stiffness;
+  impl->contacts_per_level.assign(static_cast<std::size_t>(lumped.mass.rows()), 0.0);
+  for (int c : lumped.class_of_contact) impl->contacts_per_level[static_cast<std::size_t>(c)] += 1;
+  impl_ = std::move(impl);
 }
 
 double LumpedTheory::operator()(double omega) const {
   using Complex = std::complex<double>;
-  Complex Z[2][2];
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j)
-      Z[i][j] = stiffness_[i][j] - omega * omega * mass_[i][j] - Complex(0.0, omega) * damping_[i][j];
-  // A unit force on one contact is a unit class-sum force on the mean miniblock:
-  // G_01 = -Z_01 / det Z for the 2x2 system.
-  const Complex G01 = -Z[0][1] / (Z[0][0] * Z[1][1] - Z[0][1] * Z[1][0]);
-  return random_force_spectrum(params_, omega) * contacts_ * std::norm(G01);
+  const Impl& s = *impl_;
+  const Eigen::MatrixXcd Z = s.stiffness.cast<Complex>() - (omega * omega) * s.mass.cast<Complex>() -
+                             Complex(0.0, omega) * s.damping.cast<Complex>();
+  // A force on the block moves every block of a level alike, so G_0j (= G_j0, Z being
+  // symmetric) is the same for all contacts j of a level: the lumped response to e_0.
+  Eigen::VectorXcd G0(Z.rows());
+  if (Z.rows() == 2) {
+    G0(1) = -Z(0, 1) / (Z(0, 0) * Z(1, 1) - Z(0, 1) * Z(1, 0));
+  } else {
+    G0 = Z.partialPivLu().solve(Eigen::VectorXcd::Unit(Z.rows(), 0));
+  }
+  double total = 0.0;
+  for (Eigen::Index l = 1; l < Z.rows(); ++l) {
+    const double contacts = s.contacts_per_level[static_cast<std::size_t>(l)];
+    if (contacts > 0)
+      total += random_force_spectrum(s.params, static_cast<int>(l), omega) * contacts * std::norm(G0(l));
+  }
+  return total;
 }
 
 std::vector<double> lumped_spectrum(const Parameters& p, const std::vector<double>& omegas) {

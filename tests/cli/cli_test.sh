@@ -18,6 +18,10 @@ expect_refused short-ring ring theory $out --set chain=ring --set N=2
 expect_refused bad-omega-range omega theory $out --omega-min 10 --omega-max 1
 expect_refused missing-directory "does not exist" theory --out "$work/nowhere/x"
 expect_refused unknown-option "--bogus" theory --bogus
+expect_refused level-mass "parameter m_2" theory $out --set levels=2 --set m_2=0
+expect_refused level-below-lowest "parameter N_3" theory $out --set levels=2 --set N_3=4
+expect_refused touching-level "parameter touching" theory $out --case hierarchical --set touching=3
+expect_refused stepper-levels "levels" run $out --set levels=4 --no-plot --quiet
 
 # A good run writes the table atomically and leaves no temporary file behind.
 "$bin" theory --out "$work/ref" > /dev/null 2>&1 || fail "theory --out failed"

@@ -112,7 +112,13 @@ INSTANTIATE_TEST_SUITE_P(
                       Setting{"ring_N12", "reference", {"chain=ring", "N=12"}, 0},
                       Setting{"k1_zero", "reference", {"k1=0"}, 0},
                       Setting{"other_forces", "reference", {"F_drive=20", "F_kin=8", "alpha=0.7"}, 0},
-                      Setting{"periodic", "reference", {"renewal=periodic"}, 100}),
+                      Setting{"periodic", "reference", {"renewal=periodic"}, 100},
+                      // Trees kept small: every contact renews, and the tests' time is renewals.
+                      Setting{"tree_two_touching_levels", "hierarchical", {"N=10", "N_2=3"}, 0},
+                      Setting{"tree_lowest_touching_ring", "hierarchical",
+                              {"N=10", "N_2=4", "touching=2", "chain_2=ring"}, 0},
+                      Setting{"tree_three_levels", "hierarchical",
+                              {"levels=3", "N=4", "N_2=3", "N_3=3", "a_3=1e-4", "touching=1,3"}, 0}),
     [](const auto& param_info) { return std::string(param_info.param.name); });
 
 }  // namespace

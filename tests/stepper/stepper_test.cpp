@@ -1,4 +1,5 @@
 #include "slidespec/stepper.hpp"
+#include "trajectories.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,23 +14,9 @@ using namespace slidespec;
 
 namespace {
 
-struct Trajectories {
-  std::vector<double> increments;  // [step][realization]
-  std::vector<RealizationSummary> summaries;
-};
-
-Trajectories simulate(const Parameters& p, StepperConfig config, std::uint64_t first, int count,
-                      std::int64_t steps) {
-  Stepper stepper(p, config, first, count);
-  Trajectories t;
-  stepper.advance(steps, [&](const double* data, std::size_t n) {
-    t.increments.insert(t.increments.end(), data, data + n * count);
-  });
-  t.summaries = stepper.summaries();
-  return t;
-}
-
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+using stepper_test::same_bits;
+using stepper_test::simulate;
+using stepper_test::Trajectories;
 
 struct MeanAndError {
   double mean, standard_error, variance;
@@ -60,34 +47,13 @@ TEST(ExactStep, TwoStepsOfDtEqualOneStepOfTwoDt) {
   }
 }
 
-// Lane k of every SIMD path equals the scalar run of realization k, bit for bit, for
-// realization counts around the lane width so that padded lanes are exercised too.
 TEST(Stepper, EverySimdPathMatchesTheScalarPathBitwise) {
   for (const char* renewal : {"renewal=poisson", "renewal=periodic"}) {
     const Parameters p = ParameterBuilder().set(renewal).set("a=1e-5").build();  // many renewals
     StepperConfig config;
     config.dt = 1e-4;
     config.seed = 7;
-    for (SimdPath path : available_simd_paths()) {
-      const int w = lane_width(path);
-      for (int count : {1, w - 1, w + 1, 3 * w + 2}) {
-        if (count < 1) continue;
-        config.simd = SimdPath::scalar;
-        const Trajectories scalar = simulate(p, config, 5, count, 3000);
-        config.simd = path;
-        const Trajectories simd = simulate(p, config, 5, count, 3000);
-        ASSERT_EQ(scalar.increments.size(), simd.increments.size());
-        size_t differing = 0;
-        for (size_t i = 0; i < scalar.increments.size(); ++i)
-          differing += !same_bits(scalar.increments[i], simd.increments[i]);
-        EXPECT_EQ(differing, 0u) << to_string(path) << " count " << count << " " << renewal;
-        for (int k = 0; k < count; ++k) {
-          EXPECT_TRUE(same_bits(scalar.summaries[k].xi_end, simd.summaries[k].xi_end));
-          EXPECT_EQ(scalar.summaries[k].renewals, simd.summaries[k].renewals);
-          EXPECT_GT(scalar.summaries[k].renewals, 100u);
-        }
-      }
-    }
+    stepper_test::expect_every_path_matches_scalar(p, config, 3000, renewal);
   }
 }
 
@@ -95,9 +61,7 @@ TEST(Stepper, ARealizationDoesNotDependOnItsBatch) {
   const Parameters p = ParameterBuilder().set("a=1e-5").build();
   StepperConfig config;
   config.dt = 1e-4;
-  const Trajectories wide = simulate(p, config, 0, 11, 2000);
-  const Trajectories alone = simulate(p, config, 6, 1, 2000);
-  for (size_t s = 0; s < 2000; ++s) ASSERT_TRUE(same_bits(wide.increments[s * 11 + 6], alone.increments[s]));
+  stepper_test::expect_realization_independent_of_batch(p, config, 2000);
 }
 
 TEST(Stepper, ResultsDoNotDependOnTheThreadCount) {
