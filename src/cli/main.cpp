@@ -184,15 +184,6 @@ RunResult run_and_write(const Parameters& p, const std::string& case_name, const
   return run_and_write(session, options, out);
 }
 
-/// Reads a whole file; InputError naming it when it cannot.
-std::string read_file(const std::string& path, const std::string& what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(what + ": cannot read " + path);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
 void catch_stop_signals() {
   std::signal(SIGINT, request_stop);
   std::signal(SIGTERM, request_stop);
@@ -221,7 +212,7 @@ int command_run(const ModelOptions& model, RunOptions options, const std::functi
   if (!options.resume.empty()) {
     // Continue a saved run: its parameters and request are in the state; options given
     // here must describe the same run (threads and SIMD path may change).
-    RunSession session = RunSession::load(read_file(options.resume + ".state", "--resume"));
+    RunSession session = RunSession::load(io::read_file(options.resume + ".state", "--resume"));
     const bool model_given = given("--case") || given("--set") || given("--params");
     RunRequest request = session.request();
     if (given("--omega-min")) request.omega_min = options.request.omega_min;
@@ -262,7 +253,7 @@ int command_merge(const std::vector<std::string>& paths, RunOptions options) {
   std::vector<RunSession> parts;
   for (const std::string& path : paths) {
     try {
-      parts.push_back(RunSession::load(read_file(path, "merge")));
+      parts.push_back(RunSession::load(io::read_file(path, "merge")));
     } catch (const InputError& e) {
       throw InputError(path + ": " + e.what());
     }

@@ -7,6 +7,8 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include "slidespec/parameters.hpp"
@@ -61,6 +63,14 @@ void check_output_prefix(const std::string& prefix) {
     throw InputError("--out " + prefix + ": directory " + dir + " does not exist");
   if (::access(dir.c_str(), W_OK) != 0)
     throw InputError("--out " + prefix + ": directory " + dir + " is not writable");
+}
+
+std::string read_file(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(what + ": cannot read " + path);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
 }
 
 }  // namespace slidespec::io
