@@ -102,7 +102,7 @@ void ReferenceRun(benchmark::State& state) {
     stepping.cpu += alone.cpu;
     both.wall += estimated.wall;
     both.cpu += estimated.cpu;
-    samples = result.miniblock_steps / p.N;
+    samples = result.realization_steps;
   }
   const double n = static_cast<double>(state.iterations());
   state.counters["run_s"] = run.wall / n;

@@ -54,7 +54,8 @@ struct RunResult {
   double mean_speed = 0;            ///< measured, over the lowest sub-band's realizations [m/s]
   double mean_speed_error = 0;      ///< its standard error [m/s]
   double simulated_time = 0;        ///< all realizations of all sub-bands [s]
-  double miniblock_steps = 0;       ///< N x realization-steps simulated
+  double realization_steps = 0;     ///< time steps simulated, over all realizations
+  double miniblock_steps = 0;       ///< blocks below the big block (all levels) x realization-steps
   double wall_seconds = 0;
   double reached_precision = 0;     ///< largest standard_error / C_x over the points
   SimdPath simd_path = SimdPath::scalar;

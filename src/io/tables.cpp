@@ -105,6 +105,7 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
   doc["measured_mean_speed"] = {{"value", result.mean_speed}, {"standard_error", result.mean_speed_error}};
   doc["simulated_time"] = result.simulated_time;
   doc["wall_seconds"] = result.wall_seconds;
+  doc["realization_steps"] = result.realization_steps;
   doc["miniblock_steps"] = result.miniblock_steps;
   doc["throughput_miniblock_steps_per_second"] =
       result.wall_seconds > 0 ? result.miniblock_steps / result.wall_seconds : 0.0;

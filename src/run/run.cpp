@@ -387,8 +387,12 @@ RunResult RunSession::result() const {
           {e.omega, e.C, e.standard_error, expected[k].C, theory(e.omega), e.n_avg, e.bandwidth});
     }
     result.simulated_time += static_cast<double>(totals.realizations) * band.duration;
-    result.miniblock_steps +=
-        static_cast<double>(s.params.N) * static_cast<double>(s.steps[b]) * static_cast<double>(totals.realizations);
+    result.realization_steps += static_cast<double>(s.steps[b]) * static_cast<double>(totals.realizations);
+  }
+  {
+    double blocks = 0;
+    for (int level = 1; level <= s.params.levels; ++level) blocks += static_cast<double>(s.params.blocks(level));
+    result.miniblock_steps = blocks * result.realization_steps;
   }
   std::sort(result.points.begin(), result.points.end(),
             [](const RunPoint& x, const RunPoint& y) { return x.omega < y.omega; });
