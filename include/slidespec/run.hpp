@@ -126,6 +126,7 @@ class RunSession {
 
  private:
   explicit RunSession(std::unique_ptr<Impl> impl);
+  static RunSession load_checked(const std::string& bytes);
   std::unique_ptr<Impl> impl_;
 };
 

@@ -167,6 +167,10 @@ RunResult run_and_write(RunSession& session, const RunOptions& options, const st
       if (!options.quiet)
         std::cerr << "slidespec: saved the run to " << state_path << "; continue it with: slidespec run --resume "
                   << out << "\n";
+    } else if (session.request().realizations > 0 && !options.resume.empty()) {
+      // A resumed part of a run (--realizations-range): its state file is what merge
+      // reads, so it is left finished rather than removed.
+      io::write_atomically(state_path, session.save());
     } else if (options.checkpoint_every > 0 || !options.resume.empty()) {
       std::remove(state_path.c_str());
     }
@@ -352,6 +356,7 @@ int command_paper(const std::string& figure, RunOptions options, const std::stri
   const std::string title = figure == "fig6"        ? "concrete-fit model (alpha = 0.4), Fig. 6 of the paper"
                             : figure == "hierarchy" ? "flat and two-level contacts (the paper's Fig. 1c)"
                                                     : "the paper's " + figure.substr(0, 3) + ". " + figure.substr(3);
+  if (!writes_outputs()) return 0;
   const int status = cli::plot(tables, directory + "/" + figure + ".png", title);
   if (status == 0 && !options.quiet) std::cerr << "slidespec: drew " << directory << "/" << figure << ".png\n";
   return status == 0 ? 0 : 1;
@@ -492,6 +497,10 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "slidespec: failed: " << e.what() << "\n";
+#ifdef SLIDESPEC_MPI
+    // The other ranks may be waiting in a collective this rank will never reach.
+    if (mpi.size() > 1) mpi.abort(1);
+#endif
     return 1;
   }
   return 0;

@@ -3,6 +3,7 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 
@@ -40,6 +41,11 @@ std::vector<std::string> MpiWorld::all_gather(const std::string& mine) const {
   std::vector<std::string> parts;
   for (int r = 0; r < size_; ++r) parts.push_back(all.substr(offsets[r], sizes[r]));
   return parts;
+}
+
+void MpiWorld::abort(int status) const {
+  MPI_Abort(MPI_COMM_WORLD, status);
+  std::abort();  // MPI_Abort does not return; this tells the compiler so
 }
 
 bool MpiWorld::any(bool mine) const {

@@ -23,6 +23,8 @@ class MpiWorld final : public Communicator {
   bool any(bool mine) const override;
   /// Ranks on this machine: the cores are shared among them.
   int ranks_on_this_node() const { return local_size_; }
+  /// Ends every rank: for a failure on one rank that the others cannot see.
+  [[noreturn]] void abort(int status) const;
 
  private:
   int rank_ = 0, size_ = 1, local_size_ = 1;

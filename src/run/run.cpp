@@ -77,8 +77,11 @@ std::vector<SpectrumPoint> band_spectrum(const BandTotals& totals, const Spectru
   std::vector<SpectrumPoint> points = merged.spectrum();
   std::vector<const std::vector<double>*> own_mean;
   std::vector<double> control;
+  const std::size_t point_count = merged.point_sums().size();
   for (const BatchRecord& batch : totals.batches)
     for (std::size_t r = 0; r < batch.control.size(); ++r) {
+      if (batch.own_mean[r].size() != point_count)
+        throw InputError("run state: a batch record does not match its sub-band's points");
       own_mean.push_back(&batch.own_mean[r]);
       control.push_back(batch.control[r]);
     }

@@ -127,6 +127,17 @@ std::string RunSession::save() const {
 }
 
 RunSession RunSession::load(const std::string& bytes) {
+  // A damaged file can hold any count or text: whatever it breaks is a bad input.
+  try {
+    return load_checked(bytes);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(std::string("run state: corrupt file (") + e.what() + ")");
+  }
+}
+
+RunSession RunSession::load_checked(const std::string& bytes) {
   if (bytes.size() < sizeof kStateMagic || std::memcmp(bytes.data(), kStateMagic, sizeof kStateMagic) != 0)
     throw InputError("run state: not a slidespec run state file");
   io::Reader in(bytes, "run state");
@@ -189,6 +200,9 @@ RunSession RunSession::merge(std::vector<RunSession> parts) {
     const std::string differs =
         first_difference(reference, fingerprint(part.params, part.request), {"realizations", "first_realization"});
     if (!differs.empty()) throw InputError("merge: parts of different runs (" + differs + ")");
+    if (part.request.realizations == 0)
+      throw InputError("merge: a part must be a fixed realization range (--realizations-range), not a "
+                       "precision-driven run");
     if (!parts[k].finished())
       throw InputError("merge: part " + std::to_string(part.request.first_realization) + ":" +
                        std::to_string(part.request.realizations) + " is incomplete (interrupted?)");

@@ -63,8 +63,7 @@ diff <(grep -v '^#' "$work/short.tsv") <(grep -v '^#' "$work/scalar.tsv") > /dev
   || fail "scalar 1-thread run differs from the default run"
 
 # An interrupt writes what has accumulated, marked incomplete, and exits 128 + SIGINT.
-"$bin" run --omega-min 0.1 --omega-max 1e5 --precision 0.01 --out "$work/cut" --no-plot --quiet &
-pid=$!
+start_in_background run --omega-min 0.1 --omega-max 1e5 --precision 0.01 --out "$work/cut" --no-plot --quiet
 sleep 2
 kill -INT $pid
 wait $pid
@@ -75,11 +74,12 @@ grep -q "^# complete = false" "$work/cut.tsv" 2>/dev/null || fail "interrupted r
 # ... and saves the run, which --resume continues to the numbers of an uninterrupted run.
 band="--case many-contacts --omega-min 1 --omega-max 1000 --precision 0.01 --seed 5 --no-plot --quiet"
 "$bin" run $band --out "$work/whole" || fail "uninterrupted run failed"
-"$bin" run $band --checkpoint-every 0.2 --out "$work/cut2" &
-pid=$!
+start_in_background run $band --checkpoint-every 0.2 --out "$work/cut2"
 sleep 0.7
 kill -INT $pid
 wait $pid
+status=$?
+[ $status -eq 130 ] || fail "checkpointed run interrupted: exit $status, expected 130 (finished too soon?)"
 [ -s "$work/cut2.state" ] || fail "interrupted run saved no state"
 expect_refused resume-other-seed "seed" run --resume "$work/cut2" --seed 6 --out "$work/out"
 expect_refused resume-missing "cannot read" run --resume "$work/nothing" --out "$work/out"
@@ -100,6 +100,14 @@ expect_refused merge-overlap overlap merge "$work/a.state" "$work/a.state" --out
   || fail "part of another seed failed"
 expect_refused merge-other-run "seed" merge "$work/a.state" "$work/c.state" --out "$work/out"
 expect_refused merge-not-a-state "not a slidespec run state" merge "$work/all.tsv" --out "$work/out"
+"$bin" run --omega-min 100 --omega-max 1000 --precision 0.2 --save-state "$work/prec.state" --out "$work/prec" \
+  --quiet --no-plot || fail "precision run with --save-state failed"
+expect_refused merge-precision-run "fixed realization range" merge "$work/prec.state" --out "$work/out"
+# Resuming a part (as a job array's retried task does) leaves its state where merge reads it.
+"$bin" run $split --realizations-range 16:24 --save-state "$work/d.state" --out "$work/d" || fail "part 16:24 failed"
+"$bin" run --resume "$work/d" --quiet --no-plot || fail "resume of a part failed"
+"$bin" merge "$work/a.state" "$work/d.state" --out "$work/merged2" --quiet --no-plot || fail "merge after a resumed part failed"
+cmp -s "$work/all.tsv" "$work/merged2.tsv" || fail "a resumed part merges differently from the whole run"
 expect_refused range-unaligned "multiple of 8" run $split --realizations-range 4:8 --out "$work/out"
 
 # Warnings outside the first-order theory, without refusing.

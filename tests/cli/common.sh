@@ -3,7 +3,10 @@
 set -u
 bin=${SLIDESPEC:?set SLIDESPEC to the slidespec executable}
 work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+# Only this shell removes it: a forked subshell (a background job not yet exec'ed when a
+# signal lands) inherits the trap too.
+owner=$BASHPID
+trap '[ "$BASHPID" = "$owner" ] && rm -rf "$work"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
@@ -20,4 +23,10 @@ expect_refused() {
   for ext in tsv json png csv state; do
     [ "$(cat "$work/out.$ext")" = "sentinel" ] || fail "$name: output file out.$ext was touched"
   done
+}
+
+# start_in_background ARGS...: runs slidespec in the background, pid in $pid.
+start_in_background() {
+  ( exec "$bin" "$@" ) &
+  pid=$!
 }
