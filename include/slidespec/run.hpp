@@ -64,6 +64,10 @@ struct RunResult {
 };
 
 /// Progress of a run, for a progress bar: fraction of the planned work and a message.
+/// It is called from the run's worker threads, not the caller's, and often (every block
+/// of steps); the run makes the calls one at a time, so the callback needs no lock of its
+/// own, but workers wait while it runs: keep it short. The fraction steps back when a
+/// sub-band plans another round.
 using ProgressCallback = std::function<void(double fraction, const std::string& what)>;
 
 /// How a run is spread over processes (MPI ranks): each runs a share of every chunk of

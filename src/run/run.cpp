@@ -265,6 +265,7 @@ bool RunSession::advance(const Control& control) {
     s.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   const std::size_t band_count = s.plan.size();
+  std::mutex progress_mutex;
   for (std::size_t b = 0; b < band_count; ++b) {
     BandTotals& totals = s.bands[b];
     const SubBand& band = s.plan[b];
@@ -301,6 +302,7 @@ bool RunSession::advance(const Control& control) {
           if (!control.progress) return;
           const double in_band = (static_cast<double>(totals.realizations) + f * static_cast<double>(chunk)) /
                                  static_cast<double>(totals.planned);
+          const std::lock_guard<std::mutex> lock(progress_mutex);  // one call at a time (run.hpp)
           control.progress((static_cast<double>(b) + in_band) / static_cast<double>(band_count),
                            "sub-band " + std::to_string(b + 1) + "/" + std::to_string(band_count) + ", round " +
                                std::to_string(totals.rounds + 1));

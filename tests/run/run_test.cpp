@@ -2,9 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <cstdlib>
+#include <thread>
 
 using namespace slidespec;
 
@@ -113,6 +115,25 @@ TEST(Run, AStopRequestEndsTheRunWithWhatAccumulated) {
       },
       &stop);
   EXPECT_FALSE(result.complete);
+}
+
+// Workers call the progress callback; the run serializes the calls (run.hpp), so a
+// callback without a lock of its own (a Python progress bar) never runs twice at once.
+TEST(Run, ProgressCallsFromWorkersNeverOverlap) {
+  RunRequest r = short_request();
+  r.omega_min = 100;
+  r.omega_max = 1e3;
+  r.realizations = 32;
+  r.threads = 2;
+  std::atomic<int> inside{0}, overlaps{0}, calls{0};
+  run_spectrum(ParameterBuilder().build(), r, [&](double, const std::string&) {
+    if (++inside > 1) ++overlaps;
+    ++calls;
+    std::this_thread::sleep_for(std::chrono::microseconds(20));
+    --inside;
+  });
+  EXPECT_GT(calls.load(), 10);
+  EXPECT_EQ(overlaps.load(), 0);
 }
 
 TEST(Run, TimeStepIsSetByTheBandNotByTheStiffness) {
