@@ -557,7 +557,8 @@ def read(path):
     as a Result (an Analysis for analyze's output).
 
     path: PREFIX.tsv (numbers to the table's 10 significant digits) or PREFIX.json (every
-    bit). The TSV's column line may be plain or start with '#'. Raises OSError when the
+    bit). The TSV's column line may be plain or start with '#'. Columns keep the file's
+    units: omega [rad/s]; C_x, stderr, theory [m^2 s]. Raises OSError when the
     file cannot be read and ValueError when it is not a slidespec table."""
     with open(path, encoding="utf-8") as f:
         text = f.read()
