@@ -391,7 +391,10 @@ class _Progress:
 def _finish(handle):
     data = json.loads(handle.result_json())
     result = Result(data, None if data.get("complete") else handle.save())
-    if data.get("stationary") is False:
+    stationary = data.get("stationary")
+    if isinstance(stationary, dict):
+        stationary = stationary.get("value", stationary.get("stationary"))
+    if stationary is False:
         warnings.warn("the run's spectrum is not stationary (see the result's 'stationary' fields)",
                       ModelWarning, stacklevel=3)
     request = data.get("request", {})
@@ -464,6 +467,8 @@ def run(params, *, omega_min=0.1, omega_max=1e5, points=8, precision=0.05, durat
                "seed": int(seed)}
     if request["realizations"] < 0:
         raise ValueError("realizations: must be a positive number")
+    if int(seed) < 0:
+        raise ValueError("seed: must be a whole number >= 0")
     if int(threads) < 0:
         raise ValueError("threads: must be 0 (all cores) or more")
     handle = _core.new_run(*p._args(), request)
