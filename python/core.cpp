@@ -163,20 +163,20 @@ std::unique_ptr<Run> new_run(const std::string& case_name, const Overrides& over
 /// A record's spectrum (analyze_record), kept for the fits that read it.
 class Spectrum {
  public:
-  Spectrum(const Array& x, double dt, double start_time, const py::dict& request) {
-    Record record;
-    record.displacement = to_vector(x);
-    record.dt = dt;
-    record.start_time = start_time;
-    record.column = "x";
+  Spectrum(const Array& time, const Array& x, const py::dict& format, const py::dict& request) {
+    RecordFormat f;
+    f.dt = format["dt"].cast<double>();
+    f.unit = parse_length_unit(format["units"].cast<std::string>());
+    f.time_tolerance = format["time_tolerance"].cast<double>();
     AnalysisRequest r;
     r.omega_min = request["omega_min"].cast<double>();
     r.omega_max = request["omega_max"].cast<double>();
     r.points_per_decade = request["points_per_decade"].cast<int>();
     r.resolution = request["resolution"].cast<double>();
     r.sensor_noise = request["sensor_noise"].cast<double>();
+    const std::vector<double> t = to_vector(time), samples = to_vector(x);
     py::gil_scoped_release release;
-    spectrum_ = analyze_record(record, r);
+    spectrum_ = analyze_record(record_from_samples(t, samples, f), r);
     request_ = r;
   }
 
@@ -225,6 +225,10 @@ class Spectrum {
                     py::arg("standard_error") = f.alpha_error, py::arg("chi2_per_dof") = f.chi2_per_dof);
   }
 
+  std::pair<double, double> alpha_band(const std::string& case_name, const Overrides& overrides) const {
+    return default_alpha_band(spectrum_, build(case_name, overrides));
+  }
+
   Array model(const std::string& case_name, const Overrides& overrides) const {
     const Parameters p = build(case_name, overrides);
     std::vector<double> values;
@@ -270,15 +274,15 @@ PYBIND11_MODULE(_core, m) {
     std::vector<std::tuple<std::string, std::string, Overrides>> out;
     for (const Case& c : cases()) out.emplace_back(c.name, c.description, c.changes);
     return out;
-  });
-  m.def("parameter_keys", &parameter_keys);
+  }, "The named cases: (name, description, [(key, value) changed from the reference]).");
+  m.def("parameter_keys", &parameter_keys, "Every settable parameter key (KEY_l for level l).");
   m.def("describe", [](const std::string& case_name, const Overrides& overrides) {
     return describe(build(case_name, overrides));
-  });
-  m.def("landmarks", &landmarks_dict);
+  }, "Every (key, value text) of a case with overrides; ValueError names a bad key.");
+  m.def("landmarks", &landmarks_dict, "The theory's landmarks of a parameter set, SI units.");
   m.def("log_spaced_omegas", [](double low, double high, int per_decade) {
     return to_array(log_spaced_omegas(low, high, per_decade));
-  });
+  }, "Log-spaced omegas [rad/s], per_decade a decade, both ends included.");
   m.def("theory", [](const std::string& case_name, const Overrides& overrides, const Array& omega) {
     const Parameters p = build(case_name, overrides);
     const std::vector<double> omegas = to_vector(omega);
@@ -288,33 +292,35 @@ PYBIND11_MODULE(_core, m) {
       values = exact_spectrum(p, omegas);
     }
     return to_array(values);
-  });
+  }, "The exact first-order C_x [m^2 s] at omegas [rad/s], without the GIL.");
   m.def("eq1", [](const std::string& case_name, const Overrides& overrides, const Array& omega) {
     const Parameters p = build(case_name, overrides);
     std::vector<double> values;
     for (double w : to_vector(omega)) values.push_back(eq1_asymptote(p, w));
     return to_array(values);
-  });
+  }, "The paper's Eq. (1) asymptote [m^2 s] at omegas [rad/s].");
 
-  py::class_<Run>(m, "Run")
-      .def("start", &Run::start)
-      .def("wait", &Run::wait)
-      .def("progress", &Run::progress)
-      .def("stop", &Run::stop)
-      .def("join", &Run::join)
-      .def("result_json", &Run::result_json)
-      .def("raw_points", &Run::raw_points)
-      .def("save", &Run::save)
-      .def("finished", &Run::finished);
-  m.def("new_run", &new_run);
-  m.def("load_run", [](const py::bytes& state) { return std::make_unique<Run>(RunSession::load(state)); });
+  py::class_<Run>(m, "Run", "A run advanced on its own thread; Python stays on the caller's.")
+      .def("start", &Run::start, "Starts the run with threads (0 = all cores) and a SIMD path name.")
+      .def("wait", &Run::wait, "Waits up to seconds without the GIL; True once the run has ended.")
+      .def("progress", &Run::progress, "The latest (fraction, message) the run reported.")
+      .def("stop", &Run::stop, "Asks the run to end at its next block of steps.")
+      .def("join", &Run::join, "Waits for the run's thread; True when the run reached its end.")
+      .def("result_json", &Run::result_json, "The result as `slidespec run` writes PREFIX.json.")
+      .def("raw_points", &Run::raw_points, "omega, C_x, stderr, theory as computed (not through JSON).")
+      .def("save", &Run::save, "The run's saved state (bytes), for load_run.")
+      .def("finished", &Run::finished, "True when every sub-band is done.");
+  m.def("new_run", &new_run, "A run of a case with overrides and a request dict; ValueError before any work.");
+  m.def("load_run", [](const py::bytes& state) { return std::make_unique<Run>(RunSession::load(state)); },
+        "A run from its saved state (Run.save), to continue.");
 
-  py::class_<Spectrum>(m, "Spectrum")
-      .def(py::init<const Array&, double, double, const py::dict&>())
-      .def("to_dict", &Spectrum::to_dict)
-      .def("fit_slope", &Spectrum::slope)
-      .def("fit_alpha", &Spectrum::alpha)
-      .def("model", &Spectrum::model);
+  py::class_<Spectrum>(m, "Spectrum", "A record's spectrum: x in units at times t [s] (or every dt).")
+      .def(py::init<const Array&, const Array&, const py::dict&, const py::dict&>())
+      .def("default_alpha_band", &Spectrum::alpha_band, "The alpha fit's default band [rad/s].")
+      .def("to_dict", &Spectrum::to_dict, "The fields of `slidespec analyze`'s JSON.")
+      .def("fit_slope", &Spectrum::slope, "C_x ~ omega^slope over [low, high] rad/s.")
+      .def("fit_alpha", &Spectrum::alpha, "alpha of a case fitted over [low, high] rad/s.")
+      .def("model", &Spectrum::model, "A case's spectrum seen through this estimator [m^2 s].");
   m.def("synthesize", [](const std::string& case_name, const Overrides& overrides, const py::dict& sensor) {
     SensorRequest s;
     s.sample_interval = sensor["sample_interval"].cast<double>();
@@ -329,5 +335,5 @@ PYBIND11_MODULE(_core, m) {
       record = synthesize_record(p, s);
     }
     return py::make_tuple(record.dt, record.start_time, to_array(record.displacement));
-  });
+  }, "A synthetic sensor record of a case: (dt [s], t0 [s], x [m]).");
 }

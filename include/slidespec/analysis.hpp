@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "slidespec/estimator.hpp"
@@ -47,6 +48,12 @@ struct Record {
 Record read_record(std::istream& in, const std::string& source, const RecordFormat& format);
 /// The same from a file; a file that cannot be opened is an InputError.
 Record read_record_file(const std::string& path, const RecordFormat& format);
+
+/// A record given as numbers: x in `format.unit` at times `time` [s] (empty: every
+/// format.dt). Checked as read_record checks a file (finite values, uniform increasing
+/// time), naming `source` and the sample (from 0) in the InputError.
+Record record_from_samples(const std::vector<double>& time, const std::vector<double>& x,
+                           const RecordFormat& format, const std::string& source = "record");
 
 /// The mean sliding motion x = x_0 + v (t - t_0), fitted by least squares.
 struct SlidingFit {
@@ -138,6 +145,11 @@ struct AlphaFit {
 /// The model's spectrum at `params` (its own alpha) seen through the estimator, one value
 /// per point of `spectrum` [m^2 s], without the floor.
 std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Parameters& params);
+
+/// The band of an alpha fit when none is given: where the data are usable and the model's
+/// Eq. (1) omega^-4 holds (5 v/a to omega_c/3), the band the paper's Fig. 6 compares.
+/// Throws InputError when the two do not overlap.
+std::pair<double, double> default_alpha_band(const RecordSpectrum& spectrum, const Parameters& params);
 
 /// Weighted least squares for alpha^2 over the points in [omega_low, omega_high]; the
 /// alpha of `params` is ignored. Throws InputError when the band holds no point.

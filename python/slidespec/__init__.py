@@ -584,9 +584,6 @@ def read(path):
 # ---------------------------------------------------------------------------------------
 # Measured records
 
-_METRES_PER = {"m": 1.0, "mm": 1e-3, "um": 1e-6}
-
-
 class Analysis(_Table):
     """The spectrum of a measured (or synthetic) record, as `slidespec analyze` gives it.
 
@@ -622,30 +619,6 @@ class Analysis(_Table):
         return f"<slidespec.Analysis: {len(self)} points{extra}>"
 
 
-def _record(t, x, dt, units, time_tolerance):
-    x = np.asarray(x, dtype=float).ravel() * _METRES_PER[units]
-    if x.size < 2:
-        raise ValueError("x: a record needs at least two samples")
-    if not np.all(np.isfinite(x)):
-        raise ValueError(f"x: sample {int(np.argmin(np.isfinite(x)))} is not a finite number")
-    if t is None:
-        if dt is None or not dt > 0 or not math.isfinite(dt):
-            raise ValueError("dt: give the time t or a positive sampling interval dt [s]")
-        return x, float(dt), 0.0
-    t = np.asarray(t, dtype=float).ravel()
-    if t.size != x.size:
-        raise ValueError(f"t: {t.size} times for {x.size} samples")
-    steps = np.diff(t)
-    if not np.all(np.isfinite(t)) or not np.all(steps > 0):
-        raise ValueError("t: times must be finite and increasing")
-    first = steps[0]
-    bad = np.flatnonzero(np.abs(steps - first) > time_tolerance * first)
-    if bad.size:
-        raise ValueError(f"t: the interval after sample {int(bad[0])} is {steps[bad[0]]:g} s, not {first:g} s "
-                         f"(a gap or clock jump; tolerance {100 * time_tolerance:g}%)")
-    return x, float((t[-1] - t[0]) / (t.size - 1)), float(t[0])
-
-
 def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega_min=0.0,
             omega_max=0.0, points=8, fit_slope=None, compare=None, fit=None, fit_band=None,
             time_tolerance=0.01):
@@ -662,16 +635,16 @@ def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega
       usable band within 5 v/a .. omega_c/3, where Eq. (1)'s omega^-4 holds).
     Returns an Analysis. Raises ValueError for a malformed record or request.
     """
-    if units not in _METRES_PER:
-        raise ValueError(f"units: unknown unit {units!r} (known: m, mm, um)")
     if fit not in (None, "alpha"):
         raise ValueError("fit: only 'alpha' can be fitted")
     if fit and compare is None:
         raise ValueError("fit='alpha' needs compare=Parameters(...)")
-    samples, step, start = _record(t, x, dt, units, time_tolerance)
+    time = np.empty(0) if t is None else np.asarray(t, dtype=float).ravel()
+    samples = np.asarray(x, dtype=float).ravel()
+    record = {"dt": float(dt or 0), "units": str(units), "time_tolerance": float(time_tolerance)}
     request = {"omega_min": float(omega_min), "omega_max": float(omega_max), "points_per_decade": int(points),
                "resolution": float(resolution), "sensor_noise": float(sensor_noise)}
-    spectrum = _core.Spectrum(samples, step, start, request)
+    spectrum = _core.Spectrum(time, samples, record, request)
     data = spectrum.to_dict()
     if fit_slope is not None:
         data["slope_fit"] = spectrum.fit_slope(float(fit_slope[0]), float(fit_slope[1]))
@@ -679,12 +652,7 @@ def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega
         p = _as_parameters(compare)
         if fit:
             if fit_band is None:
-                marks = p.landmarks
-                low = max(data["usable_band"]["omega_low"], 5 * marks["renewal_rate"])
-                high = min(data["usable_band"]["omega_high"], marks["omega_c"] / 3)
-                if not high > low:
-                    raise ValueError("fit alpha: the usable band misses the model's omega^-4 band; give fit_band")
-                fit_band = (low, high)
+                fit_band = spectrum.default_alpha_band(*p._args())
             data["alpha_fit"] = spectrum.fit_alpha(*p._args(), float(fit_band[0]), float(fit_band[1]))
             p = p.replace(alpha=data["alpha_fit"]["alpha"])
         data["compare_case"] = p.case

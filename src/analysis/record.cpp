@@ -111,9 +111,32 @@ class RecordReader {
     return record_;
   }
 
+  /// Samples given as numbers (t empty: format.dt), checked as lines of a file are.
+  Record from_samples(const std::vector<double>& time, const std::vector<double>& x) {
+    place_ = "sample";
+    names_ = {"t", "x"};
+    record_.column = names_[1];
+    if (!time.empty() && time.size() != x.size())
+      throw InputError(source_ + ": " + std::to_string(time.size()) + " times for " + std::to_string(x.size()) +
+                       " samples");
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      const int sample = static_cast<int>(k);
+      if (!std::isfinite(x[k])) fail(sample, "x is not a finite number");
+      if (!time.empty()) {
+        if (!std::isfinite(time[k])) fail(sample, "t is not a finite number");
+        take_time(time[k], sample);
+      }
+      record_.displacement.push_back(x[k] * metres_per(format_.unit));
+    }
+    if (x.size() < 2) throw InputError(source_ + ": a spectrum needs a record of many samples, not " +
+                                       std::to_string(x.size()));
+    record_.dt = time.empty() ? format_.dt : (last_time_ - record_.start_time) / static_cast<double>(x.size() - 1);
+    return record_;
+  }
+
  private:
-  [[noreturn]] void fail(int line_number, const std::string& what) const {
-    throw InputError(source_ + ": line " + std::to_string(line_number) + ": " + what);
+  [[noreturn]] void fail(int where, const std::string& what) const {
+    throw InputError(source_ + ": " + place_ + " " + std::to_string(where) + ": " + what);
   }
 
   void take_line(const std::vector<std::string>& fields, int line_number) {
@@ -207,6 +230,7 @@ class RecordReader {
   }
 
   std::string source_;
+  std::string place_ = "line";
   RecordFormat format_;
   std::vector<std::string> names_;
   int time_index_ = -1, x_index_ = -1;
@@ -215,13 +239,24 @@ class RecordReader {
   Record record_;
 };
 
-}  // namespace
-
-Record read_record(std::istream& in, const std::string& source, const RecordFormat& format) {
+void check_format(const RecordFormat& format) {
   if (format.dt < 0 || !std::isfinite(format.dt)) throw InputError("--dt: must be a positive number of seconds");
   if (!(format.time_tolerance > 0 && format.time_tolerance < 0.5))
     throw InputError("time tolerance must be between 0 and 0.5");
+}
+
+}  // namespace
+
+Record read_record(std::istream& in, const std::string& source, const RecordFormat& format) {
+  check_format(format);
   return RecordReader(source, format).read(in);
+}
+
+Record record_from_samples(const std::vector<double>& time, const std::vector<double>& x,
+                           const RecordFormat& format, const std::string& source) {
+  check_format(format);
+  if (time.empty() && !(format.dt > 0)) throw InputError(source + ": give the sample times or a positive dt");
+  return RecordReader(source, format).from_samples(time, x);
 }
 
 Record read_record_file(const std::string& path, const RecordFormat& format) {

@@ -146,18 +146,6 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
   return doc.dump(2) + "\n";
 }
 
-/// The default band of the alpha fit: where the data are usable and the model's Eq. (1)
-/// omega^-4 holds (5 v/a to omega_c/3), the band the paper's Fig. 6 compares.
-std::pair<double, double> default_fit_band(const RecordSpectrum& s, const Parameters& p) {
-  const Landmarks l = landmarks(p);
-  const double low = std::max(s.usable_low, 5 * l.renewal_rate);
-  const double high = std::min(s.usable_high, l.omega_c / 3);
-  if (!(high > low))
-    throw InputError("--fit alpha: the usable band " + number(s.usable_low) + " .. " + number(s.usable_high) +
-                     " rad/s misses the model's omega^-4 band; give --fit-band LO HI");
-  return {low, high};
-}
-
 int command_analyze(Options o) {
   io::check_output_prefix(o.out);
   o.format.unit = parse_length_unit(o.units);
@@ -173,7 +161,7 @@ int command_analyze(Options o) {
   if (!o.slope_band.empty()) f.slope = fit_slope(s, o.slope_band[0], o.slope_band[1]);
   if (f.model) {
     if (!o.fit.empty()) {
-      const auto [low, high] = o.fit_band.empty() ? default_fit_band(s, *f.model)
+      const auto [low, high] = o.fit_band.empty() ? default_alpha_band(s, *f.model)
                                                   : std::pair{o.fit_band[0], o.fit_band[1]};
       f.alpha = fit_alpha(s, *f.model, low, high);
       f.model->alpha = f.alpha->alpha;
