@@ -347,9 +347,11 @@ class Result(_Table):
     def __repr__(self):
         if len(self) == 0:
             return f"<slidespec.Result {self._data.get('case', '')}: no points>"
-        return (f"<slidespec.Result {self._data.get('case', '')}: {len(self)} points "
-                f"{self.omega[0]:.3g}..{self.omega[-1]:.3g} rad/s, "
-                f"{'complete' if self.complete else 'incomplete'}, "
+        text = (f"<slidespec.Result {self._data.get('case', '')}: {len(self)} points "
+                f"{self.omega[0]:.3g}..{self.omega[-1]:.3g} rad/s")
+        if "complete" not in self._data:  # a theory table
+            return text + ">"
+        return (text + f", {'complete' if self.complete else 'incomplete'}, "
                 f"largest stderr/C_x {self._data.get('reached_precision', math.nan):.3g}>")
 
 
