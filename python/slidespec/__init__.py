@@ -30,7 +30,7 @@ import numpy as np
 from . import _core
 
 __version__ = _core.version
-__all__ = ["Parameters", "Result", "Analysis", "cases", "omegas", "theory", "run", "resume",
+__all__ = ["Parameters", "Result", "Analysis", "cases", "omegas", "theory", "eq1", "run", "resume",
            "read", "analyze", "synth", "PrecisionWarning", "ModelWarning"]
 
 

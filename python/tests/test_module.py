@@ -286,3 +286,11 @@ def test_help_names_units():
     for function in (ss.run, ss.theory, ss.analyze, ss.read, ss.synth, ss.omegas):
         assert "[" in function.__doc__ and "]" in function.__doc__, function.__name__
     assert "rad/s" in ss.run.__doc__ and "m^2 s" in ss.theory.__doc__
+
+
+def test_runs_outside_the_first_order_theory_warn_as_the_command_line_does():
+    p = ss.Parameters("reference", alpha=5)
+    assert p.landmarks["forces_can_stall"]
+    with pytest.warns(ss.ModelWarning, match="stall"):
+        r = ss.run(p, omega_min=100, omega_max=1e3, realizations=8, threads=2)
+    assert r.complete
