@@ -79,6 +79,20 @@ struct TheoryOptions {
   std::string out;
 };
 
+// The exact mean speed and low-frequency diffusion beyond first order, where computed
+// (below the stall boundary, one touching level).
+std::string long_time_line(const Parameters& p) {
+  if (landmarks(p).forces_can_stall) return "";
+  int touching_levels = 0;
+  for (int l = 1; l <= p.levels; ++l) touching_levels += p.touches(l) ? 1 : 0;
+  if (touching_levels != 1) return "";
+  const LongTimeMotion exact = long_time_motion(p, MotionTheory::quasi_static);
+  const LongTimeMotion first = long_time_motion(p, MotionTheory::first_order);
+  return "# beyond first order (docs/model.md section 7): mean speed V = " + io::format_number(exact.mean_speed) +
+         " m/s, diffusion D = " + io::format_number(exact.diffusion) + " m^2/s (first order " +
+         io::format_number(first.diffusion) + "), C_x -> D / (pi omega^2) below v/a\n";
+}
+
 int command_theory(const ModelOptions& model, const TheoryOptions& options) {
   const Parameters p = model.build();
   const std::vector<double> omegas =
@@ -88,7 +102,7 @@ int command_theory(const ModelOptions& model, const TheoryOptions& options) {
   const std::vector<double> spectrum = exact_spectrum(p, omegas);
 
   std::ostringstream table;
-  table << io::metadata_lines(p, model.case_name)
+  table << io::metadata_lines(p, model.case_name) << long_time_line(p)
         << "# columns: omega [rad/s], C_x [m^2 s] exact first-order theory, "
            "C_eq1 [m^2 s] the paper's Eq. (1)\n"
         << "omega\tC_x\tC_eq1\n";

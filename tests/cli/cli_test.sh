@@ -26,6 +26,8 @@ expect_refused stepper-levels "levels" run $out --set levels=4 --no-plot --quiet
 # A good run writes the table atomically and leaves no temporary file behind.
 "$bin" theory --out "$work/ref" > /dev/null 2>&1 || fail "theory --out failed"
 [ -f "$work/ref.tsv" ] || fail "theory --out wrote no PREFIX.tsv"
+grep -q "^# beyond first order .*mean speed V = 4.98.*e-04 m/s" "$work/ref.tsv" ||
+  fail "theory: no long-time motion line (reference: V = 0.99721 v)"
 grep -q "^omega	C_x	C_eq1$" "$work/ref.tsv" || fail "theory table has no header line"
 [ "$(grep -vc '^#' "$work/ref.tsv")" -eq 50 ] || fail "theory table does not have 49 rows"
 ls "$work" | grep -q tmp && fail "a temporary file was left behind"
