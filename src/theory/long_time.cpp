@@ -41,17 +41,18 @@ double mean_inverse_speed(const std::vector<double>& contacts, const std::vector
     }
     return sum;
   };
-  // Simpson's rule on t = -log(1 - z) / (1 - reach) would do; the integrand decays as
-  // exp(-(1 - reach) t), so a plain grid to 60 decay lengths with 20000 panels is 1e-12 exact.
-  const double end = 60 / (1 - reach);
-  const int panels = 20000;
-  const double h = end / panels;
-  double sum = 0;
+  // Simpson's rule in log t from 1e-9 (the integrand is 1 there) to 60 decay lengths
+  // exp(-(1 - reach) t): even steps in log t resolve both ends, near the stall too.
+  const double first = std::log(1e-9), last = std::log(60 / (1 - reach));
+  const int panels = 4000;
+  const double h = (last - first) / panels;
+  double sum = 1e-9;  // the integral up to the first point
   for (int k = 0; k <= panels; ++k) {
     const double weight = (k == 0 || k == panels) ? 1 : (k % 2 ? 4 : 2);
-    sum += weight * std::exp(log_integrand(k * h));
+    const double t = std::exp(first + k * h);
+    sum += weight * t * std::exp(log_integrand(t)) * h / 3;
   }
-  return sum * h / 3;
+  return sum;
 }
 
 
