@@ -62,6 +62,7 @@ def main():
                                     (t["V_2"], "V_2", "s--"), (t["V_qs"], "V_qs", "s-")):
             bottom.plot(eps, np.abs(values / t["V_sim"] - 1) * 100, style, color="tab:red", label=f"|{name} / V_sim - 1|")
         bottom.plot(eps, 100 * 2 * t["D_err"] / t["D_sim"], color="grey", lw=3, alpha=0.4, label="2 standard errors (D)")
+        bottom.plot(eps, 100 * 2 * t["V_err"] / t["V_sim"], color="tab:red", lw=3, alpha=0.25, label="2 standard errors (V)")
         bottom.set_yscale("log")
         bottom.set_xlabel("eps = alpha F_kin / ((F_drive - F_kin) sqrt(6 N))")
         bottom.set_ylabel("deviation from simulation [%]")
