@@ -1,6 +1,6 @@
-// Mean speed and diffusion constant of the quasi-static block to second order in the
-// coupling (docs/model.md section 7): moments of the total random force up to the fourth,
-// integrated over the distance correlation of the renewals.
+// Mean speed and diffusion constant of the quasi-static block (docs/model.md section 7):
+// exactly, from a Laplace representation of 1/u, and as the O(eps^2) series, from the
+// moments of the total random force up to the fourth.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -54,7 +54,6 @@ double mean_inverse_speed(const std::vector<double>& contacts, const std::vector
   }
   return sum;
 }
-
 
 // Var over distance of the time to slide it, per unit distance, for one touching level
 // (n contacts of renewal distance a, each force uniform on [-b, b] Delta): D_T v^2 =
@@ -113,7 +112,7 @@ LongTimeMotion long_time_motion(const Parameters& p, MotionTheory theory) {
       groups.push_back({static_cast<double>(p.blocks(l)), p.random_force_variance(l), p.level(l).a});
 
   // Cov over distance of 1/u(0), 1/u(s), u = 1 - G/Delta, integrated over s >= 0:
-  // first1 / Delta^2 + second / Delta^4. Given the set K of contacts kept from 0 to s, with
+  // first / Delta^2 + second / Delta^4. Given the set K of contacts kept from 0 to s, with
   // A = sum over K (variance V_A, fourth cumulant k_A) and S the total variance, the Delta^-4
   // part is 2 Cov(G0, Gs^3) + Cov(G0^2, Gs^2) = 6 S V_A + 2 V_A^2 + 3 k_A.
   double total_variance = 0, fourth_cumulant = 0, first = 0, kept_cumulant = 0, kept_variance_squared = 0;
