@@ -90,4 +90,21 @@ enum class MotionTheory {
 /// beyond the stall boundary and throws InputError for D with more than one touching level.
 LongTimeMotion long_time_motion(const Parameters& p, MotionTheory theory);
 
+/// C_x(omega) to second order in eps for poisson renewal on one touching level
+/// (docs/model.md section 7): the first-order C_x times the ratio of the second- to the
+/// first-order force spectrum seen in time, from the quasi-static block's renewal times.
+/// The ratio tends to D / D_1 (second order) as omega -> 0 and to 1 / (1 + eps^2/2) above
+/// v/a. Throws InputError for periodic renewal or several touching levels.
+class SecondOrderTheory {
+ public:
+  explicit SecondOrderTheory(const Parameters& p);
+  double operator()(double omega) const { return first_order_(omega) * ratio(omega); }
+  /// Second- over first-order C_x at omega.
+  double ratio(double omega) const;
+
+ private:
+  LumpedTheory first_order_;
+  double contacts_, s2_, k4_, rate_, drive_excess2_;
+};
+
 }  // namespace slidespec
