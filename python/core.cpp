@@ -8,6 +8,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -283,16 +284,31 @@ PYBIND11_MODULE(_core, m) {
   m.def("log_spaced_omegas", [](double low, double high, int per_decade) {
     return to_array(log_spaced_omegas(low, high, per_decade));
   }, "Log-spaced omegas [rad/s], per_decade a decade, both ends included.");
-  m.def("theory", [](const std::string& case_name, const Overrides& overrides, const Array& omega) {
+  m.def("theory", [](const std::string& case_name, const Overrides& overrides, const Array& omega, int order) {
     const Parameters p = build(case_name, overrides);
+    if (order != 1 && order != 2) throw InputError("order: need 1 or 2");
+    // As `slidespec theory --order 2` computes C_x2: the exact C_x times the ratio.
+    const std::unique_ptr<SecondOrderTheory> second = order == 2 ? std::make_unique<SecondOrderTheory>(p) : nullptr;
     const std::vector<double> omegas = to_vector(omega);
     std::vector<double> values;
     {
       py::gil_scoped_release release;
       values = exact_spectrum(p, omegas);
+      if (second)
+        for (std::size_t k = 0; k < values.size(); ++k) values[k] *= second->ratio(omegas[k]);
     }
     return to_array(values);
-  }, "The exact first-order C_x [m^2 s] at omegas [rad/s], without the GIL.");
+  }, "The exact first- (order 1) or second-order C_x [m^2 s] at omegas [rad/s], without the GIL.");
+  m.def("long_time_motion", [](const std::string& case_name, const Overrides& overrides, const std::string& theory) {
+    const Parameters p = build(case_name, overrides);
+    const MotionTheory kind = theory == "first_order"    ? MotionTheory::first_order
+                              : theory == "second_order" ? MotionTheory::second_order
+                              : theory == "quasi_static" ? MotionTheory::quasi_static
+                                                         : throw InputError("theory: '" + theory +
+                                                                            "' is not first_order, second_order or quasi_static");
+    const LongTimeMotion motion = long_time_motion(p, kind);
+    return py::dict(py::arg("mean_speed") = motion.mean_speed, py::arg("diffusion") = motion.diffusion);
+  }, "The block's mean speed [m/s] and diffusion constant [m^2/s] in a theory (docs/model.md section 7).");
   m.def("eq1", [](const std::string& case_name, const Overrides& overrides, const Array& omega) {
     const Parameters p = build(case_name, overrides);
     std::vector<double> values;

@@ -30,7 +30,7 @@ import numpy as np
 from . import _core
 
 __version__ = _core.version
-__all__ = ["Parameters", "Result", "Analysis", "cases", "omegas", "theory", "eq1", "run", "resume",
+__all__ = ["Parameters", "Result", "Analysis", "cases", "omegas", "theory", "eq1", "long_time_motion", "run", "resume",
            "read", "analyze", "synth", "PrecisionWarning", "ModelWarning"]
 
 
@@ -200,17 +200,28 @@ def _positive_omegas(omega):
     return w
 
 
-def theory(params, omega):
+def theory(params, omega, order=1):
     """The exact first-order spectrum C_x(omega) [m^2 s] at each omega [rad/s].
 
     params: Parameters or a case name. omega: a number or an array of positive angular
     frequencies [rad/s]; the result has its shape (a float for a number). The values are
     those `slidespec theory` prints (two-sided, angular: the integral over all omega is
-    <xi^2>); omegas() gives the command's grid."""
+    <xi^2>); omegas() gives the command's grid. order=2: the second-order spectrum C_x2
+    [m^2 s] of `slidespec theory --order 2` (poisson renewal, one touching level;
+    docs/model.md section 7)."""
     p = _as_parameters(params)
     w = _positive_omegas(omega)
-    values = _core.theory(*p._args(), w.ravel()).reshape(w.shape)
+    values = _core.theory(*p._args(), w.ravel(), int(order)).reshape(w.shape)
     return float(values) if w.ndim == 0 else values
+
+
+def long_time_motion(params, theory="quasi_static"):
+    """The block's long-time motion: {"mean_speed": V [m/s], "diffusion": D [m^2/s]}, with
+    C_x -> D / (pi omega^2) below v/a (docs/model.md section 7).
+
+    theory: "quasi_static" (exact for the quasi-static block), "second_order" or
+    "first_order"."""
+    return _core.long_time_motion(*_as_parameters(params)._args(), str(theory))
 
 
 def eq1(params, omega):

@@ -118,6 +118,19 @@ def test_theory_is_the_command_line():
     assert ss.theory(p, omega.reshape(7, 7)).shape == (7, 7)
 
 
+def test_second_order_theory_is_the_command_line():
+    printed = cli("theory", "--set", "alpha=1.5", "--order", "2").stdout
+    rows = [line.split("\t") for line in printed.splitlines() if line and not line.startswith(("#", "omega"))]
+    p = ss.Parameters("reference", alpha=1.5)
+    assert [r[3] for r in rows] == ["%.9e" % c for c in ss.theory(p, ss.omegas(), order=2)]
+    exact = ss.long_time_motion(p)
+    assert "D = %.9e" % exact["diffusion"] in printed and "V = %.9e" % exact["mean_speed"] in printed
+    with pytest.raises(ValueError, match="renewal"):
+        ss.theory(ss.Parameters(renewal="periodic"), 1.0, order=2)
+    with pytest.raises(ValueError, match="order"):
+        ss.theory(p, 1.0, order=3)
+
+
 @pytest.mark.parametrize("overrides", [{"alpha": -1}, {"nonsense": 3}, {"N": 2.5}, {"chain": "loop"},
                                        {"F_kin": 20}, {"v": 1e-3, "eta1": 5}])
 def test_bad_parameters_raise_the_command_lines_message(overrides):
