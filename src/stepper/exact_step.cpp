@@ -1,6 +1,7 @@
 #include "stepper/exact_step.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "model/linear_structure.hpp"
@@ -37,6 +38,7 @@ ExactStep exact_step(const model::LumpedStructure& lumped, double dt) {
   const MatrixL Gamma = E.topRightCorner(state, inputs);
 
   ExactStep step;
+  step.dt = dt;
   step.dimension = state - 1;
   step.inputs = inputs;
   for (int i = 1; i < state; ++i) {
@@ -52,7 +54,60 @@ ExactStep exact_step(const model::LumpedStructure& lumped, double dt) {
   for (int i = 0; i < state - 1; ++i)
     for (int k = 0; k < inputs; ++k) step.initial_response.push_back(static_cast<double>(response(i, k)));
   for (int c = 1; c < n; ++c) step.offset_component.push_back(c - 1);
+  step.velocity_component = n - 1;  // z = (r_1..r_{n-1}, q'_0, ...): q'_0 is the block's
+
+  // Partial-step tables: one exponential per digit, then powers of it by products in
+  // long double (255 products lose ~1e-17 relative, far below double's rounding).
+  const int columns = state + inputs;
+  const int table = 1 << ExactStep::digit_bits;
+  step.partial.reserve(static_cast<size_t>(ExactStep::fraction_digits) * table * state * columns);
+  for (int digit = 0; digit < ExactStep::fraction_digits; ++digit) {
+    const long double fraction = std::ldexp(1.0L, -ExactStep::digit_bits * (digit + 1));
+    const MatrixL unit = (augmented * fraction).exp();
+    MatrixL power = MatrixL::Identity(columns, columns);
+    for (int k = 0; k < table; ++k) {
+      for (int i = 0; i < state; ++i)
+        for (int j = 0; j < columns; ++j) step.partial.push_back(static_cast<double>(power(i, j)));
+      power = power * unit;
+    }
+  }
   return step;
+}
+
+void ExactStep::advance_partial(std::int64_t n, double* y, const double* g) const {
+  const int state = dimension + 1, columns = state + inputs;
+  const int table = 1 << digit_bits;
+  double next[16];
+  for (int digit = 0; digit < fraction_digits; ++digit) {
+    const int k = static_cast<int>((n >> (digit_bits * (fraction_digits - 1 - digit))) & (table - 1));
+    if (k == 0) continue;  // the identity: skipped, so a zero time leaves every bit alone
+    const double* map = partial.data() + (static_cast<size_t>(digit) * table + k) * state * columns;
+    for (int i = 0; i < state; ++i) {
+      const double* row = map + i * columns;
+      double sum = row[0] * y[0];
+      for (int j = 1; j < state; ++j) sum = sum + row[j] * y[j];
+      for (int c = 0; c < inputs; ++c) sum = sum + row[state + c] * g[c];
+      next[i] = sum;
+    }
+    for (int i = 0; i < state; ++i) y[i] = next[i];
+  }
+  // n = 2^fraction_bits, the whole step, has no digits below: the full step's map.
+  if (n >> fraction_bits) {
+    for (int i = 0; i < state; ++i) {
+      double sum = 0;
+      if (i == 0) {
+        sum = y[0];
+        for (int j = 1; j < state; ++j) sum = sum + increment[j - 1] * y[j];
+        for (int c = 0; c < inputs; ++c) sum = sum + increment_forcing[c] * g[c];
+      } else {
+        sum = transition[(i - 1) * dimension] * y[1];
+        for (int j = 2; j < state; ++j) sum = sum + transition[(i - 1) * dimension + j - 1] * y[j];
+        for (int c = 0; c < inputs; ++c) sum = sum + forcing[(i - 1) * inputs + c] * g[c];
+      }
+      next[i] = sum;
+    }
+    for (int i = 0; i < state; ++i) y[i] = next[i];
+  }
 }
 
 }  // namespace slidespec::stepper
