@@ -37,7 +37,9 @@ struct ExactStep {
   std::vector<double> partial;           ///< [digit][k][row][column]
   int velocity_component = 0;            ///< component of z that is the block's velocity fluctuation
 
-  /// y' = map over dt n 2^-fraction_bits of (y, g), in place; y has dimension + 1 components.
+  /// y' = map over dt n 2^-fraction_bits of (y, g), in place; y has dimension + 1 components
+  /// in an array of max_state (the rest is scratch).
+  static constexpr int max_state = 16;
   void advance_partial(std::int64_t n, double* y, const double* g) const;
 };
 

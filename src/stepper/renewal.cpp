@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include "model/linear_structure.hpp"
@@ -151,13 +152,12 @@ void RenewalState::step_with_renewals(int lane, const ExactStep& step, double st
   const double tick = 1.0 / static_cast<double>(whole);  // time unit: dt 2^-fraction_bits
   const int state = step.dimension + 1;
   const int velocity = 1 + step.velocity_component;
-  double g[8], y_now[16], y[16], y_end[16];
+  constexpr int room = ExactStep::max_state;
+  double g[8] = {}, y_now[room] = {}, y[room] = {}, y_end[room] = {};
   auto forces = [&] {
     for (int k = 0; k < inputs_; ++k) g[k] = input_forces_[static_cast<size_t>(k) * lanes_ + lane];
   };
-  auto copy = [state](const double* from, double* to) {
-    for (int r = 0; r < state; ++r) to[r] = from[r];
-  };
+  auto copy = [](const double* from, double* to) { std::memcpy(to, from, sizeof(double) * room); };
   auto x_at = [&](std::int64_t n, const double* y_n) {
     return steady_start + advance * (static_cast<double>(n) * tick) + (xi_start + y_n[0]);
   };
