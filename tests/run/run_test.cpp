@@ -157,3 +157,23 @@ TEST(Run, TheoryIsTheContinuousTheoryAveragedOverTheNamedBins) {
   }
   std::printf("largest |theory / bin mean - 1| = %.2e\n", worst);
 }
+
+// A state saved before renewals took effect inside the step (format 1) holds realizations
+// of another process: it is refused by its version, naming both.
+TEST(Run, StateOfTheStepEndRenewalsIsRefusedByVersion) {
+  RunRequest r = short_request();
+  r.omega_min = 100;
+  r.omega_max = 300;
+  r.realizations = 8;
+  RunSession session(ParameterBuilder("reference").build(), r);
+  std::string bytes = session.save();
+  ASSERT_NO_THROW(RunSession::load(bytes));
+  const std::uint32_t old_version = 1;
+  std::memcpy(&bytes[8], &old_version, sizeof old_version);  // after the 8-byte magic
+  try {
+    RunSession::load(bytes);
+    FAIL() << "a format-1 state was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("format version 1"), std::string::npos) << e.what();
+  }
+}
