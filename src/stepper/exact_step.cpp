@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "model/linear_structure.hpp"
@@ -75,25 +76,46 @@ ExactStep exact_step(const model::LumpedStructure& lumped, double dt) {
   return step;
 }
 
-void ExactStep::advance_partial(std::int64_t n, double* y, const double* g) const {
-  const int state = dimension + 1, columns = state + inputs;
-  const int table = 1 << digit_bits;
-  double next[max_state] = {};
-  for (int digit = 0; digit < fraction_digits; ++digit) {
-    const int k = static_cast<int>((n >> (digit_bits * (fraction_digits - 1 - digit))) & (table - 1));
+namespace {
+
+// The digit maps with the shape known at compile time: the rows' sums unroll and interleave
+// (each is a chain of dependent adds), which a run's renewals spend most of their time in.
+template <int State, int Inputs>
+void apply_digits(const ExactStep& step, std::int64_t n, double* y, const double* g) {
+  constexpr int columns = State + Inputs, table = 1 << ExactStep::digit_bits;
+  for (int digit = 0; digit < ExactStep::fraction_digits; ++digit) {
+    const int k = static_cast<int>((n >> (ExactStep::digit_bits * (ExactStep::fraction_digits - 1 - digit))) &
+                                   (table - 1));
     if (k == 0) continue;  // the identity: skipped, so a zero time leaves every bit alone
-    const double* map = partial.data() + (static_cast<size_t>(digit) * table + k) * state * columns;
-    for (int i = 0; i < state; ++i) {
+    const double* map = step.partial.data() + (static_cast<size_t>(digit) * table + k) * State * columns;
+    double next[State];
+    for (int i = 0; i < State; ++i) {
       const double* row = map + i * columns;
       double sum = row[0] * y[0];
-      for (int j = 1; j < state; ++j) sum = sum + row[j] * y[j];
-      for (int c = 0; c < inputs; ++c) sum = sum + row[state + c] * g[c];
+      for (int j = 1; j < State; ++j) sum = sum + row[j] * y[j];
+      for (int c = 0; c < Inputs; ++c) sum = sum + row[State + c] * g[c];
       next[i] = sum;
     }
-    std::memcpy(y, next, sizeof next);  // a fixed size: inlined, where a loop became a memmove call
+    for (int i = 0; i < State; ++i) y[i] = next[i];
+  }
+}
+
+}  // namespace
+
+void ExactStep::advance_partial(std::int64_t n, double* y, const double* g) const {
+  const int state = dimension + 1;
+  switch (state * 8 + inputs) {
+    case 4 * 8 + 1: apply_digits<4, 1>(*this, n, y, g); break;
+    case 6 * 8 + 1: apply_digits<6, 1>(*this, n, y, g); break;
+    case 6 * 8 + 2: apply_digits<6, 2>(*this, n, y, g); break;
+    case 8 * 8 + 1: apply_digits<8, 1>(*this, n, y, g); break;
+    case 8 * 8 + 2: apply_digits<8, 2>(*this, n, y, g); break;
+    case 8 * 8 + 3: apply_digits<8, 3>(*this, n, y, g); break;
+    default: throw std::logic_error("partial step: shape not compiled");
   }
   // n = 2^fraction_bits, the whole step, has no digits below: the full step's map.
   if (n >> fraction_bits) {
+    double next[max_state] = {};
     for (int i = 0; i < state; ++i) {
       double sum = 0;
       if (i == 0) {
