@@ -175,7 +175,7 @@ void RenewalState::step_with_renewals(int lane, const ExactStep& step, double st
     const double mark = next_mark_[lane];
     // The crossing time: the cubic through x and dx/dt at both ends of what is left of the
     // step (solved by Newton from the linear guess), then one Newton step on the exact
-    // trajectory, whose error is second order in the cubic's (far below a tick).
+    // trajectory, whose error is second order in the cubic's.
     const double left = static_cast<double>(whole - now) * tick;
     const double m0 = rate(y_now) * left, m1 = rate(y_end) * left;
     double u = x_end > x_now ? (mark - x_now) / (x_end - x_now) : 1.0;
@@ -194,9 +194,9 @@ void RenewalState::step_with_renewals(int lane, const ExactStep& step, double st
     copy(y_now, y);
     step.advance_partial(cross - now, y, g);
     if (rate(y) > 0) {
-      const double correction = std::nearbyint((x_at(cross, y) - mark) / rate(y) * static_cast<double>(whole));
-      const std::int64_t refined =
-          std::min(whole, std::max(now, cross - static_cast<std::int64_t>(std::max(-2.0 * whole, std::min(2.0 * whole, correction)))));
+      const double ticks = std::nearbyint((x_at(cross, y) - mark) / rate(y) * static_cast<double>(whole));
+      const auto refined = static_cast<std::int64_t>(
+          std::clamp(static_cast<double>(cross) - ticks, static_cast<double>(now), static_cast<double>(whole)));
       if (refined != cross) {
         cross = refined;
         copy(y_now, y);
