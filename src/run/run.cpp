@@ -23,7 +23,8 @@ namespace {
 // The highest omega a time step serves: omega dt <= 0.3 keeps the aliases of even the
 // Brownian omega^-2 part of C_x below 0.5% (docs/numerics.md).
 constexpr double kOmegaDtMax = 0.3;
-// Renewals take effect at the next step; lambda dt <= 0.1 keeps that below 0.1% of S_f.
+// lambda dt <= 0.1: about one renewal per miniblock in ten steps, each redone with the
+// renewal at its own time (docs/numerics.md), so no step holds many of one miniblock's.
 constexpr double kRenewalDtMax = 0.1;
 // Each realization of a sub-band spans this many of the segments serving its lowest point.
 constexpr double kSegmentsPerRealization = 6;
