@@ -90,7 +90,7 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
          "below_floor 1 when C_x < floor + 2 stderr; n_avg; bandwidth [rad/s]; C_v = omega^2 C_x [m^2/s]";
   if (f.slope) out << "; fit [m^2 s] the fitted power law inside its band";
   if (f.model) out << "; theory [m^2 s] the model seen through the estimator (no floor)";
-  out << "\nomega\tC_x\tstderr\tfloor\tbelow_floor\tn_avg\tbandwidth\tC_v" << (f.slope ? "\tfit" : "")
+  out << "\n# omega\tC_x\tstderr\tfloor\tbelow_floor\tn_avg\tbandwidth\tC_v" << (f.slope ? "\tfit" : "")
       << (f.model ? "\ttheory" : "") << "\n";
   for (std::size_t k = 0; k < s.points.size(); ++k) {
     const AnalysisPoint& p = s.points[k];
@@ -129,7 +129,7 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
                         {"force_slope", f.slope->force_slope()}, {"reaches_floor", f.slope->reaches_floor}};
   if (f.model) {
     doc["compare_case"] = o.compare_case;
-    for (const auto& [key, value] : describe(*f.model)) doc["model_parameters"][key] = value;
+    doc["model_parameters"] = io::parameters_json(*f.model);
   }
   if (f.alpha)
     doc["alpha_fit"] = {{"omega_low", f.alpha->omega_low}, {"omega_high", f.alpha->omega_high},

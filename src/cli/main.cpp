@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -22,6 +23,7 @@
 #endif
 #include "cli/plot.hpp"
 #include "cli/progress.hpp"
+#include "cli/suggest.hpp"
 #include "io/atomic_file.hpp"
 #include "io/tables.hpp"
 #include "slidespec/parameters.hpp"
@@ -51,6 +53,9 @@ struct ModelOptions {
     for (const auto& assignment : overrides) builder.set(assignment);
     return builder.build();
   }
+
+  /// What outputs call the run: "reference + N=5, alpha=3" when keys change the case.
+  std::string label(const Parameters& p) const { return io::run_label(case_name, p); }
 };
 
 void warn_if_outside_first_order(const Parameters& p) {
@@ -76,22 +81,56 @@ int command_cases() {
 struct TheoryOptions {
   double omega_min = 0.1, omega_max = 1e5;
   int points_per_decade = 8;
+  std::string omega_list;  // "1,2,3" [rad/s], instead of the log grid
+  std::string omega_file;  // one omega a line [rad/s], '#' comments
   std::string out;
 };
 
+/// The frequencies theory is asked for: a list, a file, or the log grid.
+std::vector<double> theory_omegas(const TheoryOptions& options) {
+  if (options.omega_list.empty() && options.omega_file.empty())
+    return log_spaced_omegas(options.omega_min, options.omega_max, options.points_per_decade);
+  const bool from_file = !options.omega_file.empty();
+  const std::string source = from_file ? options.omega_file : "--omega";
+  std::string text = from_file ? io::read_file(options.omega_file, "--omega-file") : options.omega_list;
+  std::vector<double> omegas;
+  std::istringstream lines(text);
+  int line_number = 0;
+  for (std::string line; std::getline(lines, line);) {
+    ++line_number;
+    line = line.substr(0, line.find('#'));
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream words(line);
+    for (std::string word; words >> word;) {
+      std::size_t used = 0;
+      double omega = 0;
+      try {
+        omega = std::stod(word, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != word.size() || !(omega > 0) || !std::isfinite(omega))
+        throw InputError(source + (from_file ? ": line " + std::to_string(line_number) : std::string()) + ": '" +
+                         word + "' is not a positive omega in rad/s");
+      omegas.push_back(omega);
+    }
+  }
+  if (omegas.empty()) throw InputError(source + ": no omega given");
+  return omegas;
+}
+
 int command_theory(const ModelOptions& model, const TheoryOptions& options) {
   const Parameters p = model.build();
-  const std::vector<double> omegas =
-      log_spaced_omegas(options.omega_min, options.omega_max, options.points_per_decade);
+  const std::vector<double> omegas = theory_omegas(options);
   if (!options.out.empty()) io::check_output_prefix(options.out);
   warn_if_outside_first_order(p);
   const std::vector<double> spectrum = exact_spectrum(p, omegas);
 
   std::ostringstream table;
-  table << io::metadata_lines(p, model.case_name)
+  table << io::metadata_lines(p, model.label(p))
         << "# columns: omega [rad/s], C_x [m^2 s] exact first-order theory, "
            "C_eq1 [m^2 s] the paper's Eq. (1)\n"
-        << "omega\tC_x\tC_eq1\n";
+        << "# omega\tC_x\tC_eq1\n";
   for (size_t k = 0; k < omegas.size(); ++k)
     table << io::format_number(omegas[k]) << "\t" << io::format_number(spectrum[k]) << "\t"
           << io::format_number(eq1_asymptote(p, omegas[k])) << "\n";
@@ -242,7 +281,7 @@ int command_run(const ModelOptions& model, RunOptions options, const std::functi
     return 0;
   }
   const Parameters p = model.build();
-  RunSession session(p, options.request, model.case_name);  // validates before any work
+  RunSession session(p, options.request, model.label(p));  // validates before any work
   io::check_output_prefix(options.out);
   if (!options.save_state.empty()) io::check_output_prefix(options.save_state);
   if (!options.quiet && writes_outputs()) warn_if_outside_first_order(p);
@@ -375,7 +414,7 @@ int main(int argc, char** argv) {
   const int default_threads = 0;
 #endif
   CLI::App app{"slidespec: power spectra of frictional sliding noise (Xu, Zhou, Persson model)"};
-  app.require_subcommand(1);
+  app.require_subcommand(0, 1);
   app.set_version_flag("--version", SLIDESPEC_VERSION);
 
   CLI::App* cases_command = app.add_subcommand("cases", "list the named cases and their parameters");
@@ -388,6 +427,11 @@ int main(int argc, char** argv) {
   theory_command->add_option("--omega-min", theory_options.omega_min, "lowest omega [rad/s]");
   theory_command->add_option("--omega-max", theory_options.omega_max, "highest omega [rad/s]");
   theory_command->add_option("--points", theory_options.points_per_decade, "points per decade");
+  auto* omega_list = theory_command->add_option("--omega", theory_options.omega_list,
+                                                "these omegas [rad/s], comma-separated, instead of the log grid");
+  theory_command->add_option("--omega-file", theory_options.omega_file,
+                             "omegas [rad/s] from a file (one or more a line, '#' comments)")
+      ->excludes(omega_list);
   theory_command->add_option("--out", theory_options.out, "write PREFIX.tsv instead of stdout");
 
   ModelOptions run_model;
@@ -409,7 +453,7 @@ int main(int argc, char** argv) {
                                         "FIRST:COUNT: run only these realizations (a part of a run; see merge)");
   range->excludes(realizations)->excludes(precision);
   run_command->add_option("--seed", request.seed, "random seed (default 1)");
-  run_command->add_option("--threads", request.threads, "threads (default: all cores)");
+  run_command->add_option("--threads", request.threads, "threads (default, or 0: all cores)");
   run_command->add_option("--simd", run_options.simd, "scalar|sse2|avx2|avx512|auto (default auto)");
   run_command->add_option("--out", run_options.out, "output prefix: PREFIX.tsv, .json, .png (default spectrum)");
   run_command->add_option("--checkpoint-every", run_options.checkpoint_every,
@@ -435,7 +479,7 @@ int main(int argc, char** argv) {
   sweep_command->add_option("--precision", sweep_options.request.precision, "target relative standard error");
   sweep_command->add_option("--realizations", sweep_options.request.realizations, "realizations per sub-band");
   sweep_command->add_option("--seed", sweep_options.request.seed, "random seed");
-  sweep_command->add_option("--threads", sweep_options.request.threads, "threads (default: all cores)");
+  sweep_command->add_option("--threads", sweep_options.request.threads, "threads (default, or 0: all cores)");
   sweep_command->add_option("--simd", sweep_options.simd, "scalar|sse2|avx2|avx512|auto");
   sweep_command->add_option("--out", sweep_options.out, "output prefix: PREFIX_KEY=V.tsv ..., PREFIX.png");
   sweep_command->add_flag("--quiet", sweep_options.quiet, "no progress, no summary");
@@ -465,7 +509,7 @@ int main(int argc, char** argv) {
   paper_command->add_option("--omega-min", paper_options.request.omega_min, "lowest omega [rad/s]");
   paper_command->add_option("--omega-max", paper_options.request.omega_max, "highest omega [rad/s]");
   paper_command->add_option("--seed", paper_options.request.seed, "random seed");
-  paper_command->add_option("--threads", paper_options.request.threads, "threads (default: all cores)");
+  paper_command->add_option("--threads", paper_options.request.threads, "threads (default, or 0: all cores)");
   paper_command->add_option("--simd", paper_options.simd, "scalar|sse2|avx2|avx512|auto");
   paper_command->add_flag("--quiet", paper_options.quiet, "no progress, no summary");
 
@@ -473,6 +517,10 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+    if (app.get_subcommands().empty()) {  // bare `slidespec`: what it can do
+      if (writes_outputs()) std::cout << app.help();
+      return 0;
+    }
     for (RunOptions* options : {&run_options, &paper_options, &sweep_options})
       if (options->request.threads == 0) options->request.threads = default_threads;
     if (const auto status = analysis_commands.run()) return *status;
@@ -490,7 +538,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    if (writes_outputs()) std::cerr << "slidespec: error: " << e.what() << "\n";
+    const std::string unknown = cli::unknown_argument(app, argc, argv);
+    if (writes_outputs()) std::cerr << "slidespec: error: " << (unknown.empty() ? e.what() : unknown) << "\n";
     return 2;
   } catch (const InputError& e) {
     if (writes_outputs()) std::cerr << "slidespec: error: " << e.what() << "\n";
