@@ -24,15 +24,15 @@ import numpy as np  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 
-# Parameters of MODEL.md section 2, in the order a legend lists them. eta1 is left out: it
+# Parameters of docs/model.md §2, in the order a legend lists them. eta1 is left out: it
 # follows from v, N, m and the forces (or v from it), so it would only repeat them.
 MODEL_PARAMETERS = ("N", "M", "m", "k0", "k1", "eta0", "v", "a", "alpha", "F_drive", "F_kin",
                     "chain", "renewal")
 
-# The paper's Fig. 2 peak near 4e4 rad/s is absent from the equations as written (MODEL.md 4).
+# The paper's Fig. 2 peak near 4e4 rad/s is absent from the equations as written (docs/model.md §4).
 PEAK_NOTE_OMEGA = 1e4
 PEAK_NOTE = ("No peak near 4e4 rad/s: the model's equations overdamp the miniblocks "
-             "(docs/model.md)")
+             "(docs/model.md §4)")
 
 EQ1_ID = "eq1"  # marks the Eq. (1) lines, which share one legend entry
 FLOOR_ID = "floor"  # the sensor's noise floor of measured data
@@ -174,7 +174,7 @@ def _mark_incomplete(spectrum, label):
 
 
 def kind_factor(spectrum, kind, omega):
-    """Factor turning a displacement spectrum into the requested one (MODEL.md 5)."""
+    """Factor turning a displacement spectrum into the requested one (docs/model.md §5)."""
     if kind == "velocity":
         return omega ** 2
     if kind == "force":

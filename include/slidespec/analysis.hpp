@@ -104,7 +104,7 @@ struct RecordSpectrum {
 };
 
 /// Fits and removes v t, then estimates C_x(omega) with the SpectrumEstimator (one lane,
-/// the conventions of MODEL.md section 3). Throws InputError when the record is too short
+/// the conventions of docs/model.md §3). Throws InputError when the record is too short
 /// for a single point or the band does not fit the sampling.
 RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& request);
 
@@ -117,7 +117,7 @@ struct SlopeFit {
   double slope_error = 0;                ///< standard error, scaled up by sqrt(chi2/dof) when > 1
   double chi2_per_dof = 0;
   double amplitude = 0;                  ///< C_x at omega = 1 rad/s on the fitted line [m^2 s]
-  /// Exponent of the force spectrum M^2 omega^4 C_x (MODEL.md section 5): slope + 4.
+  /// Exponent of the force spectrum M^2 omega^4 C_x (docs/model.md §5): slope + 4.
   double force_slope() const { return slope + 4; }
   bool reaches_floor = false;            ///< a point of the band is beyond the usable band
 };

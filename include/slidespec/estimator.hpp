@@ -1,6 +1,6 @@
 // Streaming spectrum estimator: many lanes (one realization each) of a sampled process
-// in, C(omega) on a log-spaced axis out, by the convention of docs/model.md (MODEL.md
-// section 3): two-sided, angular frequency, integral over all omega = variance.
+// in, C(omega) on a log-spaced axis out, by the convention of docs/model.md §3:
+// two-sided, angular frequency, integral over all omega = variance.
 //
 // Memory is independent of the stream's length: the estimator keeps one segment buffer
 // per lane per band and additive accumulators, never the trajectory.
@@ -130,7 +130,7 @@ class SpectrumEstimator {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Derived columns of MODEL.md section 5 for a displacement spectrum C_x.
+/// Derived columns of docs/model.md §3 for a displacement spectrum C_x.
 inline double velocity_spectrum(double omega, double C_x) { return omega * omega * C_x; }
 inline double force_spectrum(double omega, double C_x, double block_mass) {
   return block_mass * block_mass * omega * omega * omega * omega * C_x;

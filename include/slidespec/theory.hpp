@@ -1,4 +1,4 @@
-// The exact first-order (linear-response) spectrum of MODEL.md section 4.
+// The exact first-order (linear-response) spectrum of docs/model.md §4.
 #pragma once
 
 #include <memory>

@@ -365,7 +365,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& paper_figur
       {"fig2", {"reference", "fast", "short-renewal", "many-contacts"}},
       {"fig3", {"reference", "medium-noise", "weak-noise"}},
       {"fig6", {"concrete-fit"}},
-      {"hierarchy", {"reference", "hierarchical"}},  // MODEL.md section 6, docs/hierarchy.md
+      {"hierarchy", {"reference", "hierarchical"}},  // docs/model.md §6, docs/hierarchy.md
   };
   return figures;
 }
@@ -422,7 +422,7 @@ int main(int argc, char** argv) {
   ModelOptions theory_model;
   TheoryOptions theory_options;
   CLI::App* theory_command =
-      app.add_subcommand("theory", "exact first-order spectrum C_x(omega) (docs/model.md)");
+      app.add_subcommand("theory", "exact first-order spectrum C_x(omega) (docs/model.md §4)");
   theory_model.add_to(*theory_command);
   theory_command->add_option("--omega-min", theory_options.omega_min, "lowest omega [rad/s]");
   theory_command->add_option("--omega-max", theory_options.omega_max, "highest omega [rad/s]");

@@ -108,7 +108,7 @@ const std::vector<Case>& cases() {
       // Level 2: contacts ten times smaller, D = 0.1 mm (k0 ~ E D, m ~ rho D^3, eta0 ~
       // sqrt(k0/m), a ~ D); both levels touch. docs/hierarchy.md derives each value.
       {"hierarchical",
-       "blocks on blocks: ten 0.1 mm microcontacts on each miniblock (MODEL.md section 6)",
+       "blocks on blocks: ten 0.1 mm microcontacts on each miniblock (docs/model.md §6)",
        {{"levels", "2"}, {"N_2", "10"}, {"m_2", "1e-8"}, {"k0_2", "1e3"}, {"k1_2", "10"},
         {"eta0_2", "8e4"}, {"a_2", "1e-4"}, {"alpha_2", "1"}, {"touching", "1,2"}}},
   };

@@ -91,7 +91,7 @@ struct Stepper::Impl {
     z.assign(static_cast<size_t>(step.dimension) * padded, 0.0);
     xi.assign(padded, 0.0);
     offset_sum.assign(padded, 0.0);
-    // Start in equilibrium with the initial forces (MODEL.md section 1: steady sliding),
+    // Start in equilibrium with the initial forces (docs/model.md §1: steady sliding),
     // computed in plain scalar code so that every path starts from the same bits.
     for (int lane = 0; lane < padded; ++lane)
       for (int r = 0; r < step.dimension; ++r) {
