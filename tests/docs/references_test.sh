@@ -9,7 +9,7 @@ sources=(README.md docs bench src include tools tests)
 if grep -rIn --exclude=references_test.sh -e 'MODEL\.md' -e '/work/shared' "${sources[@]}"; then
   echo "FAIL: the lines above cite a file outside the repository"; failures=$((failures + 1))
 fi
-sections=$(grep -E '^##+ [0-9]+(\.[0-9]+)* ' docs/model.md | awk '{print $2}' | sed 's/\.$//')
+sections=$(grep -E '^##+ [0-9]+(\.[0-9]+)*\.? ' docs/model.md | awk '{print $2}' | sed 's/\.$//')
 [ "$(echo "$sections" | grep -cE '^[1-6]$')" -eq 6 ] || { echo "FAIL: docs/model.md lacks sections 1-6"; failures=$((failures + 1)); }
 while IFS= read -r cited; do
   echo "$sections" | grep -qxF "$cited" || { echo "FAIL: §$cited cited but docs/model.md has no such section"; failures=$((failures + 1)); }
