@@ -28,6 +28,8 @@ struct AnalysisCommands::Options {
   double normal_mass = 0, driving_mass = 0;
   std::string out = "analysis";
   bool quiet = false, no_plot = false;
+  FigureStyle figure;
+  std::string title;
   // synth
   std::string synth_case = "reference";
   std::vector<std::string> synth_overrides;
@@ -211,6 +213,7 @@ std::pair<double, double> default_fit_band(const RecordSpectrum& s, const Parame
 }
 
 int command_analyze(Options o) {
+  o.figure.check();
   io::check_output_prefix(o.out);
   if (!o.units.empty()) o.format.unit = parse_length_unit(o.units);
   Findings f;
@@ -243,8 +246,8 @@ int command_analyze(Options o) {
 
   io::write_atomically(o.out + ".tsv", analysis_table(o, s, f));
   io::write_atomically(o.out + ".json", analysis_json(o, s, f));
-  const bool plotted = !o.no_plot && plot({o.out + ".tsv"}, o.out + ".png", "") == 0;
-  if (!o.no_plot && !plotted) std::cerr << "slidespec: warning: " << o.out << ".png not drawn\n";
+  const bool plotted = !o.no_plot && plot({o.out + ".tsv"}, o.figure.path(o.out), o.title, o.figure) == 0;
+  if (!o.no_plot && !plotted) std::cerr << "slidespec: warning: " << o.figure.path(o.out) << " not drawn\n";
   // Warnings and failed fits are printed even with --quiet: they change what the files mean.
   const std::string unit_note = std::string("read in ") + to_string(record.unit) +
                                 (record.unit_source == "default" ? " (no unit in its header)" : " (from " + record.unit_source + ")");
@@ -281,7 +284,7 @@ int command_analyze(Options o) {
     std::cerr << "slidespec: alpha = " << f.alpha->alpha << " +- " << f.alpha->alpha_error << " (" << o.compare_case
               << ", " << f.alpha->omega_low << " .. " << f.alpha->omega_high << " rad/s, chi2/dof "
               << f.alpha->chi2_per_dof << ")\n";
-  std::cerr << "slidespec: wrote " << o.out << ".tsv, .json" << (plotted ? ", .png" : "")
+  std::cerr << "slidespec: wrote " << o.out << ".tsv, .json" << (plotted ? ", ." + o.figure.format : "")
             << (f.ok() ? "" : " (marked ok = false)") << "\n";
   return status;
 }
@@ -307,6 +310,32 @@ int command_synth(const Options& o) {
 }
 
 }  // namespace
+
+int paper_fig6(const std::string& record, const std::string& directory, const FigureStyle& figure, bool quiet) {
+  figure.check();
+  Options o;
+  o.out = directory + "/fig6";
+  io::check_output_prefix(o.out);
+  o.file = record;
+  if (record.empty()) {
+    // A measured-like record: the concrete-fit slider read by the paper's sensor.
+    Options synth;
+    synth.synth_case = "concrete-fit";
+    synth.synth_out = directory + "/fig6_record";
+    io::check_output_prefix(synth.synth_out);
+    command_synth(synth);
+    o.file = synth.synth_out + ".csv";
+    o.sensor_noise = io::format_number(synth.sensor.sensor_noise) + "m";
+  }
+  o.resolution = "0.5um";  // the paper's sensor (docs/model.md §5)
+  o.compare_case = "concrete-fit";
+  o.fit = "alpha";
+  o.quiet = quiet;
+  o.figure = figure;
+  o.title = "Fig. 6: the concrete-fit model (" + std::string(record.empty() ? "synthetic record" : record) +
+            ", alpha fitted)";
+  return command_analyze(o);
+}
 
 AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Options>()) {
   Options& o = *options_;
@@ -336,7 +365,8 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
   analyze_->add_option("--driving-mass", o.driving_mass, "M', hanging mass driving it [kg], for mu = M'/M");
   analyze_->add_option("--out", o.out, "output prefix: PREFIX.tsv, .json, .png (default analysis)");
   analyze_->add_flag("--quiet", o.quiet, "no summary");
-  analyze_->add_flag("--no-plot", o.no_plot, "skip PREFIX.png");
+  analyze_->add_flag("--no-plot", o.no_plot, "skip the figure PREFIX.png");
+  o.figure.add_to(*analyze_);
 
   synth_ = app.add_subcommand("synth", "a synthetic displacement-sensor record of a simulated slider (CSV)");
   synth_->add_option("--case", o.synth_case, "named case (default reference)");

@@ -25,6 +25,7 @@
 #include "cli/progress.hpp"
 #include "cli/suggest.hpp"
 #include "io/atomic_file.hpp"
+#include "io/suggest.hpp"
 #include "io/tables.hpp"
 #include "slidespec/parameters.hpp"
 #include "slidespec/run.hpp"
@@ -156,6 +157,7 @@ struct RunOptions {
   std::string resume;           // PREFIX of a run to continue from PREFIX.state
   std::string range;            // FIRST:COUNT of a part of a run
   std::string save_state;       // where to save the finished part
+  cli::FigureStyle figure;
 };
 
 /// This process's place among the run's processes (MPI ranks; one without MPI).
@@ -169,11 +171,12 @@ void write_outputs(const RunSession& session, const RunResult& result, const Run
   const Parameters& p = session.parameters();
   io::write_atomically(out + ".tsv", io::run_table(p, session.case_name(), session.request(), result));
   io::write_atomically(out + ".json", io::run_json(p, session.case_name(), session.request(), result));
-  const bool plotted = !options.no_plot && cli::plot({out + ".tsv"}, out + ".png", "") == 0;
-  if (!options.no_plot && !plotted) std::cerr << "slidespec: warning: " << out << ".png not drawn\n";
+  const std::string figure = options.figure.path(out);
+  const bool plotted = !options.no_plot && cli::plot({out + ".tsv"}, figure, "", options.figure) == 0;
+  if (!options.no_plot && !plotted) std::cerr << "slidespec: warning: " << figure << " not drawn\n";
   if (options.quiet) return;
   std::cerr << "slidespec: " << (result.complete ? "wrote " : "interrupted; wrote what accumulated to ")
-            << out << ".tsv, .json" << (plotted ? ", .png" : "") << " (" << result.points.size()
+            << out << ".tsv, .json" << (plotted ? ", ." + options.figure.format : "") << " (" << result.points.size()
             << " points, largest relative error " << io::format_number(result.reached_precision)
             << ", measured mean speed " << io::format_number(result.mean_speed) << " m/s, "
             << result.wall_seconds << " s)\n";
@@ -249,6 +252,7 @@ void apply_realization_range(const std::string& range, RunRequest& request) {
 }
 
 int command_run(const ModelOptions& model, RunOptions options, const std::function<bool(const char*)>& given) {
+  options.figure.check();
   options.request.simd = parse_simd_path(options.simd);
   resolve_simd_path(options.request.simd);
   if (!options.range.empty()) apply_realization_range(options.range, options.request);
@@ -293,6 +297,7 @@ int command_run(const ModelOptions& model, RunOptions options, const std::functi
 
 /// Parts of a run split over a job array, as the whole run.
 int command_merge(const std::vector<std::string>& paths, RunOptions options) {
+  options.figure.check();
   std::vector<RunSession> parts;
   for (const std::string& path : paths) {
     try {
@@ -352,11 +357,14 @@ struct PlotOptions {
   std::vector<std::string> tables;
   std::string out;
   std::string title;
+  cli::FigureStyle figure;
 };
 
-int command_plot(const PlotOptions& options) {
+int command_plot(PlotOptions options) {
+  options.figure.format = cli::format_of(options.out);
+  options.figure.check();
   io::check_output_prefix(options.out);
-  return cli::plot(options.tables, options.out, options.title);
+  return cli::plot(options.tables, options.out, options.title, options.figure);
 }
 
 /// The paper's figures: which cases each overlays.
@@ -364,16 +372,25 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& paper_figur
   static const std::vector<std::pair<std::string, std::vector<std::string>>> figures = {
       {"fig2", {"reference", "fast", "short-renewal", "many-contacts"}},
       {"fig3", {"reference", "medium-noise", "weak-noise"}},
-      {"fig6", {"concrete-fit"}},
+      {"fig6", {}},  // a fit to a record through analyze, not runs
       {"hierarchy", {"reference", "hierarchical"}},  // docs/model.md §6, docs/hierarchy.md
   };
   return figures;
 }
 
-int command_paper(const std::string& figure, RunOptions options, const std::string& directory) {
+int command_paper(const std::string& figure, RunOptions options, const std::string& directory,
+                  const std::string& record) {
   const auto& figures = paper_figures();
   const auto found = std::find_if(figures.begin(), figures.end(), [&](const auto& f) { return f.first == figure; });
-  if (found == figures.end()) throw InputError("paper: unknown figure '" + figure + "' (known: fig2, fig3, fig6, hierarchy)");
+  if (found == figures.end())
+    throw InputError("paper: unknown figure '" + figure + "'" +
+                     io::did_you_mean(figure, {"fig2", "fig3", "fig6", "hierarchy"}) +
+                     " (known: fig2, fig3, fig6, hierarchy)");
+  if (!record.empty() && figure != "fig6") throw InputError("paper: --record is for fig6 only");
+  if (figure == "fig6") return writes_outputs() ? cli::paper_fig6(record, directory, options.figure, options.quiet) : 0;
+  options.figure.check();
+  // The paper's Fig. 2 colours, case by case (docs/model.md §2).
+  if (figure == "fig2") options.figure.colors = {"#7b2fbe", "#2ca02c", "#d62728", "#e8b800"};
   options.request.simd = parse_simd_path(options.simd);
   resolve_simd_path(options.request.simd);
   io::check_output_prefix(directory + "/" + figure);
@@ -392,12 +409,12 @@ int command_paper(const std::string& figure, RunOptions options, const std::stri
     tables.push_back(out + ".tsv");
     if (!result.complete && stop_requested) return 128 + stop_signal;
   }
-  const std::string title = figure == "fig6"        ? "concrete-fit model (alpha = 0.4), Fig. 6 of the paper"
-                            : figure == "hierarchy" ? "flat and two-level contacts (the paper's Fig. 1c)"
-                                                    : "the paper's " + figure.substr(0, 3) + ". " + figure.substr(3);
+  const std::string title = figure == "hierarchy" ? "flat and two-level contacts (the paper's Fig. 1c)"
+                                                 : "the paper's " + figure.substr(0, 3) + ". " + figure.substr(3);
   if (!writes_outputs()) return 0;
-  const int status = cli::plot(tables, directory + "/" + figure + ".png", title);
-  if (status == 0 && !options.quiet) std::cerr << "slidespec: drew " << directory << "/" << figure << ".png\n";
+  const std::string picture = options.figure.path(directory + "/" + figure);
+  const int status = cli::plot(tables, picture, title, options.figure);
+  if (status == 0 && !options.quiet) std::cerr << "slidespec: drew " << picture << "\n";
   return status == 0 ? 0 : 1;
 }
 
@@ -462,7 +479,8 @@ int main(int argc, char** argv) {
   run_command->add_option("--resume", run_options.resume, "continue the run saved in PREFIX.state");
   run_command->add_option("--save-state", run_options.save_state, "save the finished run (a part) to FILE");
   run_command->add_flag("--quiet", run_options.quiet, "no progress, no summary");
-  run_command->add_flag("--no-plot", run_options.no_plot, "skip PREFIX.png");
+  run_command->add_flag("--no-plot", run_options.no_plot, "skip the figure PREFIX.png");
+  run_options.figure.add_to(*run_command);
   // A resumed run checks what was given against what it saved.
   auto run_given = [&](const char* name) { return run_command->count(name) > 0; };
 
@@ -483,7 +501,8 @@ int main(int argc, char** argv) {
   sweep_command->add_option("--simd", sweep_options.simd, "scalar|sse2|avx2|avx512|auto");
   sweep_command->add_option("--out", sweep_options.out, "output prefix: PREFIX_KEY=V.tsv ..., PREFIX.png");
   sweep_command->add_flag("--quiet", sweep_options.quiet, "no progress, no summary");
-  sweep_command->add_flag("--no-plot", sweep_options.no_plot, "skip PREFIX.png");
+  sweep_command->add_flag("--no-plot", sweep_options.no_plot, "skip the overlay PREFIX.png");
+  sweep_options.figure.add_to(*sweep_command);
 
   std::vector<std::string> merge_parts;
   RunOptions merge_options;
@@ -492,19 +511,23 @@ int main(int argc, char** argv) {
   merge_command->add_option("parts", merge_parts, "state files of the parts")->required();
   merge_command->add_option("--out", merge_options.out, "output prefix (default spectrum)");
   merge_command->add_flag("--quiet", merge_options.quiet, "no summary");
-  merge_command->add_flag("--no-plot", merge_options.no_plot, "skip PREFIX.png");
+  merge_command->add_flag("--no-plot", merge_options.no_plot, "skip the figure PREFIX.png");
+  merge_options.figure.add_to(*merge_command);
 
   PlotOptions plot_options;
   CLI::App* plot_command = app.add_subcommand("plot", "overlay spectrum tables in one picture");
   plot_command->add_option("tables", plot_options.tables, "TSV files from run or theory")->required();
-  plot_command->add_option("-o,--out", plot_options.out, "the PNG to write")->required();
+  plot_command->add_option("-o,--out", plot_options.out, "the figure to write: .png, .pdf or .svg")->required();
   plot_command->add_option("--title", plot_options.title, "title of the picture");
+  plot_options.figure.add_size_to(*plot_command);
 
-  std::string figure, paper_directory = ".";
+  std::string figure, paper_directory = ".", paper_record;
   RunOptions paper_options;
   CLI::App* paper_command = app.add_subcommand("paper", "run the paper's cases and draw its figure");
   paper_command->add_option("figure", figure, "fig2 | fig3 | fig6 | hierarchy")->required();
   paper_command->add_option("--out-dir", paper_directory, "directory for the tables and the figure");
+  paper_command->add_option("--record", paper_record,
+                            "fig6: your own displacement record (as for analyze) instead of a synthetic one");
   paper_command->add_option("--precision", paper_options.request.precision, "target relative standard error");
   paper_command->add_option("--omega-min", paper_options.request.omega_min, "lowest omega [rad/s]");
   paper_command->add_option("--omega-max", paper_options.request.omega_max, "highest omega [rad/s]");
@@ -512,6 +535,7 @@ int main(int argc, char** argv) {
   paper_command->add_option("--threads", paper_options.request.threads, "threads (default, or 0: all cores)");
   paper_command->add_option("--simd", paper_options.simd, "scalar|sse2|avx2|avx512|auto");
   paper_command->add_flag("--quiet", paper_options.quiet, "no progress, no summary");
+  paper_options.figure.add_to(*paper_command);
 
   const cli::AnalysisCommands analysis_commands(app);
 
@@ -530,7 +554,7 @@ int main(int argc, char** argv) {
     if (*merge_command) return command_merge(merge_parts, merge_options);
     if (*sweep_command) return command_sweep(sweep_model, sweep_values, sweep_options);
     if (*plot_command) return command_plot(plot_options);
-    if (*paper_command) return command_paper(figure, paper_options, paper_directory);
+    if (*paper_command) return command_paper(figure, paper_options, paper_directory, paper_record);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
