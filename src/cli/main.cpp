@@ -24,6 +24,7 @@
 #include "cli/plot.hpp"
 #include "cli/progress.hpp"
 #include "cli/suggest.hpp"
+#include "cli/sweep.hpp"
 #include "io/atomic_file.hpp"
 #include "io/suggest.hpp"
 #include "io/tables.hpp"
@@ -158,7 +159,25 @@ struct RunOptions {
   std::string range;            // FIRST:COUNT of a part of a run
   std::string save_state;       // where to save the finished part
   cli::FigureStyle figure;
+  // One bar over several runs (sweep, paper): this run's place in the planned work.
+  cli::Progress* shared_progress = nullptr;
+  double work_before = 0, work_share = 1;  // fractions of the whole
+  std::string progress_prefix;            // "run 2/6, "
 };
+
+/// Weights the runs of a multi-run command by their planned work and shares one bar.
+void share_progress(std::vector<RunOptions>& runs, const std::vector<double>& work, cli::Progress& progress) {
+  double total = 0;
+  for (double w : work) total += w;
+  double before = 0;
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    runs[k].shared_progress = &progress;
+    runs[k].work_before = before / total;
+    runs[k].work_share = work[k] / total;
+    runs[k].progress_prefix = "run " + std::to_string(k + 1) + "/" + std::to_string(runs.size()) + ", ";
+    before += work[k];
+  }
+}
 
 /// This process's place among the run's processes (MPI ranks; one without MPI).
 const Communicator* communicator = nullptr;
@@ -192,9 +211,12 @@ void write_outputs(const RunSession& session, const RunResult& result, const Run
 /// one removes the checkpoint it no longer needs.
 RunResult run_and_write(RunSession& session, const RunOptions& options, const std::string& out) {
   const std::string state_path = out + ".state";
-  cli::Progress progress(options.quiet || !writes_outputs());
+  cli::Progress own_progress(options.quiet || !writes_outputs());
+  cli::Progress& progress = options.shared_progress ? *options.shared_progress : own_progress;
   RunSession::Control control;
-  control.progress = [&](double f, const std::string& what) { progress.update(f, what); };
+  control.progress = [&](double f, const std::string& what) {
+    progress.update(options.work_before + f * options.work_share, options.progress_prefix + what);
+  };
   control.stop = &stop_requested;
   control.communicator = communicator;
   control.checkpoint_every = options.checkpoint_every;
@@ -202,7 +224,7 @@ RunResult run_and_write(RunSession& session, const RunOptions& options, const st
     if (writes_outputs()) io::write_atomically(state_path, s.save());
   };
   const bool finished = session.advance(control);
-  progress.finish();
+  if (!options.shared_progress) progress.finish();
   if (writes_outputs()) {
     if (!finished) {
       io::write_atomically(state_path, session.save());
@@ -312,44 +334,60 @@ int command_merge(const std::vector<std::string>& paths, RunOptions options) {
   return 0;
 }
 
-/// A list of values of one parameter, one run each (all cores, or all ranks, each), and
-/// an overlay of their spectra. Every value is validated before the first run starts.
-int command_sweep(const ModelOptions& model, const std::string& sweep, RunOptions options) {
-  const auto equals = sweep.find('=');
-  if (equals == std::string::npos || equals == 0 || equals + 1 == sweep.size())
-    throw InputError("sweep: expected KEY=V1,V2,..., got '" + sweep + "'");
-  const std::string key = sweep.substr(0, equals);
-  std::vector<std::string> values;
-  std::stringstream list(sweep.substr(equals + 1));
-  for (std::string value; std::getline(list, value, ',');) {
-    if (value.empty()) throw InputError("sweep: an empty value in '" + sweep + "'");
-    values.push_back(value);
-  }
+/// A grid of parameter values (several keys, lists or ranges), one run each (all cores,
+/// or all ranks, each), their combined table and an overlay of their spectra. Every run
+/// is validated before the first starts.
+int command_sweep(const ModelOptions& model, const std::vector<std::string>& words, RunOptions options) {
+  options.figure.check();
+  const std::vector<cli::SweepAxis> axes = cli::parse_sweep(words);
+  const auto grid = cli::sweep_grid(axes);
   options.request.simd = parse_simd_path(options.simd);
   resolve_simd_path(options.request.simd);
   std::vector<Parameters> params;
-  for (const std::string& value : values) {
+  std::vector<double> work;
+  for (const auto& values : grid) {
     ModelOptions one = model;
-    one.overrides.push_back(key + "=" + value);
+    for (const auto& [key, value] : values) one.overrides.push_back(key + "=" + value);
     params.push_back(one.build());
-    RunSession check(params.back(), options.request);  // validates the band for this value
+    RunSession check(params.back(), options.request);  // validates the band for these values
+    work.push_back(cli::planned_work(params.back(), options.request));
   }
   io::check_output_prefix(options.out);
   catch_stop_signals();
+  cli::Progress progress(options.quiet || !writes_outputs());
+  std::vector<RunOptions> singles(grid.size(), options);
+  share_progress(singles, work, progress);
+  std::vector<cli::SweepRun> runs;
   std::vector<std::string> tables;
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    if (!options.quiet && writes_outputs())
-      std::cerr << "slidespec: sweep " << k + 1 << "/" << values.size() << ": " << key << " = " << values[k] << "\n";
-    const std::string out = options.out + "_" + key + "=" + values[k];
-    RunOptions single = options;
-    single.no_plot = true;
-    const RunResult result = run_and_write(params[k], model.case_name, single, out);
-    tables.push_back(out + ".tsv");
-    if (!result.complete && stop_requested) return 128 + stop_signal;
+  for (std::size_t k = 0; k < grid.size(); ++k) {
+    std::string name = options.out, shown;
+    for (const auto& [key, value] : grid[k]) {
+      name += "_" + key + "=" + value;
+      shown += (shown.empty() ? "" : ", ") + key + " = " + value;
+    }
+    singles[k].no_plot = true;
+    if (!options.quiet && writes_outputs() && !isatty(STDERR_FILENO))
+      std::cerr << "slidespec: sweep " << k + 1 << "/" << grid.size() << ": " << shown << "\n";
+    const std::string label = model.label(params[k]);
+    const RunResult result = run_and_write(params[k], label, singles[k], name);
+    runs.push_back({grid[k], label, name + ".tsv", result});
+    tables.push_back(name + ".tsv");
+    if (!result.complete && stop_requested) break;
   }
+  progress.finish();
+  // The combined table holds what was run, also when interrupted.
+  if (writes_outputs()) {
+    io::write_atomically(options.out + ".tsv", cli::sweep_table(axes, runs));
+    io::write_atomically(options.out + ".json", cli::sweep_json(axes, runs));
+    if (!options.quiet) std::cerr << "slidespec: wrote " << options.out << ".tsv, .json (all " << runs.size() << " runs)\n";
+  }
+  if (runs.size() < grid.size()) return 128 + stop_signal;
   if (options.no_plot || !writes_outputs()) return 0;
-  const int status = cli::plot(tables, options.out + ".png", model.case_name + ": sweep of " + key);
-  if (status == 0 && !options.quiet) std::cerr << "slidespec: drew " << options.out << ".png\n";
+  std::string swept;
+  for (const cli::SweepAxis& axis : axes) swept += (swept.empty() ? "" : ", ") + axis.key;
+  const std::string picture = options.figure.path(options.out);
+  const int status = cli::plot(tables, picture, model.case_name + ": sweep of " + swept, options.figure);
+  if (status == 0 && !options.quiet) std::cerr << "slidespec: drew " << picture << "\n";
   return status == 0 ? 0 : 1;
 }
 
@@ -395,20 +433,24 @@ int command_paper(const std::string& figure, RunOptions options, const std::stri
   resolve_simd_path(options.request.simd);
   io::check_output_prefix(directory + "/" + figure);
   std::vector<Parameters> params;
+  std::vector<double> work;
   for (const std::string& name : found->second) {
     params.push_back(ParameterBuilder(name).build());
-    plan_sub_bands(params.back(), options.request);
+    work.push_back(cli::planned_work(params.back(), options.request));
   }
   catch_stop_signals();
+  cli::Progress progress(options.quiet || !writes_outputs());
+  std::vector<RunOptions> singles(params.size(), options);
+  share_progress(singles, work, progress);
   std::vector<std::string> tables;
   for (std::size_t k = 0; k < params.size(); ++k) {
     const std::string out = directory + "/" + figure + "_" + found->second[k];
-    RunOptions single = options;
-    single.no_plot = true;
-    const RunResult result = run_and_write(params[k], found->second[k], single, out);
+    singles[k].no_plot = true;
+    const RunResult result = run_and_write(params[k], found->second[k], singles[k], out);
     tables.push_back(out + ".tsv");
     if (!result.complete && stop_requested) return 128 + stop_signal;
   }
+  progress.finish();
   const std::string title = figure == "hierarchy" ? "flat and two-level contacts (the paper's Fig. 1c)"
                                                  : "the paper's " + figure.substr(0, 3) + ". " + figure.substr(3);
   if (!writes_outputs()) return 0;
@@ -486,10 +528,13 @@ int main(int argc, char** argv) {
 
   ModelOptions sweep_model;
   RunOptions sweep_options;
-  std::string sweep_values;
+  std::vector<std::string> sweep_values;
   CLI::App* sweep_command =
       app.add_subcommand("sweep", "one run per value of a parameter, and their spectra in one picture");
-  sweep_command->add_option("values", sweep_values, "KEY=V1,V2,... (e.g. alpha=0.1,0.5,1)")->required();
+  sweep_command->add_option("values", sweep_values,
+                            "KEY=V1,V2,... | KEY=FIRST:LAST:STEP | KEY=FIRST..LAST log|lin K; several keys make a grid "
+                            "(e.g. alpha=0.1:1:0.1 N=10..100 log 5)")
+      ->required();
   sweep_model.add_to(*sweep_command);
   sweep_command->add_option("--omega-min", sweep_options.request.omega_min, "lowest omega [rad/s]");
   sweep_command->add_option("--omega-max", sweep_options.request.omega_max, "highest omega [rad/s]");
@@ -499,7 +544,8 @@ int main(int argc, char** argv) {
   sweep_command->add_option("--seed", sweep_options.request.seed, "random seed");
   sweep_command->add_option("--threads", sweep_options.request.threads, "threads (default, or 0: all cores)");
   sweep_command->add_option("--simd", sweep_options.simd, "scalar|sse2|avx2|avx512|auto");
-  sweep_command->add_option("--out", sweep_options.out, "output prefix: PREFIX_KEY=V.tsv ..., PREFIX.png");
+  sweep_command->add_option("--out", sweep_options.out,
+                            "output prefix: PREFIX_KEY=V....tsv/.json per run, PREFIX.tsv/.json all runs, PREFIX.png");
   sweep_command->add_flag("--quiet", sweep_options.quiet, "no progress, no summary");
   sweep_command->add_flag("--no-plot", sweep_options.no_plot, "skip the overlay PREFIX.png");
   sweep_options.figure.add_to(*sweep_command);
