@@ -20,6 +20,8 @@ import tempfile
 import matplotlib
 
 matplotlib.use("Agg")
+# Every computed point is written (PDF/SVG too): no merging of nearly collinear vertices.
+matplotlib.rcParams["path.simplify"] = False
 import matplotlib.pyplot as plt  # noqa: E402  (must follow the backend choice)
 import numpy as np  # noqa: E402
 from matplotlib.legend_handler import HandlerTuple  # noqa: E402

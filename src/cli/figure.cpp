@@ -29,10 +29,19 @@ TableModel read_table_model(const std::string& path) {
   ParameterBuilder builder("reference");
   bool named_model = false, has_v = false;
   std::vector<std::pair<std::string, std::string>> metadata;
+  std::size_t omega_column = 0;  // by name in the column line ("# omega<TAB>C_x...")
   for (std::string line; std::getline(in, line);) {
+    if (line.find('\t') != std::string::npos && line.find_first_of("0123456789") != 0 &&
+        line.find("omega") != std::string::npos) {
+      std::istringstream names(line.rfind("#", 0) == 0 ? line.substr(1) : line);
+      std::size_t index = 0;
+      for (std::string name; names >> name; ++index)
+        if (name == "omega") omega_column = index;
+      continue;
+    }
     if (line.rfind("#", 0) == 0) {
       const auto equals = line.find(" = ");
-      if (equals == std::string::npos || line.find('\t') != std::string::npos) continue;
+      if (equals == std::string::npos) continue;
       std::string key = line.substr(1, equals - 1);
       key.erase(0, key.find_first_not_of(' '));
       std::string value = line.substr(equals + 3);
@@ -44,7 +53,9 @@ TableModel read_table_model(const std::string& path) {
     }
     std::istringstream fields(line);
     double omega = 0;
-    if (!(fields >> omega) || !(omega > 0)) continue;
+    for (std::size_t index = 0; index <= omega_column; ++index)
+      if (!(fields >> omega)) omega = 0;
+    if (!(omega > 0)) continue;
     model.omega_low = model.omega_low > 0 ? std::min(model.omega_low, omega) : omega;
     model.omega_high = std::max(model.omega_high, omega);
   }
