@@ -214,8 +214,11 @@ RunResult run_and_write(RunSession& session, const RunOptions& options, const st
   cli::Progress own_progress(options.quiet || !writes_outputs());
   cli::Progress& progress = options.shared_progress ? *options.shared_progress : own_progress;
   RunSession::Control control;
+  // The session reports sub-bands as equal shares; weigh each by its planned steps.
+  const std::vector<double> band_work = cli::sub_band_work(session.parameters(), session.request());
   control.progress = [&](double f, const std::string& what) {
-    progress.update(options.work_before + f * options.work_share, options.progress_prefix + what);
+    progress.update(options.work_before + cli::weighted_fraction(f, band_work) * options.work_share,
+                    options.progress_prefix + what);
   };
   control.stop = &stop_requested;
   control.communicator = communicator;

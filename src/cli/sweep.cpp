@@ -126,12 +126,29 @@ std::vector<std::vector<std::pair<std::string, std::string>>> sweep_grid(const s
   return grid;
 }
 
-double planned_work(const Parameters& p, const RunRequest& request) {
+std::vector<double> sub_band_work(const Parameters& p, const RunRequest& request) {
   double blocks = 1;
   for (int l = 1; l <= p.levels; ++l) blocks += static_cast<double>(p.blocks(l));
+  std::vector<double> work;
+  for (const SubBand& band : plan_sub_bands(p, request)) work.push_back(band.duration / band.dt * blocks);
+  return work;
+}
+
+double planned_work(const Parameters& p, const RunRequest& request) {
   double work = 0;
-  for (const SubBand& band : plan_sub_bands(p, request)) work += band.duration / band.dt * blocks;
+  for (double w : sub_band_work(p, request)) work += w;
   return std::max(work, 1.0);
+}
+
+double weighted_fraction(double fraction, const std::vector<double>& band_work) {
+  double total = 0;
+  for (double w : band_work) total += w;
+  if (band_work.empty() || !(total > 0)) return fraction;
+  const double position = std::clamp(fraction, 0.0, 1.0) * static_cast<double>(band_work.size());
+  const std::size_t band = std::min(band_work.size() - 1, static_cast<std::size_t>(position));
+  double before = 0;
+  for (std::size_t b = 0; b < band; ++b) before += band_work[b];
+  return (before + (position - static_cast<double>(band)) * band_work[band]) / total;
 }
 
 std::string sweep_table(const std::vector<SweepAxis>& axes, const std::vector<SweepRun>& runs) {

@@ -29,6 +29,13 @@ std::vector<std::vector<std::pair<std::string, std::string>>> sweep_grid(const s
 /// that makes the progress of several runs one bar with an honest time left.
 double planned_work(const Parameters& p, const RunRequest& request);
 
+/// The planned work of each sub-band of a run, the same measure as planned_work.
+std::vector<double> sub_band_work(const Parameters& p, const RunRequest& request);
+
+/// A run's progress, reported as (b + f_b) / B over its B sub-bands, as the fraction of
+/// its planned work: the bands before b and f_b of band b, weighted by `band_work`.
+double weighted_fraction(double fraction, const std::vector<double>& band_work);
+
 /// One finished run of a sweep, for the combined table.
 struct SweepRun {
   std::vector<std::pair<std::string, std::string>> values;  ///< KEY=VALUE of this run
