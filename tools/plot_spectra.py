@@ -349,7 +349,7 @@ def is_run(spectrum):
         "below_floor" not in spectrum.columns
 
 
-def plot_residuals(axes, spectrum, color, args):
+def plot_residuals(axes, spectrum, color, args, band_alpha=0.18):
     """C_x/theory - 1 with +-1 stderr bars and the +-2 stderr band, for one run."""
     columns = spectrum.columns
     keep = _in_range(columns["omega"], args) & (columns["theory"] > 0) & (columns["omega"] > 0)
@@ -357,7 +357,7 @@ def plot_residuals(axes, spectrum, color, args):
     residual = columns["C_x"][keep] / theory - 1
     relative_error = np.abs(columns["stderr"][keep]) / theory
     x = np.log10(omega)
-    axes.fill_between(x, -2 * relative_error, 2 * relative_error, color=color, alpha=0.18,
+    axes.fill_between(x, -2 * relative_error, 2 * relative_error, color=color, alpha=band_alpha,
                       linewidth=0, zorder=1)
     axes.errorbar(x, residual, yerr=relative_error, fmt="o", markersize=3, color=color,
                   markeredgecolor="black", markeredgewidth=0.3, elinewidth=0.8, capsize=1.5,
@@ -470,7 +470,10 @@ def render(spectra, labels, args, fine_theories=None):
     if args.title:
         axes.set_title(args.title, fontsize=12)
     if residual_axes is not None:
-        reach = max(plot_residuals(residual_axes, spectra[i], colors[i], args) for i in runs)
+        # Overlapping bands of many runs add up: each lighter, so the stack stays readable.
+        band_alpha = 0.18 if len(runs) <= 2 else 0.36 / len(runs)
+        reach = max(plot_residuals(residual_axes, spectra[i], colors[i], args, band_alpha)
+                    for i in runs)
         limit = min(max(1.15 * reach, 0.05), 1.0)
         residual_axes.set_ylim(-limit, limit)
         residual_axes.axhline(0, color="black", linewidth=0.8, zorder=2)

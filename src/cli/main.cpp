@@ -455,7 +455,7 @@ int command_paper(const std::string& figure, RunOptions options, const std::stri
   }
   progress.finish();
   const std::string title = figure == "hierarchy" ? "flat and two-level contacts (the paper's Fig. 1c)"
-                                                 : "the paper's " + figure.substr(0, 3) + ". " + figure.substr(3);
+                                                 : "Fig. " + figure.substr(3) + " of the paper";
   if (!writes_outputs()) return 0;
   const std::string picture = options.figure.path(directory + "/" + figure);
   const int status = cli::plot(tables, picture, title, options.figure);
