@@ -64,10 +64,10 @@ void warn_if_outside_first_order(const Parameters& p) {
   const Landmarks l = landmarks(p);
   if (l.forces_can_stall)
     std::cerr << "slidespec: warning: alpha F_kin >= 2 (F_drive - F_kin): the random forces can "
-                 "stall the block; the first-order theory does not hold here\n";
+                 "stall the block; the first-order theory does not hold here (docs/model.md §4.1)\n";
   else if (l.coupling_eps > 0.3)
     std::cerr << "slidespec: warning: eps = " << l.coupling_eps
-              << " > 0.3: the first-order theory does not hold here\n";
+              << " > 0.3: the first-order theory does not hold here (docs/model.md §4.1)\n";
 }
 
 int command_cases() {

@@ -1,7 +1,5 @@
 #include "slidespec/parameters.hpp"
 
-#include "io/suggest.hpp"
-
 #include <algorithm>
 #include <charconv>
 #include <cerrno>
@@ -11,6 +9,8 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
+
+#include "io/suggest.hpp"
 
 namespace slidespec {
 
