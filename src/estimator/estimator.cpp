@@ -431,8 +431,23 @@ struct SpectrumEstimator::Impl {
   void close_segment(Lane& lane, int band);
 };
 
+namespace {
+
+// A band's segments and same-stream segment pairs are counted whether or not the band
+// serves an output point, so the saved statistics never depend on which bands transform.
+void count_segment(SpectrumAccumulator::Impl& stats, int b) {
+  const std::uint64_t index = stats.segments[b]++;
+  for (int lag = 1; lag <= detail::kOverlapLags; ++lag)
+    if (index >= static_cast<std::uint64_t>(lag)) ++stats.pairs[b * detail::kOverlapLags + lag - 1];
+}
+
+}  // namespace
+
 void SpectrumEstimator::Impl::close_segment(Lane& lane, int b) {
   BandStream& stream = lane.bands[b];
+  SpectrumAccumulator::Impl& stats = lane.statistics;
+  count_segment(stats, b);
+  if (layout->bands[b].points.empty()) return;
   double* in = fft.input();
   // The segment is the whole ring, oldest sample at `start`: two contiguous pieces.
   const std::size_t start = stream.differenced & kSegmentMask;
@@ -442,7 +457,6 @@ void SpectrumEstimator::Impl::close_segment(Lane& lane, int b) {
   fft.execute();
   const std::complex<double>* X = fft.output();
   const detail::BandLayout& band = layout->bands[b];
-  SpectrumAccumulator::Impl& stats = lane.statistics;
   for (int k : band.points) {
     const detail::OutputPoint& point = layout->points[k];
     double sum = 0;
@@ -454,9 +468,6 @@ void SpectrumEstimator::Impl::close_segment(Lane& lane, int b) {
     stats.sum_q[k] += q;
     stats.sum_q2[k] += q * q;
   }
-  const std::uint64_t index = stats.segments[b]++;
-  for (int lag = 1; lag <= detail::kOverlapLags; ++lag)
-    if (index >= static_cast<std::uint64_t>(lag)) ++stats.pairs[b * detail::kOverlapLags + lag - 1];
 }
 
 void SpectrumEstimator::Impl::feed(Lane& lane, int b, const double* increments, std::size_t n) {
@@ -480,10 +491,13 @@ void SpectrumEstimator::Impl::feed(Lane& lane, int b, const double* increments, 
 void SpectrumEstimator::Impl::difference_into_segments(Lane& lane, int b, const double* y, std::size_t n) {
   constexpr int D = detail::kBandDifferences;
   BandStream& stream = lane.bands[b];
+  // A band that serves no output point (in a run, the two fastest: they only decimate
+  // for the bands below) keeps its segment count but never differences or transforms.
+  const bool transformed = !layout->bands[b].points.empty();
   const auto count = static_cast<std::ptrdiff_t>(n);
   const double* source = y;
   double* target = difference_scratch[0].data() + D;  // indices -D .. n-1
-  for (int order = 1; order <= D; ++order) {
+  for (int order = 1; transformed && order <= D; ++order) {
     difference(source, target, order - D, count);
     source = target;
     target = difference_scratch[order % 2].data() + D;
@@ -500,8 +514,10 @@ void SpectrumEstimator::Impl::difference_into_segments(Lane& lane, int b, const 
     const std::size_t take = static_cast<std::size_t>(std::min<std::uint64_t>(n - i, next_close - done));
     // At most one wrap of the ring: two contiguous copies.
     const std::size_t at = done & kSegmentMask, before_wrap = std::min(take, detail::kSegmentLength - at);
-    std::copy_n(differenced + i, before_wrap, stream.ring.data() + at);
-    std::copy_n(differenced + i + before_wrap, take - before_wrap, stream.ring.data());
+    if (transformed) {
+      std::copy_n(differenced + i, before_wrap, stream.ring.data() + at);
+      std::copy_n(differenced + i + before_wrap, take - before_wrap, stream.ring.data());
+    }
     stream.differenced += take;
     i += take;
     if (stream.differenced == next_close) close_segment(lane, b);
