@@ -14,6 +14,7 @@
 #include "estimator/design.hpp"
 #include "estimator/real_fft.hpp"
 #include "io/binary.hpp"
+#include "simd/path_table.hpp"
 #include "slidespec/parameters.hpp"
 
 namespace slidespec {
@@ -366,37 +367,6 @@ static_assert(detail::kBandDifferences <= kHistory);
 // Steps processed per lane at a time: bounds the scratch memory whatever push() gets.
 constexpr std::size_t kChunk = 4096;
 
-// The two streaming passes, cloned per instruction set by GCC (target_clones, resolved
-// once at load time). Every element's arithmetic is the same at any vector width and no
-// clone may contract to FMA (-ffp-contract=off), so all clones give the same bits.
-#define SLIDESPEC_ESTIMATOR_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
-
-/// target[i] = source[i] - source[i - 1] for i in [from, to).
-SLIDESPEC_ESTIMATOR_CLONES void difference(const double* source, double* target, std::ptrdiff_t from,
-                                           std::ptrdiff_t to) {
-  for (std::ptrdiff_t i = from; i < to; ++i) target[i] = source[i] - source[i - 1];
-}
-
-/// The half-band filter on split input: out[j] = h[reach] centre[j] + sum over odd t of
-/// h[reach + t] (side[j - (t+1)/2] + side[j + (t-1)/2]), summed in the order of t.
-SLIDESPEC_ESTIMATOR_CLONES void half_band(const double* taps, const double* centre, const double* side,
-                                          std::ptrdiff_t outputs, double* out) {
-  constexpr int reach = detail::kHalfBandReach;
-  for (std::ptrdiff_t j = 0; j < outputs; ++j) out[j] = taps[reach] * centre[j];
-  for (int t = 1; t <= reach; t += 2) {
-    const double tap = taps[reach + t];
-    const double* before = side - (t + 1) / 2;  // centre[-t]
-    const double* after = side + (t - 1) / 2;   // centre[+t]
-    for (std::ptrdiff_t j = 0; j < outputs; ++j) out[j] += tap * (before[j] + after[j]);
-  }
-}
-
-/// in[n] = window[n] * segment[n] for n < count.
-SLIDESPEC_ESTIMATOR_CLONES void window_into(const double* window, const double* segment, double* in,
-                                            std::size_t count) {
-  for (std::size_t n = 0; n < count; ++n) in[n] = window[n] * segment[n];
-}
-
 struct BandStream {
   std::array<double, detail::kSegmentLength> ring{};
   std::array<double, kHistory> history{};
@@ -415,6 +385,7 @@ struct Lane {
 
 struct SpectrumEstimator::Impl {
   std::shared_ptr<const detail::Layout> layout;
+  detail::StreamKernels kernels;  // of the chosen instruction-set path
   std::vector<Lane> lanes;
   detail::RealFft fft{detail::kSegmentLength};
   std::vector<std::vector<double>> band_input;  // [band]: samples entering the band
@@ -452,8 +423,8 @@ void SpectrumEstimator::Impl::close_segment(Lane& lane, int b) {
   // The segment is the whole ring, oldest sample at `start`: two contiguous pieces.
   const std::size_t start = stream.differenced & kSegmentMask;
   const std::size_t wrapped = detail::kSegmentLength - start;
-  window_into(layout->window.data(), stream.ring.data() + start, in, wrapped);
-  window_into(layout->window.data() + wrapped, stream.ring.data(), in + wrapped, start);
+  kernels.window(layout->window.data(), stream.ring.data() + start, in, wrapped);
+  kernels.window(layout->window.data() + wrapped, stream.ring.data(), in + wrapped, start);
   fft.execute();
   const std::complex<double>* X = fft.output();
   const detail::BandLayout& band = layout->bands[b];
@@ -498,7 +469,7 @@ void SpectrumEstimator::Impl::difference_into_segments(Lane& lane, int b, const 
   const double* source = y;
   double* target = difference_scratch[0].data() + D;  // indices -D .. n-1
   for (int order = 1; transformed && order <= D; ++order) {
-    difference(source, target, order - D, count);
+    kernels.difference(source, target, order - D, count);
     source = target;
     target = difference_scratch[order % 2].data() + D;
   }
@@ -542,15 +513,16 @@ std::size_t SpectrumEstimator::Impl::decimate(const BandStream& stream, const do
   double* side = decimator_side.data() + side_before;  // side[k] = centre_of_first[2k + 1]
   for (std::ptrdiff_t j = 0; j < outputs; ++j) centre[j] = centre_of_first[2 * j];
   for (std::ptrdiff_t k = -side_before; k < outputs + (reach - 1) / 2; ++k) side[k] = centre_of_first[2 * k + 1];
-  half_band(layout->taps.data(), centre, side, outputs, out);
+  kernels.half_band(layout->taps.data(), centre, side, outputs, out);
   return static_cast<std::size_t>(outputs);
 }
 
-SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes) {
+SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes, SimdPath simd) {
   if (lanes < 1) throw InputError("estimator: need at least one lane");
   auto layout = detail::Layout::make(config);
   impl_ = std::make_unique<Impl>();
   impl_->layout = layout;
+  impl_->kernels = simd::path_table(simd).stream;
   for (int l = 0; l < lanes; ++l) {
     impl_->lanes.push_back(Lane{std::vector<BandStream>(layout->band_count), 0.0, false,
                                 SpectrumAccumulator::Impl(layout)});
