@@ -16,6 +16,8 @@
 #include <thread>
 
 #include "estimator/design.hpp"
+#include "estimator/kernels.hpp"
+#include "simd/path_table.hpp"
 #include "slidespec/parameters.hpp"
 
 // Every allocation in this binary is counted, so a test can show that push() allocates
@@ -307,6 +309,53 @@ TEST(Estimator, EverySimdPathMatchesTheScalarPathBitwise) {
       const std::string scalar = saved(SimdPath::scalar);
       for (SimdPath path : available_simd_paths())
         EXPECT_EQ(saved(path), scalar) << to_string(path) << ", " << lanes << " lanes";
+    }
+  }
+}
+
+TEST(Estimator, SegmentTransformMatchesTheDefinitionOfTheDft) {
+  // |X_k|^2 of every lane against X_k = sum_n w_n x_{(start + n) mod L} e^{-2 pi i k n/L}
+  // summed in long double, on every path, lanes padded around each width, the segment
+  // wrapped around its ring. A wrong twiddle or index is an O(1) error, rounding ~1e-15
+  // of sqrt(L sum (w x)^2).
+  constexpr int L = estimator_detail::kSegmentLength;
+  const auto& tables = estimator_detail::fourier_tables();
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> uniform(0.1, 1.0);
+  std::vector<double> window(L);
+  for (double& w : window) w = uniform(rng);
+  const std::size_t start = 37;
+  for (SimdPath path : available_simd_paths()) {
+    const estimator_detail::StreamKernels kernels = simd::path_table(path).stream;
+    const int width = lane_width(path);
+    for (int lanes : {1, width + 1, 2 * width}) {
+      const std::ptrdiff_t stride = (lanes + width - 1) / width * width;
+      std::vector<double> ring(L * stride, 0.0), work(L * stride), power((L / 2 + 1) * stride);
+      for (int n = 0; n < L; ++n)
+        for (int l = 0; l < lanes; ++l) ring[n * stride + l] = normal(rng) + (l == 0 ? std::cos(0.7 * n) : 0.0);
+      kernels.segment_power(tables, window.data(), ring.data(), start, work.data(), power.data(), stride);
+      for (int l = 0; l < lanes; ++l) {
+        std::vector<long double> segment(L);
+        long double energy = 0;
+        for (int n = 0; n < L; ++n) {
+          segment[n] = static_cast<long double>(window[n]) * ring[((start + n) % L) * stride + l];
+          energy += segment[n] * segment[n];
+        }
+        const double tolerance = 1e-13 * std::sqrt(static_cast<double>(L * energy));
+        double worst = 0;
+        for (int k = 0; k <= L / 2; ++k) {
+          long double re = 0, im = 0;
+          for (int n = 0; n < L; ++n) {
+            const long double angle = -2.0L * std::numbers::pi_v<long double> * ((static_cast<long>(k) * n) % L) / L;
+            re += segment[n] * std::cos(angle);
+            im += segment[n] * std::sin(angle);
+          }
+          const double exact = static_cast<double>(std::sqrt(re * re + im * im));
+          worst = std::max(worst, std::abs(std::sqrt(power[k * stride + l]) - exact));
+        }
+        EXPECT_LT(worst, tolerance) << to_string(path) << ", lane " << l << " of " << lanes;
+      }
     }
   }
 }
