@@ -105,7 +105,8 @@ class SpectrumAccumulator {
 class SpectrumEstimator {
  public:
   /// Throws InputError when the configuration cannot work (dt <= 0, band outside Nyquist)
-  /// or this CPU cannot run `simd`. Every path gives bitwise the same statistics.
+  /// or this CPU cannot run `simd`. Every path gives bitwise the same statistics;
+  /// `automatic` takes the widest path no wider than `lanes`.
   SpectrumEstimator(const EstimatorConfig& config, int lanes, SimdPath simd = SimdPath::automatic);
   ~SpectrumEstimator();
   SpectrumEstimator(SpectrumEstimator&&) noexcept;

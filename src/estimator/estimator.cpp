@@ -455,8 +455,12 @@ void SpectrumEstimator::Impl::close_segment(int b) {
   BandStream& stream = bands[b];
   // The ring's oldest row, at `start`, is the segment's first sample.
   const auto lag = static_cast<std::ptrdiff_t>(stride);
+  // Only the bins the band's points average (points ascend in omega).
+  const detail::OutputPoint& lowest = layout->points[band.points.front()];
+  const detail::OutputPoint& highest = layout->points[band.points.back()];
   kernels.segment_power(detail::fourier_tables(), layout->window.data(), stream.ring.data(),
-                        stream.differenced & kSegmentMask, transform_work.data(), power.data(), lag);
+                        stream.differenced & kSegmentMask, lowest.first_bin, highest.first_bin + highest.bin_count - 1,
+                        transform_work.data(), power.data(), lag);
   for (int k : band.points) {
     const detail::OutputPoint& point = layout->points[k];
     kernels.bin_average(power.data(), band.bin_factor.data(), point.first_bin, point.bin_count, lag,
@@ -545,6 +549,13 @@ SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes, S
   impl_ = std::make_unique<Impl>();
   Impl& s = *impl_;
   s.layout = layout;
+  // Automatic: the widest path no wider than the lanes (a path pads the lanes to its
+  // width, and every path gives the same bits).
+  if (simd == SimdPath::automatic) {
+    simd = SimdPath::scalar;
+    for (SimdPath candidate : available_simd_paths())
+      if (lane_width(candidate) <= lanes) simd = candidate;
+  }
   const simd::PathTable& path = simd::path_table(simd);
   s.kernels = path.stream;
   s.lane_count = lanes;

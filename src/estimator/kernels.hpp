@@ -32,10 +32,11 @@ struct StreamKernels {
   /// summed in the order of t.
   void (*half_band)(const double* taps, const double* centre, std::ptrdiff_t outputs, std::ptrdiff_t stride,
                     double* out);
-  /// power row k = |X_k|^2 for k = 0 .. L/2, X the DFT (unnormalized, e^{-i}) of the
-  /// segment window[n] ring[(start + n) mod L]; work holds L rows.
+  /// power row k = |X_k|^2 for k in [first_bin, last_bin] (within 0 .. L/2), X the DFT
+  /// (unnormalized, e^{-i}) of the segment window[n] ring[(start + n) mod L]; work holds
+  /// L rows.
   void (*segment_power)(const FourierTables& tables, const double* window, const double* ring, std::size_t start,
-                        double* work, double* power, std::ptrdiff_t stride);
+                        int first_bin, int last_bin, double* work, double* power, std::ptrdiff_t stride);
   /// q = sum over bins j of [first, first + count) of power row j * factor[j], in the
   /// order of j, divided by count.
   void (*bin_average)(const double* power, const double* factor, int first, int count, std::ptrdiff_t stride,

@@ -334,7 +334,7 @@ TEST(Estimator, SegmentTransformMatchesTheDefinitionOfTheDft) {
       std::vector<double> ring(L * stride, 0.0), work(L * stride), power((L / 2 + 1) * stride);
       for (int n = 0; n < L; ++n)
         for (int l = 0; l < lanes; ++l) ring[n * stride + l] = normal(rng) + (l == 0 ? std::cos(0.7 * n) : 0.0);
-      kernels.segment_power(tables, window.data(), ring.data(), start, work.data(), power.data(), stride);
+      kernels.segment_power(tables, window.data(), ring.data(), start, 0, L / 2, work.data(), power.data(), stride);
       for (int l = 0; l < lanes; ++l) {
         std::vector<long double> segment(L);
         long double energy = 0;
