@@ -24,5 +24,5 @@ if [ "$checked" -eq 0 ]; then
   echo "no vector path objects among the arguments"
   exit 1
 fi
-echo "$checked vector path objects: only their own symbols"
+[ $status -eq 0 ] && echo "$checked vector path objects: only their own symbols"
 exit $status
