@@ -39,12 +39,13 @@ class LumpedTheory {
   std::shared_ptr<const Impl> impl_;
 };
 
-/// The spectrum of xi as the stepper samples it every dt [m^2 s]: the random forces held
-/// over each step (a renewal takes effect at the next step) and xi read at the step ends,
+/// The spectrum of xi of a time-stepped process [m^2 s]: the random forces held over each
+/// step (a renewal taking effect at the next step) and xi read at the step ends,
 /// so the forces enter sampled (their spectrum aliased) and the response is the exact
 /// step's. Exact for the simulated sequence in first order, for |omega| <= pi/dt; tends
 /// to C_x as omega dt -> 0 and differs from it by O((omega dt)^2): about +1.5% at
-/// omega dt = 0.3 where C_x ~ omega^-4 (docs/numerics.md).
+/// omega dt = 0.3 where C_x ~ omega^-4 (docs/numerics.md). The stepper applies renewals at
+/// their own time, so its spectrum is C_x; this is the contrast a step-end renewal would give.
 class SampledTheory {
  public:
   SampledTheory(const Parameters& p, double dt);

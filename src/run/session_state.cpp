@@ -12,7 +12,9 @@ using namespace run_detail;
 namespace {
 
 constexpr char kStateMagic[8] = {'S', 'L', 'S', 'P', 'R', 'U', 'N', 'S'};
-constexpr std::uint32_t kStateVersion = 1;
+// 2: renewals take effect at their own time inside a step (docs/numerics.md); a state of
+// version 1 holds realizations of the time-stepped process and cannot be continued.
+constexpr std::uint32_t kStateVersion = 2;
 
 std::string number_text(double x) {
   char text[40];

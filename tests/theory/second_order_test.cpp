@@ -61,8 +61,8 @@ TEST(SecondOrderTheory, RefusesWhatItDoesNotCover) {
 
 #ifdef SLIDESPEC_LONG_LONG_TIME
 // Simulated spectra from 0.05 to 50 rad/s at about 1% per point. The run's `theory` is the
-// first order of the sampled process seen through the estimator's bins; the second order
-// multiplies it by the continuous ratio, exact to this order. Second order: every point
+// continuous first order seen through the estimator's bins; the second order multiplies it
+// by the continuous ratio, exact to this order. Second order: every point
 // within 4 standard errors; first order: not.
 TEST(SecondOrderTheoryLong, MatchesSimulatedSpectra) {
   Parameters ring = poisson(8, 0.2);
