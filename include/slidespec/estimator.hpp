@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "slidespec/simd.hpp"
+
 namespace slidespec {
 
 /// What each sample of the stream is.
@@ -105,8 +107,10 @@ class SpectrumAccumulator {
 
 class SpectrumEstimator {
  public:
-  /// Throws InputError when the configuration cannot work (dt <= 0, band outside Nyquist).
-  SpectrumEstimator(const EstimatorConfig& config, int lanes);
+  /// Throws InputError when the configuration cannot work (dt <= 0, band outside Nyquist)
+  /// or this CPU cannot run `simd`. Every path gives bitwise the same statistics;
+  /// `automatic` takes the widest path no wider than `lanes`.
+  SpectrumEstimator(const EstimatorConfig& config, int lanes, SimdPath simd = SimdPath::automatic);
   ~SpectrumEstimator();
   SpectrumEstimator(SpectrumEstimator&&) noexcept;
   SpectrumEstimator& operator=(SpectrumEstimator&&) noexcept;
