@@ -205,7 +205,7 @@ class RecordReader {
         if (!std::isfinite(time[k])) fail(sample, "t is not a finite number");
         take_time(time[k], sample);
       }
-      record_.displacement.push_back(x[k] * metres_per(format_.unit));
+      record_.displacement.push_back(x[k] * metres_per(format_.unit.value_or(LengthUnit::m)));
     }
     if (x.size() < 2) throw InputError(source_ + ": a spectrum needs a record of many samples, not " +
                                        std::to_string(x.size()));
