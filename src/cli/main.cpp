@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <new>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "cli/analyze.hpp"
+#include "cli/outputs.hpp"
 #ifdef SLIDESPEC_MPI
 #include "cli/mpi.hpp"
 #endif
@@ -341,7 +343,7 @@ int command_paper(const std::string& figure, RunOptions options, const std::stri
   std::vector<Parameters> params;
   for (const std::string& name : found->second) {
     params.push_back(ParameterBuilder(name).build());
-    plan_sub_bands(params.back(), options.request);
+    validate_request(params.back(), options.request);
   }
   catch_stop_signals();
   std::vector<std::string> tables;
@@ -410,6 +412,7 @@ int main(int argc, char** argv) {
   range->excludes(realizations)->excludes(precision);
   run_command->add_option("--seed", request.seed, "random seed (default 1)");
   run_command->add_option("--threads", request.threads, "threads (default: all cores)");
+  run_command->add_option("--work-budget", request.work_budget, "most realization-steps the run may plan (default 1e11)");
   run_command->add_option("--simd", run_options.simd, "scalar|sse2|avx2|avx512|auto (default auto)");
   run_command->add_option("--out", run_options.out, "output prefix: PREFIX.tsv, .json, .png (default spectrum)");
   run_command->add_option("--checkpoint-every", run_options.checkpoint_every,
@@ -436,6 +439,7 @@ int main(int argc, char** argv) {
   sweep_command->add_option("--realizations", sweep_options.request.realizations, "realizations per sub-band");
   sweep_command->add_option("--seed", sweep_options.request.seed, "random seed");
   sweep_command->add_option("--threads", sweep_options.request.threads, "threads (default: all cores)");
+  sweep_command->add_option("--work-budget", sweep_options.request.work_budget, "most realization-steps a run may plan");
   sweep_command->add_option("--simd", sweep_options.simd, "scalar|sse2|avx2|avx512|auto");
   sweep_command->add_option("--out", sweep_options.out, "output prefix: PREFIX_KEY=V.tsv ..., PREFIX.png");
   sweep_command->add_flag("--quiet", sweep_options.quiet, "no progress, no summary");
@@ -466,13 +470,16 @@ int main(int argc, char** argv) {
   paper_command->add_option("--omega-max", paper_options.request.omega_max, "highest omega [rad/s]");
   paper_command->add_option("--seed", paper_options.request.seed, "random seed");
   paper_command->add_option("--threads", paper_options.request.threads, "threads (default: all cores)");
+  paper_command->add_option("--work-budget", paper_options.request.work_budget, "most realization-steps a run may plan");
   paper_command->add_option("--simd", paper_options.simd, "scalar|sse2|avx2|avx512|auto");
   paper_command->add_flag("--quiet", paper_options.quiet, "no progress, no summary");
 
   const cli::AnalysisCommands analysis_commands(app);
+  cli::require_whole_numbers(app);
 
   try {
     app.parse(argc, argv);
+    cli::check_files(app);
     for (RunOptions* options : {&run_options, &paper_options, &sweep_options})
       if (options->request.threads == 0) options->request.threads = default_threads;
     if (const auto status = analysis_commands.run()) return *status;
@@ -494,6 +501,10 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const InputError& e) {
     if (writes_outputs()) std::cerr << "slidespec: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::bad_alloc&) {
+    // Every size is checked against its input first; what remains is a machine too small.
+    if (writes_outputs()) std::cerr << "slidespec: error: out of memory: the input asks for more than this machine has\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "slidespec: failed: " << e.what() << "\n";

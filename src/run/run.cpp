@@ -26,16 +26,10 @@ constexpr double kOmegaDtMax = 0.3;
 constexpr double kRenewalDtMax = 0.1;
 // Each realization of a sub-band spans this many of the segments serving its lowest point.
 constexpr double kSegmentsPerRealization = 6;
-// The first round of a precision-driven run: fixed, not scaled by the thread count, so
-// that every later round (chosen from the results so far) is the same on any machine;
-// large enough that the error bars from the scatter between realizations are themselves
-// good to ~13%.
-constexpr std::uint64_t kInitialRealizations = 64;
-// Precision-driven runs stop growing here and report the precision they reached: 65536
-// realizations, or 2e9 realization-steps per sub-band (about a minute on two cores),
-// whichever comes first. Where the random forces stall the block the spectrum collapses
-// and its scatter can keep any precision out of reach.
-constexpr std::uint64_t kMaxRealizationsPerBand = std::uint64_t{1} << 16;
+// Precision-driven runs stop growing at kMaxRealizationsPerBand (session.hpp) or 2e9
+// realization-steps per sub-band (about a minute on two cores), whichever comes first, and
+// report the precision they reached. Where the random forces stall the block the spectrum
+// collapses and its scatter can keep any precision out of reach.
 constexpr double kMaxStepsPerBand = 2e9;
 // Batches per process in one chunk: the unit of checkpoints, of the work shared between
 // processes and of what an interrupt can lose. It changes no number (every sum runs over
@@ -181,10 +175,7 @@ double worst_relative_error(const std::vector<SpectrumPoint>& points, std::size_
 std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& request) {
   const std::vector<double> omegas =
       log_spaced_omegas(request.omega_min, request.omega_max, request.points_per_decade);
-  if (!(request.precision > 0) || !(request.precision < 1))
-    throw InputError("--precision: must be between 0 and 1 (a relative standard error)");
-  if (request.duration < 0 || !std::isfinite(request.duration))
-    throw InputError("--duration: must be a positive number of seconds");
+  check_request_fields(request);
 
   // About one decade per sub-band; a short remainder joins the sub-band below it.
   const std::size_t per_band = static_cast<std::size_t>(request.points_per_decade);
@@ -225,6 +216,7 @@ RunSession::Impl::Impl(const Parameters& p, const RunRequest& r, std::string nam
                      " (parts share the batches of the whole run)");
   if (r.first_realization > 0 && r.realizations == 0)
     throw InputError("--realizations-range: needs a fixed realization count (not --precision)");
+  check_plan(p, plan);
   for (SubBand& band : plan) {
     steps.push_back(static_cast<std::int64_t>(std::ceil(band.duration / band.dt)));
     band.duration = static_cast<double>(steps.back()) * band.dt;
@@ -233,7 +225,7 @@ RunSession::Impl::Impl(const Parameters& p, const RunRequest& r, std::string nam
 }
 
 RunSession::RunSession(const Parameters& params, const RunRequest& request, std::string case_name)
-    : impl_(std::make_unique<Impl>(params, request, std::move(case_name))) {}
+    : impl_((validate_request(params, request), std::make_unique<Impl>(params, request, std::move(case_name)))) {}
 RunSession::RunSession(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 RunSession::~RunSession() = default;
 RunSession::RunSession(RunSession&&) noexcept = default;
