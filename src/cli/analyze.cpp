@@ -181,9 +181,13 @@ int command_analyze(Options o) {
     f.model_values = model_spectrum(s, *f.model);
   }
 
-  io::write_atomically(o.out + ".tsv", analysis_table(o, s, f));
-  io::write_atomically(o.out + ".json", analysis_json(o, s, f));
-  const bool plotted = !o.no_plot && plot({o.out + ".tsv"}, o.out + ".png", "") == 0;
+  io::OutputSet outputs;  // the table, the JSON and the picture appear together or not at all
+  outputs.add(o.out + ".tsv", analysis_table(o, s, f));
+  outputs.add(o.out + ".json", analysis_json(o, s, f));
+  const bool plotted =
+      !o.no_plot && plot({outputs.temporary(o.out + ".tsv")}, outputs.add_written_by_other(o.out + ".png", ".png"), "") == 0;
+  if (!plotted) outputs.drop(o.out + ".png");
+  outputs.commit();
   if (!o.no_plot && !plotted) std::cerr << "slidespec: warning: " << o.out << ".png not drawn\n";
   if (o.quiet) return 0;
   std::cerr << "slidespec: " << o.file << ": " << s.samples << " samples every " << s.dt << " s; v = " << s.sliding.v

@@ -130,9 +130,13 @@ void write_outputs(const RunSession& session, const RunResult& result, const Run
                    const std::string& out) {
   if (!writes_outputs()) return;
   const Parameters& p = session.parameters();
-  io::write_atomically(out + ".tsv", io::run_table(p, session.case_name(), session.request(), result));
-  io::write_atomically(out + ".json", io::run_json(p, session.case_name(), session.request(), result));
-  const bool plotted = !options.no_plot && cli::plot({out + ".tsv"}, out + ".png", "") == 0;
+  io::OutputSet outputs;  // the table, the JSON and the picture appear together or not at all
+  outputs.add(out + ".tsv", io::run_table(p, session.case_name(), session.request(), result));
+  outputs.add(out + ".json", io::run_json(p, session.case_name(), session.request(), result));
+  const bool plotted = !options.no_plot && cli::plot({outputs.temporary(out + ".tsv")},
+                                                     outputs.add_written_by_other(out + ".png", ".png"), "") == 0;
+  if (!plotted) outputs.drop(out + ".png");
+  outputs.commit();
   if (!options.no_plot && !plotted) std::cerr << "slidespec: warning: " << out << ".png not drawn\n";
   if (options.quiet) return;
   std::cerr << "slidespec: " << (result.complete ? "wrote " : "interrupted; wrote what accumulated to ")

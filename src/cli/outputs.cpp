@@ -162,10 +162,6 @@ void check_files(const CLI::App& app) {
         if (same_file(out.path, in.path))
           throw InputError(out.option + ": the output " + out.path + " would replace the input " + in.path + " (" +
                            in.option + "); choose another output name");
-    for (std::size_t i = 0; i < outputs.size(); ++i)
-      for (std::size_t j = i + 1; j < outputs.size(); ++j)
-        if (outputs[i].option != outputs[j].option && same_file(outputs[i].path, outputs[j].path))
-          throw InputError(outputs[j].option + ": " + outputs[j].path + " is also written by " + outputs[i].option);
   }
 }
 
