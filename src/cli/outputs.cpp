@@ -105,9 +105,12 @@ void files_of(const CLI::App& command, std::vector<File>& inputs, std::vector<Fi
     const std::string resume = one(command, "--resume", "");
     if (!resume.empty()) inputs.push_back({resume + ".state", "--resume"});
     const std::string out = one(command, "--out", resume.empty() ? "spectrum" : resume);
-    add_outputs(with_extensions(out, "--out", {".tsv", ".json", ".png", ".state"}));
+    add_outputs(with_extensions(out, "--out", {".tsv", ".json", ".png"}));
+    // A resumed run saves its progress over the state it continues: that is its purpose.
     const std::string save = one(command, "--save-state", "");
-    if (!save.empty()) outputs.push_back({save, "--save-state"});
+    for (const File& state : {File{out + ".state", "--out"}, File{save, "--save-state"}})
+      if (!state.path.empty() && (resume.empty() || !same_file(state.path, resume + ".state")))
+        outputs.push_back(state);
   } else if (name == "merge") {
     for (const std::string& path : given(command, "parts")) inputs.push_back({path, "merge"});
     add_outputs(with_extensions(one(command, "--out", "spectrum"), "--out", {".tsv", ".json", ".png"}));

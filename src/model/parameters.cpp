@@ -356,6 +356,7 @@ Parameters ParameterBuilder::build() const {
   double touching_mass = 0;
   for (int l = 1; l <= p.levels; ++l)
     if (p.touches(l)) touching_mass += static_cast<double>(p.blocks(l)) * p.level(l).m;
+  check_magnitude("F_drive", p.F_drive);
   if (!(p.F_drive > p.F_kin))
     throw InputError("parameters F_drive, F_kin: F_drive must exceed F_kin for steady sliding (got " +
                      std::to_string(p.F_drive) + " <= " + std::to_string(p.F_kin) + ")");
@@ -369,7 +370,6 @@ Parameters ParameterBuilder::build() const {
   if (!std::isfinite(p.v) || !std::isfinite(p.eta1) || !(p.v > 0) || !(p.eta1 > 0))
     throw InputError("parameters v, eta1: the derived value is not a finite positive number");
   check_magnitude(user_set_eta1_ ? "v (derived from eta1)" : "eta1 (derived from v)", user_set_eta1_ ? p.v : p.eta1);
-  check_magnitude("F_drive", p.F_drive);
   check_magnitude("F_drive - F_kin", p.F_drive - p.F_kin);
   check_derived(p);
   return p;

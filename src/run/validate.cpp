@@ -18,6 +18,9 @@ constexpr double kFinestPrecision = 1e-3;
 constexpr int kMostThreads = 4096;
 // Step counts stay exact in a double and far from the int64 range.
 constexpr double kMostSteps = 1e15;
+// A time step below this fraction of the renewal time a/v moves the block by less than
+// the rounding of its position: the stepped process would no longer be the model's.
+constexpr double kFinestStepOfRenewalTime = 1e-12;
 
 std::string text(double x) {
   std::ostringstream out;
@@ -59,18 +62,19 @@ void check_request_fields(const RunRequest& r) {
 }
 
 void check_plan(const Parameters& p, const std::vector<SubBand>& plan) {
+  const double renewal_time = 1 / p.renewal_rate();
   for (const SubBand& band : plan) {
     const std::string where = "sub-band " + text(band.omega_low) + ".." + text(band.omega_high) + " rad/s";
-    if (!std::isnormal(band.dt) || !(band.dt > 0))
-      throw InputError("--omega-max: " + where + " needs a time step of " + text(band.dt) +
-                       " s, not a representable number");
+    if (!std::isnormal(band.dt) || !(band.dt >= kFinestStepOfRenewalTime * renewal_time))
+      throw InputError("--omega-max: " + where + " needs a time step of " + text(band.dt) + " s, below " +
+                       text(kFinestStepOfRenewalTime) + " of the renewal time a/v = " + text(renewal_time) +
+                       " s (the block's position would not resolve it)");
     const double steps = band.duration / band.dt;
     if (!std::isfinite(steps) || steps > kMostSteps)
       throw InputError((band.omega_low == plan.front().omega_low ? "--omega-min/--duration: " : "--omega-max: ") +
                        where + " plans " + text(steps) + " time steps per realization (at most " +
                        text(kMostSteps) + ")");
   }
-  (void)p;
 }
 
 }  // namespace run_detail

@@ -82,7 +82,7 @@ status=$?
 [ $status -eq 130 ] || fail "checkpointed run interrupted: exit $status, expected 130 (finished too soon?)"
 [ -s "$work/cut2.state" ] || fail "interrupted run saved no state"
 expect_refused resume-other-seed "seed" run --resume "$work/cut2" --seed 6 --out "$work/out"
-expect_refused resume-missing "cannot read" run --resume "$work/nothing" --out "$work/out"
+expect_refused resume-missing "does not exist" run --resume "$work/nothing" --out "$work/out"
 "$bin" run --resume "$work/cut2" --threads 1 --quiet --no-plot || fail "resume failed"
 cmp -s "$work/whole.tsv" "$work/cut2.tsv" || fail "resumed run differs from the uninterrupted run"
 [ -e "$work/cut2.state" ] && fail "a finished run left its checkpoint behind"
