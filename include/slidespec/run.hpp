@@ -67,6 +67,10 @@ struct RunResult {
   SimdPath simd_path = SimdPath::scalar;
   int threads = 1;
   bool complete = false;            ///< false when interrupted or out of budget
+  /// False when the realizations are not one stationary process (the block stalled: a
+  /// sub-band's mean sliding speed far from v); then no spectrum exists (docs/model.md).
+  bool stationary = true;
+  std::string stationarity;         ///< why not, when not stationary
 };
 
 /// Progress of a run, for a progress bar: fraction of the planned work and a message.

@@ -102,6 +102,9 @@ int command_theory(const ModelOptions& model, const TheoryOptions& options) {
   return 0;
 }
 
+/// Exit status of a run that finished but is not one stationary process (README).
+constexpr int kNotStationary = 3;
+
 std::atomic<bool> stop_requested{false};
 std::atomic<int> stop_signal{0};
 extern "C" void request_stop(int signal) {
@@ -184,6 +187,9 @@ RunResult run_and_write(RunSession& session, const RunOptions& options, const st
   }
   const RunResult result = session.result();
   write_outputs(session, result, options, out);
+  if (!result.stationary && writes_outputs())
+    std::cerr << "slidespec: warning: " << out << ": not stationary (" << result.stationarity
+              << "): no spectrum exists here; the table is marked stationary = false (exit status 3)\n";
   return result;
 }
 
@@ -245,7 +251,7 @@ int command_run(const ModelOptions& model, RunOptions options, const std::functi
     catch_stop_signals();
     const RunResult result = run_and_write(session, options, options.out);
     if (!result.complete && stop_requested) return 128 + stop_signal;
-    return 0;
+    return result.stationary ? 0 : kNotStationary;
   }
   const Parameters p = model.build();
   RunSession session(p, options.request, model.case_name);  // validates before any work
@@ -255,7 +261,7 @@ int command_run(const ModelOptions& model, RunOptions options, const std::functi
   catch_stop_signals();
   const RunResult result = run_and_write(session, options, options.out);
   if (!result.complete && stop_requested) return 128 + stop_signal;
-  return 0;
+  return result.stationary ? 0 : kNotStationary;
 }
 
 /// Parts of a run split over a job array, as the whole run.
@@ -270,8 +276,9 @@ int command_merge(const std::vector<std::string>& paths, RunOptions options) {
   }
   io::check_output_prefix(options.out);
   RunSession whole = RunSession::merge(std::move(parts));
-  write_outputs(whole, whole.result(), options, options.out);
-  return 0;
+  const RunResult result = whole.result();
+  write_outputs(whole, result, options, options.out);
+  return result.stationary ? 0 : kNotStationary;
 }
 
 /// A list of values of one parameter, one run each (all cores, or all ranks, each), and
@@ -299,6 +306,7 @@ int command_sweep(const ModelOptions& model, const std::string& sweep, RunOption
   io::check_output_prefix(options.out);
   catch_stop_signals();
   std::vector<std::string> tables;
+  bool stationary = true;
   for (std::size_t k = 0; k < values.size(); ++k) {
     if (!options.quiet && writes_outputs())
       std::cerr << "slidespec: sweep " << k + 1 << "/" << values.size() << ": " << key << " = " << values[k] << "\n";
@@ -307,12 +315,14 @@ int command_sweep(const ModelOptions& model, const std::string& sweep, RunOption
     single.no_plot = true;
     const RunResult result = run_and_write(params[k], model.case_name, single, out);
     tables.push_back(out + ".tsv");
+    stationary = stationary && result.stationary;
     if (!result.complete && stop_requested) return 128 + stop_signal;
   }
-  if (options.no_plot || !writes_outputs()) return 0;
+  const int done = stationary ? 0 : kNotStationary;
+  if (options.no_plot || !writes_outputs()) return done;
   const int status = cli::plot(tables, options.out + ".png", model.case_name + ": sweep of " + key);
   if (status == 0 && !options.quiet) std::cerr << "slidespec: drew " << options.out << ".png\n";
-  return status == 0 ? 0 : 1;
+  return status == 0 ? done : 1;
 }
 
 struct PlotOptions {

@@ -21,7 +21,7 @@ expect_refused unknown-option "--bogus" theory --bogus
 expect_refused level-mass "parameter m_2" theory $out --set levels=2 --set m_2=0
 expect_refused level-below-lowest "parameter N_3" theory $out --set levels=2 --set N_3=4
 expect_refused touching-level "parameter touching" theory $out --case hierarchical --set touching=3
-expect_refused stepper-levels "levels" run $out --set levels=4 --no-plot --quiet
+expect_refused stepper-levels "levels" run $out --set levels=4 --work-budget 1e15 --no-plot --quiet
 
 # A good run writes the table atomically and leaves no temporary file behind.
 "$bin" theory --out "$work/ref" > /dev/null 2>&1 || fail "theory --out failed"
@@ -114,6 +114,16 @@ expect_refused range-unaligned "multiple of 8" run $split --realizations-range 4
 "$bin" run --set N=7 --set F_drive=8 --set F_kin=6 --set a=3e-4 --omega-min 100 --omega-max 1000 \
   --precision 0.3 --out "$work/stall" --no-plot 2> "$work/stall.err" || fail "stall-region run refused"
 grep -q "first-order theory does not hold" "$work/stall.err" || fail "no warning in the stall region"
+
+# Where the forces stall the block there is no spectrum: said in the table, the JSON and
+# the exit status (3), while every named case is stationary.
+"$bin" run --set N=7 --set F_drive=8 --set F_kin=6 --set k1=0 --omega-min 1 --omega-max 1000 --precision 0.1 \
+  --out "$work/stalled" --no-plot --quiet 2> /dev/null
+status=$?
+[ $status -eq 3 ] || fail "stalled run exited $status, expected 3"
+grep -q "^# stationary = false" "$work/stalled.tsv" || fail "stalled run not marked stationary = false"
+grep -q '"stationary": false' "$work/stalled.json" || fail "stalled run's JSON not marked stationary: false"
+grep -q "^# stationary = true" "$work/short.tsv" || fail "a healthy run not marked stationary = true"
 
 [ $failures -eq 0 ] && echo "cli: all checks passed"
 exit $((failures > 0))
