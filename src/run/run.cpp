@@ -162,10 +162,10 @@ std::vector<BatchRecord> run_batches_of(const Parameters& p, const SubBand& band
   return prefix;
 }
 
-// A stationary run slides at v on average in every sub-band: the measured mean differs only
-// at second order in the coupling (0.3% at most over the named cases, eps <= 0.3). A
-// stalled block loses most of it (84% in the stall example of docs/model.md). Half of v,
-// beyond five standard errors, lies far from both.
+// A stationary run slides at v on average in every sub-band, short by the second-order
+// eps^2/2 (0.3% for the reference case, at most 4.5% where eps <= 0.3); a stalled block
+// loses most of it (84% for the stall example, docs/model.md). Half of v, beyond five
+// standard errors, lies far from both.
 constexpr double kStalledSpeedDeficit = 0.5;
 constexpr double kSpeedStandardErrors = 5;
 
