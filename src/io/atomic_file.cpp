@@ -60,7 +60,8 @@ void write_atomically(const std::string& path, const std::string& content) {
 }
 
 OutputSet::~OutputSet() {
-  for (const Pending& p : pending_) ::unlink(p.temp.c_str());
+  for (const Pending& p : pending_)
+    if (!p.temp.empty()) ::unlink(p.temp.c_str());
 }
 
 void OutputSet::add(const std::string& path, const std::string& content) {
@@ -82,7 +83,7 @@ std::string OutputSet::add_written_by_other(const std::string& path, const std::
 
 const std::string& OutputSet::temporary(const std::string& path) const {
   for (const Pending& p : pending_)
-    if (p.path == path) return p.temp;
+    if (p.path == path && !p.temp.empty()) return p.temp;
   throw std::logic_error("OutputSet: no " + path);
 }
 
@@ -90,7 +91,7 @@ void OutputSet::drop(const std::string& path) {
   for (auto p = pending_.begin(); p != pending_.end(); ++p)
     if (p->path == path) {
       ::unlink(p->temp.c_str());
-      pending_.erase(p);
+      p->temp.clear();
       return;
     }
 }
@@ -98,6 +99,7 @@ void OutputSet::drop(const std::string& path) {
 void OutputSet::commit() {
   // The other program's file must be on disk too before it replaces anything.
   for (const Pending& p : pending_) {
+    if (p.temp.empty()) continue;
     const int fd = ::open(p.temp.c_str(), O_RDONLY);
     if (fd < 0 || ::fsync(fd) != 0) {
       if (fd >= 0) ::close(fd);
@@ -113,18 +115,23 @@ void OutputSet::commit() {
   };
   for (std::size_t k = 0; k < pending_.size(); ++k) {
     if (::access(pending_[k].path.c_str(), F_OK) != 0) continue;
-    backups[k] = pending_[k].temp + ".old";
+    backups[k] = pending_[k].path + ".tmp.old." + std::to_string(::getpid());
+    ::unlink(backups[k].c_str());  // left by a dead process of the same id, if anything
     if (::link(pending_[k].path.c_str(), backups[k].c_str()) != 0) {
       const std::string why = std::strerror(errno);
       backups[k].clear();
       remove_backups();
-      for (const Pending& p : pending_) ::unlink(p.temp.c_str());
+      for (const Pending& p : pending_)
+        if (!p.temp.empty()) ::unlink(p.temp.c_str());
       pending_.clear();
       throw std::runtime_error("cannot keep the old " + pending_[k].path + " while replacing it: " + why);
     }
   }
   for (std::size_t k = 0; k < pending_.size(); ++k) {
-    if (std::rename(pending_[k].temp.c_str(), pending_[k].path.c_str()) == 0) continue;
+    const Pending& p = pending_[k];
+    if (p.temp.empty() ? (::unlink(p.path.c_str()) == 0 || errno == ENOENT)
+                       : std::rename(p.temp.c_str(), p.path.c_str()) == 0)
+      continue;
     const std::string why = std::strerror(errno);
     for (std::size_t j = 0; j < k; ++j) {
       if (!backups[j].empty()) std::rename(backups[j].c_str(), pending_[j].path.c_str());
@@ -133,7 +140,8 @@ void OutputSet::commit() {
     }
     remove_backups();
     const std::string failed = pending_[k].path;
-    for (std::size_t j = k; j < pending_.size(); ++j) ::unlink(pending_[j].temp.c_str());
+    for (std::size_t j = k; j < pending_.size(); ++j)
+      if (!pending_[j].temp.empty()) ::unlink(pending_[j].temp.c_str());
     pending_.clear();
     throw std::runtime_error("cannot write " + failed + ": " + why + " (no output of the set was changed)");
   }

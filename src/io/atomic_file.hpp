@@ -30,7 +30,8 @@ class OutputSet {
   std::string add_written_by_other(const std::string& path, const std::string& extension);
   /// The temporary that will become `path` (to read a table before it is committed).
   const std::string& temporary(const std::string& path) const;
-  /// Leaves `path` out of the set (a plot that failed to draw).
+  /// `path` is not produced after all (a plot that failed to draw): an old file there, of
+  /// another run, goes with the commit, so no old member of the set stays beside new ones.
   void drop(const std::string& path);
   void commit();
 

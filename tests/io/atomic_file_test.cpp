@@ -139,3 +139,19 @@ TEST(OutputSet, AFullDiskChangesNoFileOfTheSet) {
   EXPECT_EQ(content_of(json), "old json");
   EXPECT_TRUE(others(mount_point, {"out.tsv", "out.json", "filler"}).empty());
 }
+
+TEST(OutputSet, ADroppedMemberTakesTheOldFileOfAnotherRunAlong) {
+  Scratch s;
+  write_plain(s / "out.tsv", "old table");
+  write_plain(s / "out.png", "old picture");
+  {
+    OutputSet set;
+    set.add(s / "out.tsv", "new table");
+    set.add_written_by_other(s / "out.png", ".png");
+    set.drop(s / "out.png");  // the plot failed
+    set.commit();
+  }
+  EXPECT_EQ(content_of(s / "out.tsv"), "new table");
+  EXPECT_FALSE(fs::exists(s / "out.png"));
+  EXPECT_TRUE(others(s.dir, {"out.tsv"}).empty());
+}
