@@ -97,9 +97,12 @@ void validate_request(const Parameters& p, const RunRequest& r) {
     const std::string option = r.realizations > 0 ? "--realizations"
                                : r.duration > 0   ? "--duration"
                                                   : "--omega-min";
-    throw InputError(option + ": the run plans " + text(work) + " realization-steps before its first result, over "
-                     "the work budget of " + text(budget) + " (about an hour on two cores); change " + option +
-                     " or raise --work-budget");
+    const double weight = block_weight(p);
+    const std::string blocks =
+        weight > 1 ? " (its " + text(100 * weight) + " blocks count " + text(weight) + " per step)" : "";
+    throw InputError(option + ": the run plans " + text(work) + " realization-steps" + blocks +
+                     " before its first result, over the work budget of " + text(budget) +
+                     " (about an hour on two cores); change " + option + " or raise --work-budget");
   }
 }
 

@@ -168,6 +168,18 @@ paper-unknown|fig9|paper fig9
 paper-precision|precision|paper fig2 --precision 0
 analyze-points-huge|points|analyze rec.tsv --points 100000000 --no-plot --out x
 analyze-points-negative|--points|analyze rec.tsv --points -1 --no-plot --out x
+synth-duration-huge|--duration|synth --duration 1e308
+synth-interval-tiny|--sample-interval|synth --sample-interval 1e-300
+synth-interval-zero|--sample-interval|synth --sample-interval 0
+synth-k0-huge|k0|synth --set k0=1e308
+synth-out-directory|directory|synth --out adir
+analyze-dt-negative|--dt|analyze rec.tsv --dt -1 --no-plot --out x
+analyze-units|--units|analyze rec.tsv --units km --no-plot --out x
+analyze-column|nope|analyze rec.tsv --column nope --no-plot --out x
+analyze-resolution|--resolution|analyze rec.tsv --resolution -1 --no-plot --out x
+tree-too-big|blocks|run --case hierarchical --set N_2=100000 --no-plot
+merge-nothing|parts|merge
+plot-nothing|tables|plot -o x.png
 unknown-command|subcommand|wobble
 unknown-option|--bogus|run --bogus
 TABLE
