@@ -50,6 +50,9 @@ struct SpectrumPoint {
   double bandwidth;  ///< resolution bandwidth behind the point [rad/s]
   double omega_low;  ///< lower edge of the FFT bins averaged [rad/s]
   double omega_high; ///< upper edge of the FFT bins averaged [rad/s]
+  double bin_spacing = 0;  ///< spacing of those FFT bins [rad/s]: their centres are
+                           ///< omega_low + (j + 1/2) bin_spacing, j < bin_count
+  int bin_count = 0;       ///< FFT bins averaged
 };
 
 /// The additive statistics of one or more realizations. Merging two accumulators gives

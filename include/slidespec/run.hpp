@@ -44,14 +44,28 @@ struct SubBand {
   int rounds = 0;                        ///< rounds of realizations run
 };
 
+/// The FFT bins a point averages: `count` frequencies from `first` to `last` [rad/s],
+/// `spacing` apart. The mean of any C(omega) over them is what the point estimates.
+struct BinRange {
+  double first = 0, last = 0, spacing = 0;
+  int count = 0;
+  std::vector<double> omegas() const;  ///< the bin frequencies themselves [rad/s]
+};
+
+/// The continuous-time exact theory (exact_spectrum, the full structure) averaged over the
+/// bins: what a point's C_x estimates [m^2 s].
+double bin_average(const Parameters& params, const BinRange& bins);
+
 struct RunPoint {
   double omega;            ///< [rad/s]
   double C_x;              ///< estimate [m^2 s]
   double standard_error;   ///< [m^2 s]
-  double theory;           ///< exact theory averaged as the estimate averages it [m^2 s]
+  double theory;           ///< continuous-time exact theory averaged over `bins`, window-smoothed
+                           ///< as the estimate is (for a smooth C_x: bin_average) [m^2 s]
   double theory_at_omega;  ///< exact theory at omega [m^2 s]
   double n_avg;            ///< periodogram values averaged
   double bandwidth;        ///< resolution bandwidth [rad/s]
+  BinRange bins;           ///< the FFT bins the estimate averages
 };
 
 struct RunResult {

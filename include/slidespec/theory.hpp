@@ -39,12 +39,13 @@ class LumpedTheory {
   std::shared_ptr<const Impl> impl_;
 };
 
-/// The spectrum of xi as the stepper samples it every dt [m^2 s]: the random forces held
-/// over each step (a renewal takes effect at the next step) and xi read at the step ends,
+/// The spectrum of xi of a time-stepped process [m^2 s]: the random forces held over each
+/// step (a renewal taking effect at the next step) and xi read at the step ends,
 /// so the forces enter sampled (their spectrum aliased) and the response is the exact
 /// step's. Exact for the simulated sequence in first order, for |omega| <= pi/dt; tends
 /// to C_x as omega dt -> 0 and differs from it by O((omega dt)^2): about +1.5% at
-/// omega dt = 0.3 where C_x ~ omega^-4 (docs/numerics.md).
+/// omega dt = 0.3 where C_x ~ omega^-4 (docs/numerics.md). The stepper applies renewals at
+/// their own time, so its spectrum is C_x; this is the contrast a step-end renewal would give.
 class SampledTheory {
  public:
   SampledTheory(const Parameters& p, double dt);
@@ -64,5 +65,47 @@ std::vector<double> lumped_spectrum(const Parameters& p, const std::vector<doubl
 /// averaged over a band of bins estimates this, not C_x at the band's centre.
 std::vector<double> interval_averaged_spectrum(const Parameters& p,
                                                const std::vector<std::pair<double, double>>& intervals);
+
+}  // namespace slidespec
+
+namespace slidespec {
+
+/// The block's long-time motion: mean speed and diffusion constant, from the quasi-static
+/// block (dx/dt = v (1 - G(x) / (F_drive - F_kin)), G the total random force as a process
+/// in sliding distance), which is exact below v/a and the block's own rates
+/// (docs/model.md section 7). Below v/a, C_x(omega) -> diffusion / (pi omega^2).
+struct LongTimeMotion {
+  double mean_speed;  ///< V [m/s]: v / <1/u>, u = 1 - G/(F_drive - F_kin), over distance
+  double diffusion;   ///< D = lim Var x(t) / 2t [m^2/s]
+};
+
+enum class MotionTheory {
+  first_order,   ///< V = v and D_1, the first-order theory's (renewal kind included)
+  second_order,  ///< both with their O(eps^2) relative corrections, errors O(eps^4)
+  quasi_static,  ///< exact for the quasi-static block, every order in eps
+};
+
+/// V and D of the chosen theory. second_order, flat model, e = eps^2 / 2:
+/// V = v / (1 + e + e^2 (3 - 1.2/N)); D = D_1 (1 + e (4 - 2.6/N)) for poisson and
+/// D_1 (1 + e (13/3 - 2.93/N)) for periodic renewal. quasi_static gives V = D = 0 at or
+/// beyond the stall boundary and throws InputError for D with more than one touching level.
+LongTimeMotion long_time_motion(const Parameters& p, MotionTheory theory);
+
+/// C_x(omega) to second order in eps for poisson renewal on one touching level
+/// (docs/model.md section 7): the first-order C_x times the ratio of the second- to the
+/// first-order force spectrum seen in time, from the quasi-static block's renewal times.
+/// The ratio tends to D / D_1 (second order) as omega -> 0 and to 1 / (1 + eps^2/2) above
+/// v/a. Throws InputError for periodic renewal or several touching levels.
+class SecondOrderTheory {
+ public:
+  explicit SecondOrderTheory(const Parameters& p);
+  double operator()(double omega) const { return first_order_(omega) * ratio(omega); }
+  /// Second- over first-order C_x at omega.
+  double ratio(double omega) const;
+
+ private:
+  LumpedTheory first_order_;
+  double contacts_, s2_, k4_, rate_, drive_excess2_;
+};
 
 }  // namespace slidespec

@@ -12,6 +12,7 @@
 #include <new>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -78,25 +79,48 @@ int command_cases() {
 struct TheoryOptions {
   double omega_min = 0.1, omega_max = 1e5;
   int points_per_decade = 8;
+  int order = 1;
   std::string out;
 };
+
+// The exact mean speed and low-frequency diffusion beyond first order, where computed
+// (below the stall boundary, one touching level).
+std::string long_time_line(const Parameters& p) {
+  if (landmarks(p).forces_can_stall) return "";
+  int touching_levels = 0;
+  for (int l = 1; l <= p.levels; ++l) touching_levels += p.touches(l) ? 1 : 0;
+  if (touching_levels != 1) return "";
+  const LongTimeMotion exact = long_time_motion(p, MotionTheory::quasi_static);
+  const LongTimeMotion first = long_time_motion(p, MotionTheory::first_order);
+  return "# beyond first order (docs/model.md section 7): mean speed V = " + io::format_number(exact.mean_speed) +
+         " m/s, diffusion D = " + io::format_number(exact.diffusion) + " m^2/s (first order " +
+         io::format_number(first.diffusion) + "), C_x -> D / (pi omega^2) below v/a\n";
+}
 
 int command_theory(const ModelOptions& model, const TheoryOptions& options) {
   const Parameters p = model.build();
   const std::vector<double> omegas =
       log_spaced_omegas(options.omega_min, options.omega_max, options.points_per_decade);
+  if (options.order != 1 && options.order != 2) throw InputError("order: need 1 or 2");
+  // Built before any work so that a model it does not cover is refused at once.
+  const std::unique_ptr<SecondOrderTheory> second =
+      options.order == 2 ? std::make_unique<SecondOrderTheory>(p) : nullptr;
   if (!options.out.empty()) io::check_output_prefix(options.out);
   warn_if_outside_first_order(p);
   const std::vector<double> spectrum = exact_spectrum(p, omegas);
 
   std::ostringstream table;
-  table << io::metadata_lines(p, model.case_name)
+  table << io::metadata_lines(p, model.case_name) << long_time_line(p)
         << "# columns: omega [rad/s], C_x [m^2 s] exact first-order theory, "
-           "C_eq1 [m^2 s] the paper's Eq. (1)\n"
-        << "omega\tC_x\tC_eq1\n";
-  for (size_t k = 0; k < omegas.size(); ++k)
+           "C_eq1 [m^2 s] the paper's Eq. (1)"
+        << (second ? ", C_x2 [m^2 s] second-order theory (docs/model.md section 7)" : "") << "\n"
+        << "omega\tC_x\tC_eq1" << (second ? "\tC_x2" : "") << "\n";
+  for (size_t k = 0; k < omegas.size(); ++k) {
     table << io::format_number(omegas[k]) << "\t" << io::format_number(spectrum[k]) << "\t"
-          << io::format_number(eq1_asymptote(p, omegas[k])) << "\n";
+          << io::format_number(eq1_asymptote(p, omegas[k]));
+    if (second) table << "\t" << io::format_number(spectrum[k] * second->ratio(omegas[k]));
+    table << "\n";
+  }
   if (options.out.empty()) std::cout << table.str();
   else io::write_atomically(options.out + ".tsv", table.str());
   return 0;
@@ -404,6 +428,8 @@ int main(int argc, char** argv) {
   theory_command->add_option("--omega-min", theory_options.omega_min, "lowest omega [rad/s]");
   theory_command->add_option("--omega-max", theory_options.omega_max, "highest omega [rad/s]");
   theory_command->add_option("--points", theory_options.points_per_decade, "points per decade");
+  theory_command->add_option("--order", theory_options.order,
+                             "2: add C_x2, the second-order theory (poisson renewal, one touching level)");
   theory_command->add_option("--out", theory_options.out, "write PREFIX.tsv instead of stdout");
 
   ModelOptions run_model;

@@ -192,7 +192,7 @@ std::vector<SpectrumPoint> SpectrumAccumulator::spectrum(PointValue value) const
     const double resolution = layout.bin_omega(point.band, 1);
     out.push_back({point.omega, mean, standard_error, n * point.bin_count, band.enbw,
                    (point.first_bin - 0.5) * resolution,
-                   (point.first_bin + point.bin_count - 0.5) * resolution});
+                   (point.first_bin + point.bin_count - 0.5) * resolution, resolution, point.bin_count});
     index.push_back(k);
   }
 

@@ -70,7 +70,7 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
         << "\n";
   }
   out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, the mean of C_x over the bin's frequencies;"
-         " stderr [m^2 s]; theory [m^2 s] exact first-order theory averaged like the estimate;"
+         " stderr [m^2 s]; theory [m^2 s] continuous exact first-order theory, its mean over the same bins;"
          " n_avg periodogram values averaged; bandwidth [rad/s]; C_v = omega^2 C_x [m^2/s];"
          " C_F = M^2 omega^4 C_x [N^2 s]; theory_at_omega [m^2 s]; C_eq1 [m^2 s] the paper's Eq. (1)\n";
   out << "omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\n";
@@ -121,7 +121,9 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
   for (const RunPoint& point : result.points)
     doc["points"].push_back({{"omega", point.omega}, {"C_x", point.C_x}, {"stderr", point.standard_error},
                              {"theory", point.theory}, {"theory_at_omega", point.theory_at_omega},
-                             {"n_avg", point.n_avg}, {"bandwidth", point.bandwidth}});
+                             {"n_avg", point.n_avg}, {"bandwidth", point.bandwidth},
+                             {"bins", {{"first", point.bins.first}, {"last", point.bins.last},
+                                       {"spacing", point.bins.spacing}, {"count", point.bins.count}}}});
   return doc.dump(2) + "\n";
 }
 

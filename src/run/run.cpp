@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -22,7 +23,8 @@ namespace {
 // The highest omega a time step serves: omega dt <= 0.3 keeps the aliases of even the
 // Brownian omega^-2 part of C_x below 0.5% (docs/numerics.md).
 constexpr double kOmegaDtMax = 0.3;
-// Renewals take effect at the next step; lambda dt <= 0.1 keeps that below 0.1% of S_f.
+// lambda dt <= 0.1: about one renewal per miniblock in ten steps, each redone with the
+// renewal at its own time (docs/numerics.md), so no step holds many of one miniblock's.
 constexpr double kRenewalDtMax = 0.1;
 // Each realization of a sub-band spans this many of the segments serving its lowest point.
 constexpr double kSegmentsPerRealization = 6;
@@ -390,6 +392,19 @@ bool RunSession::advance(const Control& control) {
   return true;
 }
 
+std::vector<double> BinRange::omegas() const {
+  std::vector<double> out;
+  for (int j = 0; j < count; ++j) out.push_back(first + j * spacing);
+  return out;
+}
+
+double bin_average(const Parameters& params, const BinRange& bins) {
+  const std::vector<double> values = exact_spectrum(params, bins.omegas());
+  double sum = 0;
+  for (double value : values) sum += value;
+  return values.empty() ? 0.0 : sum / static_cast<double>(values.size());
+}
+
 RunResult RunSession::result() const {
   const Impl& s = *impl_;
   RunResult result;
@@ -397,9 +412,10 @@ RunResult RunSession::result() const {
   result.simd_path = resolve_simd_path(s.request.simd);
   result.threads = s.request.threads > 0 ? s.request.threads
                                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  // Points, with the theory of the simulated (time-stepped) process seen through the
-  // estimator: averaged over each point's bins and smoothed by the window exactly as the
-  // estimate is. The continuous-time C_x at omega is reported beside it.
+  // Points, with the continuous-time theory seen through the estimator: averaged over
+  // exactly the FFT bins each point averages, and smoothed by the window as the estimate
+  // is (for a smooth C_x that is the plain mean over the bins; a periodic force spectrum's
+  // zeros are narrower than a bin). The theory at the point's omega beside it.
   const LumpedTheory theory(s.params);
   for (std::size_t b = 0; b < s.bands.size(); ++b) {
     const BandTotals& totals = s.bands[b];
@@ -409,11 +425,16 @@ RunResult RunSession::result() const {
     if (totals.batches.empty()) continue;
     const SpectrumAccumulator merged = totals.merged();
     const std::vector<SpectrumPoint> estimated = band_spectrum(totals, merged);
-    const std::vector<SpectrumPoint> expected = merged.expected(SampledTheory(s.params, band.dt));
+    const std::vector<SpectrumPoint> expected = merged.expected(std::cref(theory));
     for (std::size_t k = 0; k < estimated.size(); ++k) {
       const SpectrumPoint& e = estimated[k];
-      result.points.push_back(
-          {e.omega, e.C, e.standard_error, expected[k].C, theory(e.omega), e.n_avg, e.bandwidth});
+      BinRange bins;
+      bins.spacing = e.bin_spacing;
+      bins.count = e.bin_count;
+      bins.first = e.omega_low + 0.5 * e.bin_spacing;
+      bins.last = bins.first + (e.bin_count - 1) * e.bin_spacing;
+      result.points.push_back({e.omega, e.C, e.standard_error, expected[k].C, theory(e.omega), e.n_avg,
+                               e.bandwidth, bins});
     }
     result.simulated_time += static_cast<double>(totals.realizations) * band.duration;
     result.realization_steps += static_cast<double>(s.steps[b]) * static_cast<double>(totals.realizations);

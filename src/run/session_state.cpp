@@ -14,8 +14,10 @@ using namespace run_detail;
 namespace {
 
 constexpr char kStateMagic[8] = {'S', 'L', 'S', 'P', 'R', 'U', 'N', 'S'};
-// Version 2: a checksummed envelope (below) and the numerics version in the fingerprint.
-constexpr std::uint32_t kStateVersion = 2;
+// 2: renewals take effect at their own time inside a step (docs/numerics.md); a state of
+// version 1 holds realizations of the time-stepped process and cannot be continued.
+// 3: a checksummed envelope (below) and the numerics version in the fingerprint.
+constexpr std::uint32_t kStateVersion = 3;
 // A batch record's fixed fields: the accumulator's length, the realization and point counts.
 constexpr std::uint64_t kSmallestBatchBytes = 24;
 // The envelope: magic, version, body length, a checksum of those 20 bytes (so the length
@@ -46,9 +48,11 @@ std::string open_envelope(const std::string& bytes) {
   const auto version = header.get<std::uint32_t>();
   const auto length = header.get<std::uint64_t>();
   if (header.get<std::uint32_t>() != checksum(bytes.data(), kHeaderBytes - 4))
-    throw InputError(version == 1 ? "run state: format version 1 (no checksum), this build reads version " +
-                                        std::to_string(kStateVersion) + "; rerun"
-                                  : "run state: corrupt (its header fails its checksum)");
+    throw InputError(version == 1 || version == 2
+                         ? "run state: format version " + std::to_string(version) +
+                               " (before checksums), this build reads version " + std::to_string(kStateVersion) +
+                               "; rerun"
+                         : "run state: corrupt (its header fails its checksum)");
   if (version != kStateVersion)
     throw InputError("run state: format version " + std::to_string(version) + ", this build reads version " +
                      std::to_string(kStateVersion));

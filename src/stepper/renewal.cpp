@@ -2,10 +2,13 @@
 
 #include <Random123/philox.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include "model/linear_structure.hpp"
+#include "stepper/exact_step.hpp"
 
 namespace slidespec::stepper {
 
@@ -123,26 +126,96 @@ void RenewalState::publish_inputs(int lane) {
   }
 }
 
-void RenewalState::renew_passed(int lane, double x) {
-  const int* tree = tree_.data() + static_cast<size_t>(2 * leaves_) * lane;
-  while (next_mark_[lane] <= x) {
-    const int j = tree[1];
-    const size_t cell = static_cast<size_t>(j) * lanes_ + lane;
-    const std::uint64_t count = ++count_[cell];
-    const RenewalDraw d = draw_renewal(seed_, stream_, first_ + lane, j, count);
-    const size_t input_class = static_cast<size_t>(class_of_contact_[j] - 1);
-    const size_t input = input_class * lanes_ + lane;
-    const std::int64_t jump = d.force_units - force_units_[cell];
-    input_units_[input] += jump;
-    const double unit = force_unit_[input_class];
-    jump_energy_[lane] += (unit * static_cast<double>(jump)) * (unit * static_cast<double>(jump));
-    force_units_[cell] = d.force_units;
-    const double spacing = renewal_distance_[static_cast<size_t>(j)];
-    mark_[cell] += poisson_ ? -spacing * std::log1p(-d.spacing_uniform) : spacing;
-    ++renewals_[lane];
-    update_tree(lane, j);
-  }
+void RenewalState::renew_next(int lane) {
+  const int j = tree_[static_cast<size_t>(2 * leaves_) * lane + 1];
+  const size_t cell = static_cast<size_t>(j) * lanes_ + lane;
+  const std::uint64_t count = ++count_[cell];
+  const RenewalDraw d = draw_renewal(seed_, stream_, first_ + lane, j, count);
+  const size_t input_class = static_cast<size_t>(class_of_contact_[j] - 1);
+  const size_t input = input_class * lanes_ + lane;
+  const std::int64_t jump = d.force_units - force_units_[cell];
+  input_units_[input] += jump;
+  const double unit = force_unit_[input_class];
+  jump_energy_[lane] += (unit * static_cast<double>(jump)) * (unit * static_cast<double>(jump));
+  force_units_[cell] = d.force_units;
+  const double spacing = renewal_distance_[static_cast<size_t>(j)];
+  mark_[cell] += poisson_ ? -spacing * std::log1p(-d.spacing_uniform) : spacing;
+  ++renewals_[lane];
+  update_tree(lane, j);
   publish_inputs(lane);
+}
+
+void RenewalState::step_with_renewals(int lane, const ExactStep& step, double steady_start,
+                                      double steady_end, double advance, double xi_start, double* z,
+                                      double& increment) {
+  constexpr std::int64_t whole = std::int64_t{1} << ExactStep::fraction_bits;
+  const double tick = 1.0 / static_cast<double>(whole);  // time unit: dt 2^-fraction_bits
+  const int state = step.dimension + 1;
+  const int velocity = 1 + step.velocity_component;
+  constexpr int room = ExactStep::max_state;
+  double g[8] = {}, y_now[room] = {}, y[room] = {}, y_end[room] = {};
+  auto forces = [&] {
+    for (int k = 0; k < inputs_; ++k) g[k] = input_forces_[static_cast<size_t>(k) * lanes_ + lane];
+  };
+  auto copy = [](const double* from, double* to) { std::memcpy(to, from, sizeof(double) * room); };
+  auto x_at = [&](std::int64_t n, const double* y_n) {
+    return steady_start + advance * (static_cast<double>(n) * tick) + (xi_start + y_n[0]);
+  };
+  auto rate = [&](const double* y_n) { return advance + y_n[velocity] * step.dt; };  // dx/dt times dt
+  forces();
+  // y = (xi - xi_n, z) now and at the step's end; the plain step's end is the caller's.
+  y_now[0] = 0.0;
+  y_end[0] = increment;
+  for (int r = 1; r < state; ++r) y_now[r] = y_end[r] = z[r - 1];
+  bool renewed = false;
+  std::int64_t now = 0;  // the time reached, in ticks
+  double x_now = steady_start + xi_start;
+  double x_end = steady_end + (xi_start + increment);
+  while (x_end >= next_mark_[lane]) {
+    const double mark = next_mark_[lane];
+    // The crossing time: the cubic through x and dx/dt at both ends of what is left of the
+    // step (solved by Newton from the linear guess), then one Newton step on the exact
+    // trajectory, whose error is second order in the cubic's.
+    const double left = static_cast<double>(whole - now) * tick;
+    const double m0 = rate(y_now) * left, m1 = rate(y_end) * left;
+    double u = x_end > x_now ? (mark - x_now) / (x_end - x_now) : 1.0;
+    for (int iteration = 0; iteration < 3; ++iteration) {
+      u = std::min(1.0, std::max(0.0, u));
+      const double u2 = u * u, u3 = u2 * u;
+      const double cubic = (2 * u3 - 3 * u2 + 1) * x_now + (u3 - 2 * u2 + u) * m0 + (3 * u2 - 2 * u3) * x_end +
+                           (u3 - u2) * m1;
+      const double slope = (6 * u2 - 6 * u) * x_now + (3 * u2 - 4 * u + 1) * m0 + (6 * u - 6 * u2) * x_end +
+                           (3 * u2 - 2 * u) * m1;
+      if (!(slope > 0)) break;
+      u -= (cubic - mark) / slope;
+    }
+    u = std::min(1.0, std::max(0.0, u));
+    std::int64_t cross = now + std::llround(u * static_cast<double>(whole - now));
+    copy(y_now, y);
+    step.advance_partial(cross - now, y, g);
+    if (rate(y) > 0) {
+      const double ticks = std::nearbyint((x_at(cross, y) - mark) / rate(y) * static_cast<double>(whole));
+      const auto refined = static_cast<std::int64_t>(
+          std::clamp(static_cast<double>(cross) - ticks, static_cast<double>(now), static_cast<double>(whole)));
+      if (refined != cross) {
+        cross = refined;
+        copy(y_now, y);
+        step.advance_partial(cross - now, y, g);
+      }
+    }
+    copy(y, y_now);
+    now = cross;
+    x_now = x_at(now, y_now);
+    renew_next(lane);
+    forces();
+    renewed = true;
+    copy(y_now, y_end);
+    step.advance_partial(whole - now, y_end, g);
+    x_end = steady_end + (xi_start + y_end[0]);
+  }
+  if (!renewed) return;
+  increment = y_end[0];
+  for (int r = 1; r < state; ++r) z[r - 1] = y_end[r];
 }
 
 }  // namespace slidespec::stepper

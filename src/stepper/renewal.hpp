@@ -12,6 +12,8 @@ struct Contact;  // kept out of the kernel's translation units: they must not se
 
 namespace slidespec::stepper {
 
+struct ExactStep;
+
 // Exact sums of up to 2^74 forces in units of 2^-53 alpha f_kin.
 __extension__ using WideSum = __int128;
 
@@ -38,9 +40,14 @@ class RenewalState {
                Renewal renewal, std::uint64_t seed, std::uint64_t stream,
                std::uint64_t first_realization, int lanes);
 
-  /// Renews every contact of `lane` whose mark the block has passed (x >= mark), in order
-  /// of the marks, and refreshes the lane's input sums and next mark.
-  void renew_passed(int lane, double x);
+  /// One step of `lane` in which the block passes its next mark: every renewal is applied
+  /// at its own time inside the step, in the order of the marks, and the step's end state
+  /// replaces the plain step's. `z` holds z_n on entry and z_{n+1} on return;
+  /// `increment` the plain step's xi increment on entry and the true one on return.
+  /// x(t) = steady_start + advance t/dt + xi_start + (xi(t) - xi_n); the step ends at
+  /// steady_end (the kernel's own product, so both test the same x against the marks).
+  void step_with_renewals(int lane, const ExactStep& step, double steady_start, double steady_end,
+                          double advance, double xi_start, double* z, double& increment);
 
   int lanes() const { return lanes_; }
   int inputs() const { return inputs_; }
@@ -54,6 +61,7 @@ class RenewalState {
   double jump_energy(int lane) const { return jump_energy_[lane]; }
 
  private:
+  void renew_next(int lane);  // the contact with the nearest mark, then the tree
   void update_tree(int lane, int contact);
   void refresh_inputs(int lane);
   void publish_inputs(int lane);  // input_forces_ from the exact integer sums

@@ -21,11 +21,17 @@ expect_refused unknown-option "--bogus" theory --bogus
 expect_refused level-mass "parameter m_2" theory $out --set levels=2 --set m_2=0
 expect_refused level-below-lowest "parameter N_3" theory $out --set levels=2 --set N_3=4
 expect_refused touching-level "parameter touching" theory $out --case hierarchical --set touching=3
+expect_refused second-order-periodic "renewal=poisson" theory $out --order 2 --set renewal=periodic
+expect_refused bad-order "order" theory $out --order 3
 expect_refused stepper-levels "levels" run $out --set levels=4 --work-budget 1e15 --no-plot --quiet
 
 # A good run writes the table atomically and leaves no temporary file behind.
 "$bin" theory --out "$work/ref" > /dev/null 2>&1 || fail "theory --out failed"
 [ -f "$work/ref.tsv" ] || fail "theory --out wrote no PREFIX.tsv"
+grep -q "^# beyond first order .*mean speed V = 4.98.*e-04 m/s" "$work/ref.tsv" ||
+  fail "theory: no long-time motion line (reference: V = 0.99721 v)"
+"$bin" theory --order 2 --points 1 --omega-max 1 | grep -q "^omega	C_x	C_eq1	C_x2$" ||
+  fail "theory --order 2: no C_x2 column"
 grep -q "^omega	C_x	C_eq1$" "$work/ref.tsv" || fail "theory table has no header line"
 [ "$(grep -vc '^#' "$work/ref.tsv")" -eq 50 ] || fail "theory table does not have 49 rows"
 ls "$work" | grep -q tmp && fail "a temporary file was left behind"

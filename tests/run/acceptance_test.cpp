@@ -8,6 +8,7 @@
 #include <ostream>
 
 #include "slidespec/run.hpp"
+#include "slidespec/theory.hpp"
 
 using namespace slidespec;
 
@@ -100,6 +101,30 @@ TEST_P(Acceptance, DeviationsFromTheoryAreStandardNormal) {
   // The measured mean speed: v / (1 + eps^2/2) to second order (docs/model.md).
   EXPECT_NEAR(result.mean_speed, p.v / (1 + 0.5 * eps * eps), 4 * result.mean_speed_error + 1e-3 * p.v)
       << s.name;
+}
+
+// Below v/a the periodic force spectrum, T s2/(2 pi) sinc^2(omega T/2), is about half the
+// Poisson Lorentzian s2 lambda / (pi (lambda^2 + omega^2)) of the same rate: a run that
+// renewed on Poisson marks when periodic ones were asked would sit ~70% above the theory.
+TEST(Acceptance, PeriodicRenewalBelowTheRenewalRate) {
+  const Parameters p = ParameterBuilder("reference").set("renewal=periodic").build();
+  const Parameters poisson = ParameterBuilder("reference").build();
+  RunRequest r;
+  r.omega_min = 0.2;
+  r.omega_max = 0.4;  // below v/a = 0.5 rad/s
+  r.realizations = 8;
+  r.seed = 20261123;
+  const RunResult result = run_spectrum(p, r);
+  ASSERT_EQ(result.points.size(), 3u);
+  const double eps = landmarks(p).coupling_eps;
+  for (const RunPoint& point : result.points) {
+    // Within 3 standard errors, plus the second-order terms (order eps^2, docs/model.md).
+    EXPECT_LE(std::fabs(point.C_x - point.theory), eps * eps * point.theory + 3 * point.standard_error)
+        << "omega " << point.omega;
+    // The test can tell: the Poisson theory lies many standard errors away.
+    const double lorentzian = exact_spectrum(poisson, {point.omega})[0];
+    EXPECT_GT(std::fabs(lorentzian - point.theory), 10 * point.standard_error) << "omega " << point.omega;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(
