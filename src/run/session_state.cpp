@@ -50,8 +50,8 @@ std::string open_envelope(const std::string& bytes) {
   if (header.get<std::uint32_t>() != checksum(bytes.data(), kHeaderBytes - 4))
     throw InputError(version == 1 || version == 2
                          ? "run state: format version " + std::to_string(version) +
-                               " (before checksums), this build reads version " + std::to_string(kStateVersion) +
-                               "; rerun"
+                               " (before checksums) or a corrupt file; this build reads version " +
+                               std::to_string(kStateVersion)
                          : "run state: corrupt (its header fails its checksum)");
   if (version != kStateVersion)
     throw InputError("run state: format version " + std::to_string(version) + ", this build reads version " +

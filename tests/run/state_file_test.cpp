@@ -85,8 +85,9 @@ TEST(StateFile, TruncationIsToldApartFromCorruption) {
 
 TEST(StateFile, RefusesAnotherFormatVersion) {
   std::string bytes = small_finished_session().save();
-  bytes[8] = 1;  // the format version of the files made before the checksum
+  bytes[8] = 1;  // a format version of the files made before the checksum
   EXPECT_NE(message_of(bytes).find("format version 1"), std::string::npos) << message_of(bytes);
+  EXPECT_NE(message_of(bytes).find("corrupt"), std::string::npos) << message_of(bytes);
   bytes[8] = 7;  // any other: the header's checksum fails first
   EXPECT_NE(message_of(bytes).find("corrupt"), std::string::npos) << message_of(bytes);
 }
