@@ -156,7 +156,7 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
     throw InputError("the record (" + std::to_string(result.samples) +
                      " samples) is too short for a spectrum point in the band: the lowest point needs 12 "
                      "segments; record longer or raise --omega-min");
-  // White noise of variance q^2/12 (+ sigma^2) per sample (MODEL.md 3: C = s^2 dt / 2 pi),
+  // White noise of variance q^2/12 (+ sigma^2) per sample (docs/model.md §3: C = s^2 dt / 2 pi),
   // through the same bins and window as the estimate so that the two compare point by point.
   const double white =
       (result.quantization_variance + result.sensor_noise_variance) * record.dt / (2 * std::numbers::pi);

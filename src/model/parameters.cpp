@@ -1,6 +1,7 @@
 #include "slidespec/parameters.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -9,6 +10,8 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
+
+#include "io/suggest.hpp"
 
 namespace slidespec {
 
@@ -106,7 +109,7 @@ const std::vector<Case>& cases() {
       // Level 2: contacts ten times smaller, D = 0.1 mm (k0 ~ E D, m ~ rho D^3, eta0 ~
       // sqrt(k0/m), a ~ D); both levels touch. docs/hierarchy.md derives each value.
       {"hierarchical",
-       "blocks on blocks: ten 0.1 mm microcontacts on each miniblock (MODEL.md section 6)",
+       "blocks on blocks: ten 0.1 mm microcontacts on each miniblock (docs/model.md §6)",
        {{"levels", "2"}, {"N_2", "10"}, {"m_2", "1e-8"}, {"k0_2", "1e3"}, {"k1_2", "10"},
         {"eta0_2", "8e4"}, {"a_2", "1e-4"}, {"alpha_2", "1"}, {"touching", "1,2"}}},
   };
@@ -218,7 +221,9 @@ ParameterBuilder::ParameterBuilder(const std::string& case_name) {
   }
   std::string names;
   for (const Case& c : cases()) names += (names.empty() ? "" : ", ") + c.name;
-  throw InputError("unknown case '" + case_name + "' (known: " + names + ")");
+  std::vector<std::string> known;
+  for (const Case& c : cases()) known.push_back(c.name);
+  throw InputError("unknown case '" + case_name + "'" + io::did_you_mean(case_name, known) + " (known: " + names + ")");
 }
 
 ParameterBuilder& ParameterBuilder::set(const std::string& assignment) {
@@ -267,7 +272,8 @@ ParameterBuilder& ParameterBuilder::set(const std::string& key, const std::strin
   } else {
     std::string known;
     for (const auto& k : parameter_keys()) known += (known.empty() ? "" : " ") + k;
-    throw InputError("unknown parameter '" + key + "' (known: " + known + ")");
+    throw InputError("unknown parameter '" + key + "'" + io::did_you_mean(key, parameter_keys()) + " (known: " +
+                     known + ")");
   }
   return *this;
 }
@@ -420,14 +426,17 @@ std::vector<std::string> read_parameter_file(const std::string& path) {
   }
   if (!doc.is_object())
     throw InputError("parameter file '" + path + "': expected a JSON object of KEY: value");
+  // A run's output JSON: its "parameters" block, where eta1 is listed beside the v it
+  // was derived from (or v beside eta1: they agree, and v is kept).
+  if (doc.contains("parameters") && doc["parameters"].is_object()) doc = doc["parameters"];
+  if (doc.contains("v") && doc.contains("eta1")) doc.erase("eta1");
   std::vector<std::string> assignments;
   for (const auto& [key, value] : doc.items()) {
     if (value.is_string()) assignments.push_back(key + "=" + value.get<std::string>());
+    else if (value.is_number_integer()) assignments.push_back(key + "=" + std::to_string(value.get<long long>()));
     else if (value.is_number()) {
-      std::ostringstream text;
-      text.precision(17);
-      text << value.get<double>();
-      assignments.push_back(key + "=" + text.str());
+      char text[32];
+      assignments.push_back(key + "=" + std::string(text, std::to_chars(text, text + sizeof text, value.get<double>()).ptr));
     } else {
       throw InputError("parameter file '" + path + "': value of " + key +
                        " is neither a number nor a string");
@@ -437,11 +446,9 @@ std::vector<std::string> read_parameter_file(const std::string& path) {
 }
 
 std::vector<std::pair<std::string, std::string>> describe(const Parameters& p) {
-  auto num = [](double x) {
-    std::ostringstream s;
-    s.precision(std::numeric_limits<double>::max_digits10);
-    s << x;
-    return s.str();
+  auto num = [](double x) {  // shortest text that reads back as x
+    char text[32];
+    return std::string(text, std::to_chars(text, text + sizeof text, x).ptr);
   };
   std::vector<std::pair<std::string, std::string>> described = {
           {"N", std::to_string(p.N)}, {"M", num(p.M)},

@@ -129,7 +129,7 @@ std::vector<BatchRecord> run_batches_of(const Parameters& p, const SubBand& band
     run_batches(
         p, stepper_config, first, count, steps, request.threads, kBatchRealizations,
         [&](std::uint64_t batch_first, int batch_count) -> IncrementSink {
-          auto estimator = std::make_shared<SpectrumEstimator>(config, batch_count);
+          auto estimator = std::make_shared<SpectrumEstimator>(config, batch_count, request.simd);
           estimators[batch_first] = estimator;
           return [&, estimator, batch_count](const double* data, std::size_t n) {
             if (stop && stop->load(std::memory_order_relaxed)) throw Interrupted{};

@@ -69,7 +69,7 @@ TEST(Run, RingChainWithPeriodicRenewalAgreesWithTheory) {
   RunRequest r = short_request();
   // Away from the zeros of the periodic force spectrum (every 2 pi v/a = pi rad/s): below
   // ~60 rad/s a log bin holds only a few zeros, and renewal in distance jitters the
-  // renewal times, filling them in (10% above theory there, docs/model.md).
+  // renewal times, filling them in (10% above theory there, docs/model.md §4.1).
   r.omega_min = 100;
   const Parameters p = ParameterBuilder().set("chain=ring").set("renewal=periodic").set("N=12").build();
   expect_agreement(run_spectrum(p, r), "ring, periodic, N=12");
