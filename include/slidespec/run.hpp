@@ -168,7 +168,7 @@ void validate_request(const Parameters& params, const RunRequest& request);
 
 /// The work a request plans before its first result, in the unit of `work_budget`: the
 /// first round of every sub-band (all of it for a fixed realization count).
-double planned_work(const Parameters& params, const RunRequest& request);
+double planned_first_round_work(const Parameters& params, const RunRequest& request);
 
 /// The sub-runs a request is split into: about a decade each, with the time step set by
 /// the sub-band's top frequency (and the renewal rate), not by the model's stiffness.

@@ -79,7 +79,7 @@ void check_plan(const Parameters& p, const std::vector<SubBand>& plan) {
 
 }  // namespace run_detail
 
-double planned_work(const Parameters& p, const RunRequest& r) {
+double planned_first_round_work(const Parameters& p, const RunRequest& r) {
   const std::vector<SubBand> plan = plan_sub_bands(p, r);
   check_plan(p, plan);
   const double realizations = static_cast<double>(r.realizations > 0 ? r.realizations : kInitialRealizations);
@@ -90,7 +90,7 @@ double planned_work(const Parameters& p, const RunRequest& r) {
 
 void validate_request(const Parameters& p, const RunRequest& r) {
   check_request_fields(r);
-  const double work = planned_work(p, r);
+  const double work = planned_first_round_work(p, r);
   const double budget = r.work_budget > 0 ? r.work_budget : kDefaultWorkBudget;
   if (work > budget) {
     // Name the option that drives the work: the realization count, else the band's bottom.
