@@ -56,6 +56,7 @@ void check_name(const File& f) {
 }
 
 void check_input(const File& f) {
+  if (f.path == "-") return;  // standard input
   check_name(f);
   std::error_code error;
   const fs::file_status status = fs::status(f.path, error);

@@ -180,7 +180,7 @@ analyze-resolution|--resolution|analyze rec.tsv --resolution -1 --no-plot --out 
 tree-too-big|blocks|run --case hierarchical --set N_2=100000 --no-plot
 merge-nothing|parts|merge
 plot-nothing|tables|plot -o x.png
-unknown-command|subcommand|wobble
+unknown-command|wobble|wobble
 unknown-option|--bogus|run --bogus
 TABLE
 
