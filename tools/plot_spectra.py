@@ -246,6 +246,8 @@ def _differ(values):
 
 
 def _mark_incomplete(spectrum, label):
+    if spectrum.metadata.get("stationary", "").lower().startswith("false"):
+        label = f"{label} (NOT STATIONARY: no spectrum)"
     if spectrum.metadata.get("complete", "").lower() == "false":
         return f"{label} (incomplete)"
     return label

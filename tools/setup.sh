@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 
 packages=(cmake ninja-build g++ pkg-config git
           libeigen3-dev libxsimd-dev libfftw3-dev librandom123-dev
-          libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
+          libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev zlib1g-dev
           python3 python3-numpy python3-matplotlib
           python3-dev pybind11-dev python3-tqdm python3-pytest)
 mpi=${SLIDESPEC_MPI:-OFF}

@@ -1,6 +1,7 @@
 #include "cli/analyze.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -232,9 +233,16 @@ int command_analyze(Options o) {
     f.model_values = model_spectrum(s, *f.model);
   }
 
-  io::write_atomically(o.out + ".tsv", analysis_table(o, s, f));
-  io::write_atomically(o.out + ".json", analysis_json(o, s, f));
-  const bool plotted = !o.no_plot && plot({o.out + ".tsv"}, o.figure.path(o.out), o.title, o.figure) == 0;
+  io::OutputSet outputs;  // the table, the JSON and the picture appear together or not at all
+  outputs.add(o.out + ".tsv", analysis_table(o, s, f));
+  outputs.add(o.out + ".json", analysis_json(o, s, f));
+  const std::string figure = o.figure.path(o.out);
+  const bool plotted =
+      !o.no_plot && plot({outputs.temporary(o.out + ".tsv")},
+                         outputs.add_written_by_other(figure, std::filesystem::path(figure).extension().string()),
+                         o.title, o.figure) == 0;
+  if (!o.no_plot && !plotted) outputs.drop(figure);
+  outputs.commit();
   if (!o.no_plot && !plotted) std::cerr << "slidespec: warning: " << o.figure.path(o.out) << " not drawn\n";
   // Warnings and failed fits are printed even with --quiet: they change what the files mean.
   const std::string unit_note = std::string("read in ") + to_string(record.unit) +

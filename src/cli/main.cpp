@@ -10,7 +10,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <new>
 #include <fstream>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <sstream>
@@ -19,6 +21,7 @@
 #include <vector>
 
 #include "cli/analyze.hpp"
+#include "cli/outputs.hpp"
 #ifdef SLIDESPEC_MPI
 #include "cli/mpi.hpp"
 #endif
@@ -165,6 +168,9 @@ int command_theory(const ModelOptions& model, const TheoryOptions& options) {
   return 0;
 }
 
+/// Exit status of a run that finished but is not one stationary process (README).
+constexpr int kNotStationary = 3;
+
 std::atomic<bool> stop_requested{false};
 std::atomic<int> stop_signal{0};
 extern "C" void request_stop(int signal) {
@@ -212,10 +218,17 @@ void write_outputs(const RunSession& session, const RunResult& result, const Run
                    const std::string& out) {
   if (!writes_outputs()) return;
   const Parameters& p = session.parameters();
-  io::write_atomically(out + ".tsv", io::run_table(p, session.case_name(), session.request(), result));
-  io::write_atomically(out + ".json", io::run_json(p, session.case_name(), session.request(), result));
+  io::OutputSet outputs;  // the table, the JSON and the picture appear together or not at all
+  outputs.add(out + ".tsv", io::run_table(p, session.case_name(), session.request(), result));
+  outputs.add(out + ".json", io::run_json(p, session.case_name(), session.request(), result));
   const std::string figure = options.figure.path(out);
-  const bool plotted = !options.no_plot && cli::plot({out + ".tsv"}, figure, "", options.figure) == 0;
+  const bool plotted =
+      !options.no_plot &&
+      cli::plot({outputs.temporary(out + ".tsv")},
+                outputs.add_written_by_other(figure, std::filesystem::path(figure).extension().string()), "",
+                options.figure) == 0;
+  if (!options.no_plot && !plotted) outputs.drop(figure);
+  outputs.commit();
   if (!options.no_plot && !plotted) std::cerr << "slidespec: warning: " << figure << " not drawn\n";
   if (options.quiet) return;
   std::cerr << "slidespec: " << (result.complete ? "wrote " : "interrupted; wrote what accumulated to ")
@@ -269,6 +282,9 @@ RunResult run_and_write(RunSession& session, const RunOptions& options, const st
   }
   const RunResult result = session.result();
   write_outputs(session, result, options, out);
+  if (!result.stationary && writes_outputs())
+    std::cerr << "slidespec: warning: " << out << ": not stationary (" << result.stationarity
+              << "): no spectrum exists here; the table is marked stationary = false (exit status 3)\n";
   return result;
 }
 
@@ -331,7 +347,7 @@ int command_run(const ModelOptions& model, RunOptions options, const std::functi
     catch_stop_signals();
     const RunResult result = run_and_write(session, options, options.out);
     if (!result.complete && stop_requested) return 128 + stop_signal;
-    return 0;
+    return result.stationary ? 0 : kNotStationary;
   }
   const Parameters p = model.build();
   RunSession session(p, options.request, model.label(p));  // validates before any work
@@ -341,7 +357,7 @@ int command_run(const ModelOptions& model, RunOptions options, const std::functi
   catch_stop_signals();
   const RunResult result = run_and_write(session, options, options.out);
   if (!result.complete && stop_requested) return 128 + stop_signal;
-  return 0;
+  return result.stationary ? 0 : kNotStationary;
 }
 
 /// Parts of a run split over a job array, as the whole run.
@@ -357,8 +373,9 @@ int command_merge(const std::vector<std::string>& paths, RunOptions options) {
   }
   io::check_output_prefix(options.out);
   RunSession whole = RunSession::merge(std::move(parts));
-  write_outputs(whole, whole.result(), options, options.out);
-  return 0;
+  const RunResult result = whole.result();
+  write_outputs(whole, result, options, options.out);
+  return result.stationary ? 0 : kNotStationary;
 }
 
 /// A grid of parameter values (several keys, lists or ranges), one run each (all cores,
@@ -386,6 +403,7 @@ int command_sweep(const ModelOptions& model, const std::vector<std::string>& wor
   share_progress(singles, work, progress);
   std::vector<cli::SweepRun> runs;
   std::vector<std::string> tables;
+  bool stationary = true;
   for (std::size_t k = 0; k < grid.size(); ++k) {
     std::string name = options.out, shown;
     for (const auto& [key, value] : grid[k]) {
@@ -399,6 +417,7 @@ int command_sweep(const ModelOptions& model, const std::vector<std::string>& wor
     const RunResult result = run_and_write(params[k], label, singles[k], name);
     runs.push_back({grid[k], label, name + ".tsv", result});
     tables.push_back(name + ".tsv");
+    stationary = stationary && result.stationary;
     if (!result.complete && stop_requested) break;
   }
   progress.finish();
@@ -409,13 +428,14 @@ int command_sweep(const ModelOptions& model, const std::vector<std::string>& wor
     if (!options.quiet) std::cerr << "slidespec: wrote " << options.out << ".tsv, .json (all " << runs.size() << " runs)\n";
   }
   if (runs.size() < grid.size()) return 128 + stop_signal;
-  if (options.no_plot || !writes_outputs()) return 0;
+  const int done = stationary ? 0 : kNotStationary;
+  if (options.no_plot || !writes_outputs()) return done;
   std::string swept;
   for (const cli::SweepAxis& axis : axes) swept += (swept.empty() ? "" : ", ") + axis.key;
   const std::string picture = options.figure.path(options.out);
   const int status = cli::plot(tables, picture, model.case_name + ": sweep of " + swept, options.figure);
   if (status == 0 && !options.quiet) std::cerr << "slidespec: drew " << picture << "\n";
-  return status == 0 ? 0 : 1;
+  return status == 0 ? done : 1;
 }
 
 struct PlotOptions {
@@ -463,6 +483,7 @@ int command_paper(const std::string& figure, RunOptions options, const std::stri
   std::vector<double> work;
   for (const std::string& name : found->second) {
     params.push_back(ParameterBuilder(name).build());
+    validate_request(params.back(), options.request);
     work.push_back(cli::planned_work(params.back(), options.request));
   }
   catch_stop_signals();
@@ -542,6 +563,7 @@ int main(int argc, char** argv) {
   range->excludes(realizations)->excludes(precision);
   run_command->add_option("--seed", request.seed, "random seed (default 1)");
   run_command->add_option("--threads", request.threads, "threads (default, or 0: all cores)");
+  run_command->add_option("--work-budget", request.work_budget, "most realization-steps the run may plan (default 1e11)");
   run_command->add_option("--simd", run_options.simd, "scalar|sse2|avx2|avx512|auto (default auto)");
   run_command->add_option("--out", run_options.out, "output prefix: PREFIX.tsv, .json, .png (default spectrum)");
   run_command->add_option("--checkpoint-every", run_options.checkpoint_every,
@@ -572,6 +594,7 @@ int main(int argc, char** argv) {
   sweep_command->add_option("--realizations", sweep_options.request.realizations, "realizations per sub-band");
   sweep_command->add_option("--seed", sweep_options.request.seed, "random seed");
   sweep_command->add_option("--threads", sweep_options.request.threads, "threads (default, or 0: all cores)");
+  sweep_command->add_option("--work-budget", sweep_options.request.work_budget, "most realization-steps a run may plan");
   sweep_command->add_option("--simd", sweep_options.simd, "scalar|sse2|avx2|avx512|auto");
   sweep_command->add_option("--out", sweep_options.out,
                             "output prefix: PREFIX_KEY=V....tsv/.json per run, PREFIX.tsv/.json all runs, PREFIX.png");
@@ -608,11 +631,13 @@ int main(int argc, char** argv) {
   paper_command->add_option("--omega-max", paper_options.request.omega_max, "highest omega [rad/s]");
   paper_command->add_option("--seed", paper_options.request.seed, "random seed");
   paper_command->add_option("--threads", paper_options.request.threads, "threads (default, or 0: all cores)");
+  paper_command->add_option("--work-budget", paper_options.request.work_budget, "most realization-steps a run may plan");
   paper_command->add_option("--simd", paper_options.simd, "scalar|sse2|avx2|avx512|auto");
   paper_command->add_flag("--quiet", paper_options.quiet, "no progress, no summary");
   paper_options.figure.add_to(*paper_command);
 
   const cli::AnalysisCommands analysis_commands(app);
+  cli::require_whole_numbers(app);
 
   try {
     app.parse(argc, argv);
@@ -620,6 +645,7 @@ int main(int argc, char** argv) {
       if (writes_outputs()) std::cout << app.help();
       return 0;
     }
+    cli::check_files(app);
     for (RunOptions* options : {&run_options, &paper_options, &sweep_options})
       if (options->request.threads == 0) options->request.threads = default_threads;
     if (const auto status = analysis_commands.run()) return *status;
@@ -642,6 +668,10 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const InputError& e) {
     if (writes_outputs()) std::cerr << "slidespec: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::bad_alloc&) {
+    // Every size is checked against its input first; what remains is a machine too small.
+    if (writes_outputs()) std::cerr << "slidespec: error: out of memory: the input asks for more than this machine has\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "slidespec: failed: " << e.what() << "\n";

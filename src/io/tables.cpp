@@ -89,6 +89,7 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
       << "# reached_precision = " << format_number(result.reached_precision)
       << "  # largest stderr/C_x (target " << request.precision << ")\n"
       << "# complete = " << (result.complete ? "true" : "false") << "\n"
+      << "# stationary = " << (result.stationary ? "true" : "false  # " + result.stationarity) << "\n"
       << "# versions = " << versions() << "\n";
   for (std::size_t b = 0; b < result.sub_bands.size(); ++b) {
     const SubBand& band = result.sub_bands[b];
@@ -131,6 +132,8 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                     {"duration", request.duration},         {"realizations", request.realizations},
                     {"seed", request.seed}};
   doc["complete"] = result.complete;
+  doc["stationary"] = result.stationary;
+  if (!result.stationary) doc["stationarity"] = result.stationarity;
   doc["reached_precision"] = result.reached_precision;
   doc["measured_mean_speed"] = {{"value", result.mean_speed}, {"standard_error", result.mean_speed_error}};
   doc["simulated_time"] = result.simulated_time;

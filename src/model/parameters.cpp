@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -277,15 +278,58 @@ ParameterBuilder& ParameterBuilder::set(const std::string& key, const std::strin
   return *this;
 }
 
+namespace {
+
+// Inputs are kept within 1e-100..1e100 so that products and ratios of a few of them (the
+// landmarks, the stepper's coefficients) stay far from overflow and underflow.
+constexpr double kSmallest = 1e-100, kLargest = 1e100;
+
+std::string format_real(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+void check_magnitude(const std::string& key, double value) {
+  const double size = std::fabs(value);
+  if (size != 0 && !(size >= kSmallest && size <= kLargest))
+    throw InputError("parameter " + key + ": " + format_real(value) + " is outside 1e-100..1e100 (its derived "
+                     "quantities would not be representable)");
+}
+
+/// Every derived rate and landmark a run or the theory uses must be a normal number.
+void check_derived(const Parameters& p) {
+  const Landmarks l = landmarks(p);
+  auto normal = [](const char* what, double value, bool zero_allowed) {
+    if (!std::isfinite(value) || (!(zero_allowed && value == 0) && !std::isnormal(value)))
+      throw InputError(std::string("parameters: derived ") + what + " = " + format_real(value) +
+                       " is not a representable number; bring the parameters it depends on closer to 1");
+  };
+  normal("omega_c = sqrt(N k0 / M)", l.omega_c, false);
+  normal("v / a (renewal rate)", l.renewal_rate, false);
+  normal("D (diffusion)", l.diffusion, true);
+  normal("Eq. (1) prefactor", l.eq1_prefactor, true);
+  for (int level = 1; level <= p.levels; ++level) {
+    const Level b = p.level(level);
+    normal("k0 / m (miniblock resonance squared)", b.k0 / b.m, false);
+    normal("k1 / m", b.k1 / b.m, true);
+    normal("random force variance", p.random_force_variance(level), true);
+  }
+}
+
+}  // namespace
+
 Parameters ParameterBuilder::build() const {
   Parameters p = params_;
   auto positive = [](const std::string& key, double value) {
     if (!(value > 0))
       throw InputError("parameter " + key + ": must be > 0 (got " + std::to_string(value) + ")");
+    check_magnitude(key, value);
   };
   auto non_negative = [](const std::string& key, double value) {
     if (!(value >= 0))
       throw InputError("parameter " + key + ": must be >= 0 (got " + std::to_string(value) + ")");
+    check_magnitude(key, value);
   };
   if (user_set_v_ && user_set_eta1_)
     throw InputError("parameters v and eta1: give one of them, the other is derived");
@@ -318,6 +362,7 @@ Parameters ParameterBuilder::build() const {
   double touching_mass = 0;
   for (int l = 1; l <= p.levels; ++l)
     if (p.touches(l)) touching_mass += static_cast<double>(p.blocks(l)) * p.level(l).m;
+  check_magnitude("F_drive", p.F_drive);
   if (!(p.F_drive > p.F_kin))
     throw InputError("parameters F_drive, F_kin: F_drive must exceed F_kin for steady sliding (got " +
                      std::to_string(p.F_drive) + " <= " + std::to_string(p.F_kin) + ")");
@@ -330,6 +375,9 @@ Parameters ParameterBuilder::build() const {
   }
   if (!std::isfinite(p.v) || !std::isfinite(p.eta1) || !(p.v > 0) || !(p.eta1 > 0))
     throw InputError("parameters v, eta1: the derived value is not a finite positive number");
+  check_magnitude(user_set_eta1_ ? "v (derived from eta1)" : "eta1 (derived from v)", user_set_eta1_ ? p.v : p.eta1);
+  check_magnitude("F_drive - F_kin", p.F_drive - p.F_kin);
+  check_derived(p);
   return p;
 }
 

@@ -59,6 +59,7 @@ TEST_P(Acceptance, DeviationsFromTheoryAreStandardNormal) {
   const Parameters p = builder.build();
   const RunResult result = run_spectrum(p, request_for(s));
   ASSERT_TRUE(result.complete);
+  EXPECT_TRUE(result.stationary) << result.stationarity;
   // The simulation is the full model, the theory its first order: they differ by terms of
   // order eps^2 (the mean speed by eps^2/2 exactly). Where eps^2 reaches 1%, the error bars
   // (0.3..1% at most points, well below the 5% target, since the lowest point of each

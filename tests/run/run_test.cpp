@@ -38,6 +38,7 @@ Agreement agreement(const RunResult& result) {
 void expect_agreement(const RunResult& result, const std::string& what) {
   const Agreement a = agreement(result);
   ASSERT_GT(a.points, 0) << what;
+  EXPECT_TRUE(result.stationary) << what << ": " << result.stationarity;
   // For honest error bars |z| <= 2 holds for 95.4% of points; 85% leaves room for the
   // binomial scatter of a few dozen points (3 standard deviations below 95.4% at n = 40).
   EXPECT_GE(a.within_two, 0.85 * a.points) << what;
