@@ -257,11 +257,10 @@ def test_an_interrupted_run_resumes_to_the_unbroken_numbers(tmp_path):
         assert same_bits(getattr(resumed, column), getattr(whole, column)), column
 
 
-@pytest.mark.skip(reason="after the merge of issue 15, synth writes its unit in the header; to update")
 def test_analyze_is_the_command_line(tmp_path):
     record = tmp_path / "record"
     cli("synth", "--set", "alpha=0.4", "--duration", "1000", "--seed", "4", "--out", str(record))
-    cli("analyze", f"{record}.csv", "--units", "um", "--resolution", "0.5e-6", "--sensor-noise", "0.25e-6",
+    cli("analyze", f"{record}.csv", "--units", "um", "--resolution", "0.5e-6m", "--sensor-noise", "0.25e-6m",
         "--fit-slope", "3", "18", "--compare-case", "reference", "--fit", "alpha", "--out",
         str(tmp_path / "analysis"), "--no-plot", "--quiet")
     with open(tmp_path / "analysis.json") as f:
