@@ -13,7 +13,7 @@
 
 namespace slidespec::bench {
 
-/// Semi-implicit Euler in comoving coordinates (MODEL.md section 1): each miniblock's own
+/// Semi-implicit Euler in comoving coordinates (docs/model.md §1): each miniblock's own
 /// damping m (eta0 + eta1) is taken implicitly, because eta1 dt ~ 300 at dt = 1e-5 s and
 /// any explicit treatment of it blows up; springs, coupling to the block and the block
 /// itself are explicit (omega dt <= 0.32, well inside the stable range).

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Plot the long-time map of docs/model.md section 7 from long_time_map's TSV.
+"""Plot the long-time map of docs/model.md §7 from long_time_map's TSV.
 
 Usage: plot_long_time_map.py MAP.tsv OUT.png
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Plot slidespec spectrum tables (theory or simulated) as log10 C against log10 omega.
 
-Usage: plot_spectra.py FILE [FILE ...] -o OUT.png [--title T] [--labels A,B,...]
+Usage: plot_spectra.py FILE [FILE ...] -o OUT.{png,pdf,svg} [--title T] [--labels A,B,...]
+       [--theory T1,T2,...] [--colors C1,C2,...] [--size WxH] [--dpi D] [--no-residuals]
        [--omega-min W] [--omega-max W] [--no-eq1] [--kind displacement|velocity|force]
 
 See docs/plots.md. Exit status 2, one line on stderr and no output file when an input
@@ -19,20 +20,41 @@ import tempfile
 import matplotlib
 
 matplotlib.use("Agg")
+# Every computed point is written (PDF/SVG too): no merging of nearly collinear vertices.
+matplotlib.rcParams["path.simplify"] = False
 import matplotlib.pyplot as plt  # noqa: E402  (must follow the backend choice)
 import numpy as np  # noqa: E402
+from matplotlib.legend_handler import HandlerTuple  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 
-# Parameters of MODEL.md section 2, in the order a legend lists them. eta1 is left out: it
+# Parameters of docs/model.md §2, in the order a legend lists them. eta1 is left out: it
 # follows from v, N, m and the forces (or v from it), so it would only repeat them.
 MODEL_PARAMETERS = ("N", "M", "m", "k0", "k1", "eta0", "v", "a", "alpha", "F_drive", "F_kin",
                     "chain", "renewal")
 
-# The paper's Fig. 2 peak near 4e4 rad/s is absent from the equations as written (MODEL.md 4).
+# How a legend writes a parameter: symbol, unit, and the unit's size in SI (metres, ...).
+PARAMETER_STYLE = {
+    "N": ("N", [("", 1)]),
+    "M": ("M", [("kg", 1), ("g", 1e-3)]),
+    "m": ("m", [("kg", 1), ("g", 1e-3), ("mg", 1e-6)]),
+    "k0": (r"$k_0$", [("N/m", 1)]),
+    "k1": (r"$k_1$", [("N/m", 1)]),
+    "eta0": (r"$\eta_0$", [("1/s", 1)]),
+    "eta1": (r"$\eta_1$", [("1/s", 1)]),
+    "v": ("v", [("m/s", 1), ("mm/s", 1e-3), ("µm/s", 1e-6)]),
+    "a": ("a", [("m", 1), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9)]),
+    "alpha": (r"$\alpha$", [("", 1)]),
+    "F_drive": (r"$F_\mathrm{drive}$", [("N", 1)]),
+    "F_kin": (r"$F_\mathrm{kin}$", [("N", 1)]),
+}
+# Parameters a single run's legend names: the ones the paper's figures vary.
+HEADLINE_PARAMETERS = ("N", "v", "a", "alpha")
+
+# The paper's Fig. 2 peak near 4e4 rad/s is absent from the equations as written (docs/model.md §4).
 PEAK_NOTE_OMEGA = 1e4
 PEAK_NOTE = ("No peak near 4e4 rad/s: the model's equations overdamp the miniblocks "
-             "(docs/model.md)")
+             "(docs/model.md §4)")
 
 EQ1_ID = "eq1"  # marks the Eq. (1) lines, which share one legend entry
 FLOOR_ID = "floor"  # the sensor's noise floor of measured data
@@ -47,6 +69,15 @@ KINDS = {
 
 METADATA_LINE = re.compile(r"#\s*([A-Za-z_][A-Za-z0-9_]*)\s*=\s*(.*)$")
 TRAILING_COMMENT = re.compile(r"\s{2,}#.*$")
+COLUMN_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+
+# The output formats, by the extension of OUT.
+FORMATS = ("png", "pdf", "svg")
+
+# gids the tests (and anyone post-processing an SVG) find the parts of a figure by.
+THEORY_ID = "theory"  # the exact theory drawn as a line
+SIMULATION_ID = "simulation"  # simulated (or measured) points with error bars
+RESIDUAL_ID = "residuals"  # the panel of C_x/theory - 1 under run plots
 
 
 class InputError(Exception):
@@ -81,7 +112,7 @@ def read_spectrum(path):
     except (OSError, UnicodeDecodeError) as error:
         raise InputError(f"{path}: cannot read: {getattr(error, 'strerror', None) or error}")
 
-    metadata, header, rows = {}, None, []
+    metadata, header, rows, commented_header = {}, None, [], None
     for line_number, line in enumerate(lines, start=1):
         if not line.strip():
             continue
@@ -89,8 +120,13 @@ def read_spectrum(path):
             match = METADATA_LINE.match(line)
             if match and header is None:
                 metadata[match.group(1)] = TRAILING_COMMENT.sub("", match.group(2)).strip()
+            names = line[1:].strip().split("\t")
+            if len(names) >= 2 and all(COLUMN_NAME.fullmatch(n.strip()) for n in names):
+                commented_header = [n.strip() for n in names]  # "# omega<TAB>C_x...": the column line
             continue
         fields = line.split("\t")
+        if header is None and commented_header is not None and _all_floats(fields):
+            header = commented_header
         if header is None:
             header = [field.strip() for field in fields]
             continue
@@ -112,6 +148,10 @@ def read_spectrum(path):
         raise InputError(f"{path}: no data rows")
     table = np.array(rows, dtype=float)
     return Spectrum(path, metadata, {name: table[:, i] for i, name in enumerate(header)})
+
+
+def _all_floats(fields):
+    return all(_is_float(field) for field in fields)
 
 
 def _is_float(text):
@@ -142,21 +182,59 @@ def _same_value(a, b):
         return a == b
 
 
+def parameter_text(key, value):
+    """'v', '5e-4' -> 'v = 0.5 mm/s'; 'alpha', '1' -> 'α = 1' (mathtext)."""
+    symbol, units = PARAMETER_STYLE.get(key, (key, [("", 1)]))
+    try:
+        number = float(value)
+    except ValueError:
+        return f"{symbol} = {value}"
+    unit, size = units[-1]
+    for candidate, candidate_size in units:  # the largest unit that keeps the number >= 0.1
+        if abs(number) >= 0.1 * candidate_size:
+            unit, size = candidate, candidate_size
+            break
+    text = _short_number(repr(number / size))
+    return f"{symbol} = {text}" + (f" {unit}" if unit else "")
+
+
+def _label_keys(label):
+    """'reference + N=5, alpha=3' -> ('reference', [('N', '5'), ('alpha', '3')])."""
+    name, _, changes = label.partition(" + ")
+    pairs = []
+    for change in filter(None, (c.strip() for c in changes.split(","))):
+        key, _, value = change.partition("=")
+        pairs.append((key.strip(), value.strip()))
+    return name, pairs
+
+
 def legend_labels(spectra):
-    """Legend text per spectrum: the 'label' metadata, else the case name (or, without one,
-    the file name) followed by the model parameters that differ between the files."""
+    """Legend text per spectrum: the case (or the 'label' metadata, or the file name) and
+    parameters with units and Greek symbols: those that differ between the files, or for
+    a single file the ones the paper varies (N, v, a, alpha)."""
     differing = [key for key in MODEL_PARAMETERS
                  if _differ([s.metadata.get(key) for s in spectra])]
+    if len(spectra) == 1:
+        differing = [key for key in HEADLINE_PARAMETERS if key in spectra[0].metadata]
 
     labels = []
     for spectrum in spectra:
         label = spectrum.metadata.get("label")
-        if not label:
-            name = spectrum.metadata.get("case") or os.path.basename(spectrum.path)
-            parameters = [f"{key} = {_short_number(spectrum.metadata[key])}"
-                          for key in differing if key in spectrum.metadata]
-            label = ", ".join([name] + parameters)
-        labels.append(_mark_incomplete(spectrum, label))
+        if label and label.startswith("measured"):
+            record = spectrum.metadata.get("record")
+            if record:  # the file's name, not its whole path
+                label = label.replace(record, os.path.basename(record))
+            labels.append(_mark_incomplete(spectrum, label))
+            continue
+        name = spectrum.metadata.get("case") or os.path.basename(spectrum.path)
+        keys = list(differing)
+        if label:  # "reference + N=5, alpha=3": the set keys are named too
+            name, pairs = _label_keys(label)
+            keys += [key for key, _ in pairs if key not in keys and key in spectrum.metadata]
+        parameters = [parameter_text(key, spectrum.metadata[key])
+                      for key in keys if key in spectrum.metadata]
+        text = name + (": " + ", ".join(parameters) if parameters else "")
+        labels.append(_mark_incomplete(spectrum, text))
     return labels
 
 
@@ -168,13 +246,15 @@ def _differ(values):
 
 
 def _mark_incomplete(spectrum, label):
+    if spectrum.metadata.get("stationary", "").lower().startswith("false"):
+        label = f"{label} (NOT STATIONARY: no spectrum)"
     if spectrum.metadata.get("complete", "").lower() == "false":
         return f"{label} (incomplete)"
     return label
 
 
 def kind_factor(spectrum, kind, omega):
-    """Factor turning a displacement spectrum into the requested one (MODEL.md 5)."""
+    """Factor turning a displacement spectrum into the requested one (docs/model.md §5)."""
     if kind == "velocity":
         return omega ** 2
     if kind == "force":
@@ -201,15 +281,27 @@ def _log_positive(omega, values):
     return np.log10(omega[keep]), np.log10(values[keep]), keep
 
 
-def plot_spectrum(axes, spectrum, label, color, args):
-    """Draw one file: data (points with error bars, or a line), its theory and Eq. (1).
-    Returns the omegas in range and the artist for the legend (None when nothing is drawn)."""
-    omega = spectrum.columns["omega"]
-    in_range = np.ones_like(omega, dtype=bool)
+def read_fine_theory(path):
+    """A theory line from the command line: '# omega<TAB>C_x' rows on a fine grid."""
+    table = read_spectrum(path)
+    return table.columns["omega"], table.columns["C_x"]
+
+
+def _in_range(omega, args):
+    keep = np.ones_like(omega, dtype=bool)
     if args.omega_min is not None:
-        in_range &= omega >= args.omega_min
+        keep &= omega >= args.omega_min
     if args.omega_max is not None:
-        in_range &= omega <= args.omega_max
+        keep &= omega <= args.omega_max
+    return keep
+
+
+def plot_spectrum(axes, spectrum, label, color, args, fine_theory=None):
+    """Draw one file: data as markers with error bars (or a theory table as a line), its
+    theory as a line (the fine one when given) and Eq. (1). Returns the omegas in range
+    and the legend handle (None when nothing is drawn)."""
+    omega = spectrum.columns["omega"]
+    in_range = _in_range(omega, args)
     columns = {name: values[in_range] for name, values in spectrum.columns.items()}
     omega = columns["omega"]
     if omega.size == 0:
@@ -221,23 +313,58 @@ def plot_spectrum(axes, spectrum, label, color, args):
     x, y, keep = _log_positive(omega, values)
     if x.size == 0:
         return omega, None
+    theory_line = None
+    if fine_theory is not None:
+        fine_omega, fine_c = fine_theory
+        inside = _in_range(fine_omega, args) & (fine_omega >= omega.min() / 1.0001) \
+            & (fine_omega <= omega.max() * 1.0001)
+        tx, ty, _ = _log_positive(fine_omega[inside],
+                                  fine_c[inside] * kind_factor(spectrum, args.kind, fine_omega[inside]))
+        (theory_line,) = axes.plot(tx, ty, "-", color=color, linewidth=1.3, zorder=2, gid=THEORY_ID)
     if spectrum.simulated:
         error = None
         if "stderr" in columns:
             error = _log_error_bars(values[keep], (columns["stderr"] * factor)[keep])
-        handle = axes.errorbar(x, y, yerr=error, fmt="o", markersize=3, color=color,
-                               elinewidth=0.8, capsize=0, label=label, zorder=3)
+        markers = axes.errorbar(x, y, yerr=error, fmt="o", markersize=4, color=color,
+                                markeredgecolor="black", markeredgewidth=0.4, ecolor=color,
+                                elinewidth=1.0, capsize=2, label=label, zorder=3)
+        markers[0].set_gid(SIMULATION_ID)
         if "below_floor" in columns:
             _plot_sensor_limits(axes, columns, factor, keep, x, y)
-        if "theory" in columns:
+        if theory_line is None and "theory" in columns:
             tx, ty, _ = _log_positive(omega, columns["theory"] * factor)
-            axes.plot(tx, ty, "-", color=color, linewidth=1.2, zorder=2)
+            (theory_line,) = axes.plot(tx, ty, "-", color=color, linewidth=1.3, zorder=2, gid=THEORY_ID)
+        handle = (markers[0], theory_line) if theory_line is not None else markers[0]
     else:
-        (handle,) = axes.plot(x, y, "-", color=color, linewidth=1.6, label=label, zorder=2)
+        if theory_line is None:
+            (theory_line,) = axes.plot(x, y, "-", color=color, linewidth=1.6, zorder=2, gid=THEORY_ID)
+        handle = theory_line
 
     if not args.no_eq1:
         _plot_eq1(axes, spectrum, columns, factor)
     return omega, handle
+
+
+def is_run(spectrum):
+    """A `slidespec run` table: simulated points, their stderr and the theory beside them."""
+    return all(c in spectrum.columns for c in ("stderr", "theory")) and \
+        "below_floor" not in spectrum.columns
+
+
+def plot_residuals(axes, spectrum, color, args, band_alpha=0.18):
+    """C_x/theory - 1 with +-1 stderr bars and the +-2 stderr band, for one run."""
+    columns = spectrum.columns
+    keep = _in_range(columns["omega"], args) & (columns["theory"] > 0) & (columns["omega"] > 0)
+    omega, theory = columns["omega"][keep], columns["theory"][keep]
+    residual = columns["C_x"][keep] / theory - 1
+    relative_error = np.abs(columns["stderr"][keep]) / theory
+    x = np.log10(omega)
+    axes.fill_between(x, -2 * relative_error, 2 * relative_error, color=color, alpha=band_alpha,
+                      linewidth=0, zorder=1)
+    axes.errorbar(x, residual, yerr=relative_error, fmt="o", markersize=3, color=color,
+                  markeredgecolor="black", markeredgewidth=0.3, elinewidth=0.8, capsize=1.5,
+                  zorder=3)
+    return np.nanmax(np.abs(residual) + relative_error, initial=0.0)
 
 
 def _plot_sensor_limits(axes, columns, factor, keep, x, y):
@@ -303,14 +430,32 @@ def mark_omega_c(axes, spectra, colors):
         label.set_color(color)
 
 
-def render(spectra, labels, args):
+def _figure_size(args, with_residuals):
+    if args.size:
+        return args.size
+    return (7, 6.2) if with_residuals else (7, 5)
+
+
+def render(spectra, labels, args, fine_theories=None):
     """Build the figure; returns it without saving so errors leave no output behind."""
-    figure, axes = plt.subplots(figsize=(7, 5), dpi=150, layout="constrained")
+    fine_theories = fine_theories or [None] * len(spectra)
+    runs = [i for i, s in enumerate(spectra) if is_run(s)]
+    with_residuals = bool(runs) and not args.no_residuals
+    size = _figure_size(args, with_residuals)
+    if with_residuals:
+        figure, (axes, residual_axes) = plt.subplots(
+            2, 1, sharex=True, figsize=size, dpi=args.dpi, layout="constrained",
+            gridspec_kw={"height_ratios": (3, 1)})
+        residual_axes.set_gid(RESIDUAL_ID)
+    else:
+        figure, axes = plt.subplots(figsize=size, dpi=args.dpi, layout="constrained")
+        residual_axes = None
     axes.xaxis.set_major_locator(MaxNLocator(integer=True))
     axes.yaxis.set_major_locator(MaxNLocator(integer=True))
-    colors = [f"C{i % 10}" for i in range(len(spectra))]
-    plotted = [plot_spectrum(axes, s, label, color, args)
-               for s, label, color in zip(spectra, labels, colors)]
+    colors = args.colors or [f"C{i % 10}" for i in range(len(spectra))]
+    colors = [colors[i % len(colors)] for i in range(len(spectra))]
+    plotted = [plot_spectrum(axes, s, label, color, args, fine)
+               for s, label, color, fine in zip(spectra, labels, colors, fine_theories)]
     mark_omega_c(axes, spectra, colors)
 
     highest = max((omega.max() for omega, _ in plotted if omega.size), default=0)
@@ -319,38 +464,79 @@ def render(spectra, labels, args):
         figure.get_layout_engine().set(rect=(0, 0.04, 1, 0.96))
         figure.text(0.01, 0.01, PEAK_NOTE, fontsize=8, color="0.3", ha="left", va="bottom")
 
-    axes.set_xlabel(r"$\log_{10}\,\omega$ (rad/s)", fontsize=12)
+    bottom = residual_axes if residual_axes is not None else axes
+    bottom.set_xlabel(r"$\log_{10}\,\omega$ (rad/s)", fontsize=12)
     axes.set_ylabel(KINDS[args.kind][1], fontsize=12)
     axes.tick_params(labelsize=10)
     axes.grid(True, color="0.9", linewidth=0.6)
     if args.title:
         axes.set_title(args.title, fontsize=12)
-    handles = [handle for _, handle in plotted if handle is not None]  # in file order
+    if residual_axes is not None:
+        # Overlapping bands of many runs add up: each lighter, so the stack stays readable.
+        band_alpha = 0.18 if len(runs) <= 2 else 0.36 / len(runs)
+        reach = max(plot_residuals(residual_axes, spectra[i], colors[i], args, band_alpha)
+                    for i in runs)
+        limit = min(max(1.15 * reach, 0.05), 1.0)
+        residual_axes.set_ylim(-limit, limit)
+        residual_axes.axhline(0, color="black", linewidth=0.8, zorder=2)
+        residual_axes.set_ylabel(r"$C_x/\mathrm{theory} - 1$", fontsize=11)
+        residual_axes.grid(True, color="0.9", linewidth=0.6)
+        residual_axes.tick_params(labelsize=9)
+        residual_axes.text(0.01, 0.95, r"band: $\pm 2$ stderr", transform=residual_axes.transAxes,
+                           fontsize=8, color="0.3", va="top")
+    handles, texts = [], []
+    for (_, handle), label in zip(plotted, labels):  # in file order
+        if handle is not None:
+            handles.append(handle)
+            texts.append(label)
     if not handles:
         raise InputError("nothing to plot: no positive values in the omega range")
+    measured = any("below_floor" in s.columns for s in spectra)
+    if any(s.simulated for s in spectra):
+        handles.append(Line2D([], [], marker="o", linestyle="none", color="0.35",
+                              markeredgecolor="black", markeredgewidth=0.4))
+        texts.append("measured, ±1 stderr" if measured else "simulation, ±1 stderr")
+    if any(line.get_gid() == THEORY_ID for line in axes.lines):
+        handles.append(Line2D([], [], color="0.35", linewidth=1.3))
+        model = ""
+        if measured and spectra[0].metadata.get("case") and "alpha" in spectra[0].metadata:
+            fitted = " (fitted)" if "fitted_alpha" in spectra[0].metadata else ""
+            model = (f": {spectra[0].metadata['case']}, "
+                     f"{parameter_text('alpha', spectra[0].metadata['alpha'])}{fitted}")
+        texts.append("model theory" + model if measured else "exact first-order theory")
     if any(line.get_gid() == EQ1_ID for line in axes.lines):
-        handles.append(Line2D([], [], linestyle="--", color="black", linewidth=0.9,
-                              label="Eq. (1)"))
+        handles.append(Line2D([], [], linestyle="--", color="black", linewidth=0.9))
+        texts.append("Eq. (1)")
     if any(line.get_gid() == FLOOR_ID for line in axes.lines):
         handles.append(Line2D([], [], linestyle="-.", color="0.45", marker="o",
-                              markerfacecolor="white", markeredgecolor="0.5",
-                              label="sensor floor; hollow: at or below it"))
+                              markerfacecolor="white", markeredgecolor="0.5"))
+        texts.append("sensor floor; hollow: at or below it")
     if any(line.get_gid() == FIT_ID for line in axes.lines):
         slope = spectra[0].metadata.get("slope", "").split()
-        text = f"fit: slope {float(slope[0]):.2f}" if slope and _is_float(slope[0]) else "fit"
-        handles.append(Line2D([], [], color="black", linewidth=2.2, alpha=0.45, label=text))
-    axes.legend(handles=handles, fontsize=9, loc="best", framealpha=0.85, edgecolor="none")
+        handles.append(Line2D([], [], color="black", linewidth=2.2, alpha=0.45))
+        texts.append(f"fit: slope {float(slope[0]):.2f}" if slope and _is_float(slope[0]) else "fit")
+    axes.legend(handles, texts, fontsize=8.5, loc="best", framealpha=0.85, edgecolor="none",
+                handler_map={tuple: HandlerTuple(ndivide=None)})
     return figure
 
 
-def save_atomically(figure, out_path):
-    """Write to a temporary file beside OUT, then rename: readers never see half a PNG."""
+def output_format(path):
+    """The format by OUT's extension; an InputError for any other."""
+    extension = os.path.splitext(path)[1].lower().lstrip(".")
+    if extension not in FORMATS:
+        raise InputError(f"{path}: unknown figure format '.{extension}' (known: .png, .pdf, .svg)")
+    return extension
+
+
+def save_atomically(figure, out_path, dpi):
+    """Write to a temporary file beside OUT, then rename: readers never see half a file."""
+    fmt = output_format(out_path)
     directory = os.path.dirname(os.path.abspath(out_path))
-    handle = tempfile.NamedTemporaryFile(dir=directory, prefix=".plot_spectra.", suffix=".png",
+    handle = tempfile.NamedTemporaryFile(dir=directory, prefix=".plot_spectra.", suffix="." + fmt,
                                          delete=False)
     try:
         with handle:
-            figure.savefig(handle, format="png", dpi=150)
+            figure.savefig(handle, format=fmt, dpi=dpi)
         # tempfile creates the file private (0600); a picture is for sharing, as usual.
         umask = os.umask(0)
         os.umask(umask)
@@ -361,34 +547,65 @@ def save_atomically(figure, out_path):
         raise
 
 
+def _size(text):
+    match = re.fullmatch(r"\s*([0-9.]+)\s*[xX,]\s*([0-9.]+)\s*", text)
+    if not match or not all(0.5 <= float(v) <= 100 for v in match.groups()):
+        raise argparse.ArgumentTypeError(f"'{text}' is not WxH in inches (e.g. 7x5)")
+    return float(match.group(1)), float(match.group(2))
+
+
+def _dpi(text):
+    try:
+        value = float(text)
+    except ValueError:
+        value = 0
+    if not 10 <= value <= 2400:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a resolution in dots per inch (10..2400)")
+    return value
+
+
 def parse_arguments(argv):
-    parser = argparse.ArgumentParser(description="Plot slidespec spectra (TSV) to a PNG.")
+    parser = argparse.ArgumentParser(description="Plot slidespec spectra (TSV) to PNG, PDF or SVG.")
     parser.add_argument("files", nargs="+", metavar="FILE")
-    parser.add_argument("-o", "--out", required=True, metavar="OUT.png")
+    parser.add_argument("-o", "--out", required=True, metavar="OUT.{png,pdf,svg}")
     parser.add_argument("--title")
     parser.add_argument("--labels", help="comma-separated legend entries, one per FILE")
+    parser.add_argument("--theory", help="comma-separated fine theory tables, one per FILE "
+                        "('-' for none): drawn as the theory line")
+    parser.add_argument("--colors", help="comma-separated matplotlib colours, one per FILE")
+    parser.add_argument("--size", type=_size, metavar="WxH", help="inches (default 7x5, 7x6.2 "
+                        "with the residual panel)")
+    parser.add_argument("--dpi", type=_dpi, default=150.0, help="dots per inch (default 150)")
+    parser.add_argument("--no-residuals", action="store_true",
+                        help="no C_x/theory - 1 panel under run tables")
     parser.add_argument("--omega-min", type=float, metavar="W")
     parser.add_argument("--omega-max", type=float, metavar="W")
     parser.add_argument("--no-eq1", action="store_true", help="leave out the Eq. (1) asymptote")
     parser.add_argument("--kind", choices=tuple(KINDS), default="displacement")
     args = parser.parse_args(argv)
-    if args.labels is not None and len(args.labels.split(",")) != len(args.files):
-        parser.error(f"--labels has {len(args.labels.split(','))} entries for "
-                     f"{len(args.files)} files")
+    for option in ("labels", "theory", "colors"):
+        value = getattr(args, option)
+        if value is not None and len(value.split(",")) != len(args.files) and option != "colors":
+            parser.error(f"--{option} has {len(value.split(','))} entries for "
+                         f"{len(args.files)} files")
+    args.colors = args.colors.split(",") if args.colors else None
     return args
 
 
 def main(argv=None):
     args = parse_arguments(argv)
     try:
+        output_format(args.out)
         spectra = [read_spectrum(path) for path in args.files]
+        fine = [None if not path or path == "-" else read_fine_theory(path)
+                for path in (args.theory.split(",") if args.theory else [])] or None
         if args.labels is not None:
             labels = [_mark_incomplete(s, label.strip())
                       for s, label in zip(spectra, args.labels.split(","))]
         else:
             labels = legend_labels(spectra)
-        figure = render(spectra, labels, args)
-        save_atomically(figure, args.out)
+        figure = render(spectra, labels, args, fine)
+        save_atomically(figure, args.out, args.dpi)
     except InputError as error:
         print(f"plot_spectra: {error}", file=sys.stderr)
         return 2

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages slidespec needs (only those missing), then configures and
 # builds into build/. Idempotent: with everything in place it only runs an incremental build.
+# Also makes the Python module importable by /usr/bin/python3 (docs/python.md).
 # Extra CMake options: SLIDESPEC_CMAKE_ARGS="-DSLIDESPEC_BUILD_BENCHMARKS=OFF" tools/setup.sh
 # The MPI build (OpenMPI, into build-mpi/, the executable only): SLIDESPEC_MPI=ON tools/setup.sh
 set -euo pipefail
@@ -8,8 +9,9 @@ cd "$(dirname "$0")/.."
 
 packages=(cmake ninja-build g++ pkg-config git
           libeigen3-dev libxsimd-dev libfftw3-dev librandom123-dev
-          libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
-          python3 python3-numpy python3-matplotlib)
+          libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev zlib1g-dev
+          python3 python3-numpy python3-matplotlib
+          python3-dev pybind11-dev python3-tqdm python3-pytest)
 mpi=${SLIDESPEC_MPI:-OFF}
 [ "$mpi" = "ON" ] && packages+=(libopenmpi-dev openmpi-bin)
 missing=()
@@ -43,3 +45,19 @@ else
   cmake -S . -B "$build" "${cmake_args[@]}" > /dev/null
 fi
 cmake --build "$build" -j"$(nproc)" "${targets[@]}" >&2
+
+# import slidespec for /usr/bin/python3 from any directory: a slidespec.pth naming
+# build/python in its site directory (the system's as root, else the user's), so a rebuild
+# needs no reinstall (docs/python.md).
+if [ "$mpi" != "ON" ] && [ -d "$build/python/slidespec" ]; then
+  if [ "$(id -u)" -eq 0 ]; then
+    site=$(/usr/bin/python3 -c 'import site; print(site.getsitepackages()[0])')
+  else
+    site=$(/usr/bin/python3 -m site --user-site)
+  fi
+  line="$PWD/$build/python"
+  if [ "$(cat "$site/slidespec.pth" 2>/dev/null)" != "$line" ]; then
+    mkdir -p "$site" && echo "$line" > "$site/slidespec.pth"
+    echo "setup: /usr/bin/python3 imports slidespec from $line (via $site/slidespec.pth)" >&2
+  fi
+fi

@@ -6,7 +6,9 @@
 
 #include <cstdint>
 #include <iosfwd>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "slidespec/estimator.hpp"
@@ -15,20 +17,26 @@
 namespace slidespec {
 
 /// Unit of a record's displacement column.
-enum class LengthUnit { m, mm, um };
+enum class LengthUnit { m, mm, um, nm };
 
-/// Parses m|mm|um; throws InputError.
-LengthUnit parse_length_unit(const std::string& name);
+/// Parses m|mm|um|nm (µm and μm for um); throws InputError naming `option`.
+LengthUnit parse_length_unit(const std::string& name, const std::string& option = "--units");
+/// A length such as "0.5", "0.5um" or "5e-7 m" in metres; a bare number is in
+/// `bare_unit`. Throws InputError naming `option` when it is not a finite length >= 0.
+double parse_length(const std::string& text, LengthUnit bare_unit, const std::string& option);
 const char* to_string(LengthUnit unit);
 /// Metres in one `unit`.
 double metres_per(LengthUnit unit);
 
 /// How to read a record. Without a header line, columns are named by number ("1", "2", ...).
+/// A header name may carry its unit: `t_s`, `time (s)`, `t [ms]`, `x_m`, `x (mm)`,
+/// `position [um]`, or the unit alone (`nm`).
 struct RecordFormat {
-  std::string column;         ///< displacement column; empty: "x", else the only non-time column
-  std::string time_column;    ///< empty: a column named t or time (any case), or column 1 of 2
+  std::string column;         ///< displacement column; empty: x, position, displacement or
+                              ///< distance (with or without a unit), else the only non-time column
+  std::string time_column;    ///< empty: a column named t or time (any case, any time unit), or column 1 of 2
   double dt = 0;              ///< > 0: fixed sampling interval [s], no time column is read
-  LengthUnit unit = LengthUnit::m;
+  std::optional<LengthUnit> unit;  ///< overrides the header's unit; neither: metres
   double time_tolerance = 0.01;  ///< largest |interval - dt| / dt accepted [-]
 };
 
@@ -38,6 +46,8 @@ struct Record {
   double dt = 0;                     ///< sampling interval [s]
   double start_time = 0;             ///< t_0 [s]
   std::string column;                ///< the displacement column read
+  LengthUnit unit = LengthUnit::m;   ///< the unit the displacement column was read in
+  std::string unit_source;           ///< "--units", "header" or "default"
 };
 
 /// Reads CSV, TSV or whitespace-separated text: '#' comments, blank lines, an optional
@@ -45,8 +55,14 @@ struct Record {
 /// that is not a finite number, a wrong field count, non-increasing time, a gap or jitter
 /// beyond `time_tolerance`, or fewer than two samples.
 Record read_record(std::istream& in, const std::string& source, const RecordFormat& format);
-/// The same from a file; a file that cannot be opened is an InputError.
+/// The same from a file ("-": standard input); a file that cannot be opened is an InputError.
 Record read_record_file(const std::string& path, const RecordFormat& format);
+
+/// A record given as numbers: x in `format.unit` at times `time` [s] (empty: every
+/// format.dt). Checked as read_record checks a file (finite values, uniform increasing
+/// time), naming `source` and the sample (from 0) in the InputError.
+Record record_from_samples(const std::vector<double>& time, const std::vector<double>& x,
+                           const RecordFormat& format, const std::string& source = "record");
 
 /// The mean sliding motion x = x_0 + v (t - t_0), fitted by least squares.
 struct SlidingFit {
@@ -104,7 +120,7 @@ struct RecordSpectrum {
 };
 
 /// Fits and removes v t, then estimates C_x(omega) with the SpectrumEstimator (one lane,
-/// the conventions of MODEL.md section 3). Throws InputError when the record is too short
+/// the conventions of docs/model.md §3). Throws InputError when the record is too short
 /// for a single point or the band does not fit the sampling.
 RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& request);
 
@@ -117,7 +133,7 @@ struct SlopeFit {
   double slope_error = 0;                ///< standard error, scaled up by sqrt(chi2/dof) when > 1
   double chi2_per_dof = 0;
   double amplitude = 0;                  ///< C_x at omega = 1 rad/s on the fitted line [m^2 s]
-  /// Exponent of the force spectrum M^2 omega^4 C_x (MODEL.md section 5): slope + 4.
+  /// Exponent of the force spectrum M^2 omega^4 C_x (docs/model.md §5): slope + 4.
   double force_slope() const { return slope + 4; }
   bool reaches_floor = false;            ///< a point of the band is beyond the usable band
 };
@@ -138,6 +154,11 @@ struct AlphaFit {
 /// The model's spectrum at `params` (its own alpha) seen through the estimator, one value
 /// per point of `spectrum` [m^2 s], without the floor.
 std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Parameters& params);
+
+/// The band of an alpha fit when none is given: where the data are usable and the model's
+/// Eq. (1) omega^-4 holds (5 v/a to omega_c/3), the band the paper's Fig. 6 compares.
+/// Throws InputError when the two do not overlap.
+std::pair<double, double> default_alpha_band(const RecordSpectrum& spectrum, const Parameters& params);
 
 /// Weighted least squares for alpha^2 over the points in [omega_low, omega_high]; the
 /// alpha of `params` is ignored. Throws InputError when the band holds no point.

@@ -1,6 +1,6 @@
 // Streaming spectrum estimator: many lanes (one realization each) of a sampled process
-// in, C(omega) on a log-spaced axis out, by the convention of docs/model.md (MODEL.md
-// section 3): two-sided, angular frequency, integral over all omega = variance.
+// in, C(omega) on a log-spaced axis out, by the convention of docs/model.md §3:
+// two-sided, angular frequency, integral over all omega = variance.
 //
 // Memory is independent of the stream's length: the estimator keeps one segment buffer
 // per lane per band and additive accumulators, never the trajectory.
@@ -12,6 +12,8 @@
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "slidespec/simd.hpp"
 
 namespace slidespec {
 
@@ -105,8 +107,10 @@ class SpectrumAccumulator {
 
 class SpectrumEstimator {
  public:
-  /// Throws InputError when the configuration cannot work (dt <= 0, band outside Nyquist).
-  SpectrumEstimator(const EstimatorConfig& config, int lanes);
+  /// Throws InputError when the configuration cannot work (dt <= 0, band outside Nyquist)
+  /// or this CPU cannot run `simd`. Every path gives bitwise the same statistics;
+  /// `automatic` takes the widest path no wider than `lanes`.
+  SpectrumEstimator(const EstimatorConfig& config, int lanes, SimdPath simd = SimdPath::automatic);
   ~SpectrumEstimator();
   SpectrumEstimator(SpectrumEstimator&&) noexcept;
   SpectrumEstimator& operator=(SpectrumEstimator&&) noexcept;
@@ -133,7 +137,7 @@ class SpectrumEstimator {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Derived columns of MODEL.md section 5 for a displacement spectrum C_x.
+/// Derived columns of docs/model.md §3 for a displacement spectrum C_x.
 inline double velocity_spectrum(double omega, double C_x) { return omega * omega * C_x; }
 inline double force_spectrum(double omega, double C_x, double block_mass) {
   return block_mass * block_mass * omega * omega * omega * omega * C_x;

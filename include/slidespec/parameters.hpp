@@ -1,4 +1,4 @@
-// Model parameters, the named cases of MODEL.md section 2, and their validation.
+// Model parameters, the named cases of docs/model.md §2, and their validation.
 #pragma once
 
 #include <stdexcept>
@@ -21,7 +21,7 @@ enum class Renewal { poisson, periodic };
 const char* to_string(ChainEnds chain);
 const char* to_string(Renewal renewal);
 
-/// One level of blocks on blocks (MODEL.md section 6, docs/hierarchy.md): every block of
+/// One level of blocks on blocks (docs/model.md §6, docs/hierarchy.md): every block of
 /// the level above carries N of these on springs, chained to their siblings.
 struct Level {
   int N = 10;             ///< blocks per parent
@@ -34,8 +34,8 @@ struct Level {
   ChainEnds chain = ChainEnds::open;
 };
 
-/// The spring-block model of MODEL.md section 1 in SI units, optionally with deeper levels
-/// of blocks on blocks (section 6). The flat fields N, m, k0, ... are level 1.
+/// The spring-block model of docs/model.md §1 in SI units, optionally with deeper levels
+/// of blocks on blocks (§6). The flat fields N, m, k0, ... are level 1.
 /// Exactly one of `v` and `eta1` is an input; the other is derived from
 /// v = (F_drive - F_kin) / (eta1 * sum of the touching blocks' masses), which is
 /// v = (F_drive - F_kin) / (N m eta1) for one level. Use ParameterBuilder to get a consistent set.
@@ -79,7 +79,7 @@ struct Parameters {
   double mean_miniblock_offset() const { return -F_drive / (N * k0); }
 };
 
-/// Landmarks of MODEL.md section 4 that follow from the parameters. For a tree the force
+/// Landmarks of docs/model.md §4 that follow from the parameters. For a tree the force
 /// terms are summed over the touching levels (docs/hierarchy.md); omega_c stays the
 /// block's resonance against the level-1 blocks.
 struct Landmarks {
@@ -89,7 +89,7 @@ struct Landmarks {
   double eq1_prefactor;      ///< C_x ~ prefactor / omega^4 for v/a << omega << omega_c [m^2 rad^4/s^3]
   double coupling_eps;       ///< eps = alpha F_kin / ((F_drive-F_kin) sqrt(6 N)) [-]
   bool forces_can_stall;     ///< alpha F_kin >= 2 (F_drive - F_kin)
-  /// True when MODEL.md section 4 says the first-order theory may not hold.
+  /// True when docs/model.md §4.1 says the first-order theory may not hold.
   bool outside_first_order() const { return coupling_eps > 0.3 || forces_can_stall; }
 };
 
@@ -99,7 +99,7 @@ Landmarks landmarks(const Parameters& p);
 /// [N^2]: 2 s2_l per mark passed, a mark every a_l on each contact of each touching level.
 double expected_jump_energy(const Parameters& p, double distance);
 
-/// A named case of MODEL.md section 2: the reference case with some keys changed.
+/// A named case of docs/model.md §2: the reference case with some keys changed.
 struct Case {
   std::string name;
   std::string description;
@@ -122,7 +122,7 @@ class ParameterBuilder {
   ParameterBuilder& set(const std::string& assignment);
   ParameterBuilder& set(const std::string& key, const std::string& value);
 
-  /// Derives eta1 or v and checks every rule of MODEL.md; throws InputError.
+  /// Derives eta1 or v and checks every rule of docs/model.md §1-2; throws InputError.
   Parameters build() const;
 
  private:

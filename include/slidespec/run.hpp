@@ -27,7 +27,13 @@ struct RunRequest {
   std::uint64_t seed = 1;
   int threads = 0;                 ///< 0 = all cores
   SimdPath simd = SimdPath::automatic;
+  /// Most work the run may plan up front, in realization-steps (a step of a model with more
+  /// than 100 blocks counts blocks/100 times); 0 = kDefaultWorkBudget. Changes no number.
+  double work_budget = 0;
 };
+
+/// About an hour on two cores: a plan beyond it is refused unless the budget is raised.
+constexpr double kDefaultWorkBudget = 1e11;
 
 /// One sub-run: a stretch of the band simulated with its own time step.
 struct SubBand {
@@ -75,9 +81,17 @@ struct RunResult {
   SimdPath simd_path = SimdPath::scalar;
   int threads = 1;
   bool complete = false;            ///< false when interrupted or out of budget
+  /// False when the realizations are not one stationary process (the block stalled: a
+  /// sub-band's mean sliding speed far from v); then no spectrum exists (docs/model.md).
+  bool stationary = true;
+  std::string stationarity;         ///< why not, when not stationary
 };
 
 /// Progress of a run, for a progress bar: fraction of the planned work and a message.
+/// It is called from the run's worker threads, not the caller's, and often (every block
+/// of steps); the run makes the calls one at a time, so the callback needs no lock of its
+/// own, but workers wait while it runs: keep it short. The fraction steps back when a
+/// sub-band plans another round.
 using ProgressCallback = std::function<void(double fraction, const std::string& what)>;
 
 /// How a run is spread over processes (MPI ranks): each runs a share of every chunk of
@@ -150,6 +164,15 @@ class RunSession {
 /// thread count or SIMD path.
 RunResult run_spectrum(const Parameters& params, const RunRequest& request,
                        const ProgressCallback& progress = {}, const std::atomic<bool>* stop = nullptr);
+
+/// Checks a request against its parameters before any work: every field in range, every
+/// derived step count and sub-band finite and representable, and the planned work within
+/// the budget. Throws InputError naming the option (e.g. "--duration: ...").
+void validate_request(const Parameters& params, const RunRequest& request);
+
+/// The work a request plans before its first result, in the unit of `work_budget`: the
+/// first round of every sub-band (all of it for a fixed realization count).
+double planned_first_round_work(const Parameters& params, const RunRequest& request);
 
 /// The sub-runs a request is split into: about a decade each, with the time step set by
 /// the sub-band's top frequency (and the renewal rate), not by the model's stiffness.

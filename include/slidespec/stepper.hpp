@@ -11,21 +11,9 @@
 #include <vector>
 
 #include "slidespec/parameters.hpp"
+#include "slidespec/simd.hpp"
 
 namespace slidespec {
-
-/// Instruction-set paths of the stepper. All give bitwise the same numbers.
-enum class SimdPath { automatic, scalar, sse2, avx2, avx512 };
-
-const char* to_string(SimdPath path);
-/// Parses scalar|sse2|avx2|avx512|auto; throws InputError.
-SimdPath parse_simd_path(const std::string& name);
-/// The paths this CPU can run, narrowest first (scalar is always there).
-std::vector<SimdPath> available_simd_paths();
-/// `automatic` becomes the widest available path; an unavailable path is an InputError.
-SimdPath resolve_simd_path(SimdPath requested);
-/// Realizations advanced together by one kernel call on `path`.
-int lane_width(SimdPath path);
 
 struct StepperConfig {
   double dt = 1e-5;             ///< time step [s]; the discretization is exact for any dt

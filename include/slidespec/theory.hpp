@@ -1,4 +1,4 @@
-// The exact first-order (linear-response) spectrum of MODEL.md section 4.
+// The exact first-order (linear-response) spectrum of docs/model.md §4.
 #pragma once
 
 #include <memory>
@@ -73,7 +73,7 @@ namespace slidespec {
 /// The block's long-time motion: mean speed and diffusion constant, from the quasi-static
 /// block (dx/dt = v (1 - G(x) / (F_drive - F_kin)), G the total random force as a process
 /// in sliding distance), which is exact below v/a and the block's own rates
-/// (docs/model.md section 7). Below v/a, C_x(omega) -> diffusion / (pi omega^2).
+/// (docs/model.md §7). Below v/a, C_x(omega) -> diffusion / (pi omega^2).
 struct LongTimeMotion {
   double mean_speed;  ///< V [m/s]: v / <1/u>, u = 1 - G/(F_drive - F_kin), over distance
   double diffusion;   ///< D = lim Var x(t) / 2t [m^2/s]
@@ -92,7 +92,7 @@ enum class MotionTheory {
 LongTimeMotion long_time_motion(const Parameters& p, MotionTheory theory);
 
 /// C_x(omega) to second order in eps for poisson renewal on one touching level
-/// (docs/model.md section 7): the first-order C_x times the ratio of the second- to the
+/// (docs/model.md §7): the first-order C_x times the ratio of the second- to the
 /// first-order force spectrum seen in time, from the quasi-static block's renewal times.
 /// The ratio tends to D / D_1 (second order) as omega -> 0 and to 1 / (1 + eps^2/2) above
 /// v/a. Throws InputError for periodic renewal or several touching levels.

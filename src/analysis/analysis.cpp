@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "io/tables.hpp"
 #include "slidespec/analysis.hpp"
 #include "slidespec/theory.hpp"
 
@@ -156,7 +157,7 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
     throw InputError("the record (" + std::to_string(result.samples) +
                      " samples) is too short for a spectrum point in the band: the lowest point needs 12 "
                      "segments; record longer or raise --omega-min");
-  // White noise of variance q^2/12 (+ sigma^2) per sample (MODEL.md 3: C = s^2 dt / 2 pi),
+  // White noise of variance q^2/12 (+ sigma^2) per sample (docs/model.md §3: C = s^2 dt / 2 pi),
   // through the same bins and window as the estimate so that the two compare point by point.
   const double white =
       (result.quantization_variance + result.sensor_noise_variance) * record.dt / (2 * std::numbers::pi);
@@ -207,6 +208,16 @@ SlopeFit fit_slope(const RecordSpectrum& spectrum, double omega_low, double omeg
   fit.slope_error = inflated(std::sqrt(line.b_variance), fit.chi2_per_dof);
   fit.amplitude = std::exp(line.a);
   return fit;
+}
+
+std::pair<double, double> default_alpha_band(const RecordSpectrum& s, const Parameters& p) {
+  const Landmarks l = landmarks(p);
+  const double low = std::max(s.usable_low, 5 * l.renewal_rate);
+  const double high = std::min(s.usable_high, l.omega_c / 3);
+  if (!(high > low))
+    throw InputError("--fit alpha: the usable band " + io::format_number(s.usable_low) + " .. " +
+                     io::format_number(s.usable_high) + " rad/s misses the model's omega^-4 band; give --fit-band LO HI");
+  return {low, high};
 }
 
 std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Parameters& params) {

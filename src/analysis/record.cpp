@@ -6,18 +6,51 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iostream>
 #include <istream>
 #include <sstream>
 
+#include "io/suggest.hpp"
 #include "slidespec/analysis.hpp"
 
 namespace slidespec {
 
-LengthUnit parse_length_unit(const std::string& name) {
+namespace {
+
+std::optional<LengthUnit> length_unit(const std::string& name) {
   if (name == "m") return LengthUnit::m;
   if (name == "mm") return LengthUnit::mm;
-  if (name == "um") return LengthUnit::um;
-  throw InputError("--units: unknown unit '" + name + "' (known: m, mm, um)");
+  if (name == "um" || name == "\u00b5m" || name == "\u03bcm") return LengthUnit::um;
+  if (name == "nm") return LengthUnit::nm;
+  return std::nullopt;
+}
+
+/// Seconds in one time unit of a header (t_ms, time (us)), or 0 when not a time unit.
+double seconds_per(const std::string& name) {
+  if (name == "s") return 1;
+  if (name == "ms") return 1e-3;
+  if (name == "us" || name == "\u00b5s" || name == "\u03bcs") return 1e-6;
+  return 0;
+}
+
+}  // namespace
+
+LengthUnit parse_length_unit(const std::string& name, const std::string& option) {
+  if (const auto unit = length_unit(name)) return *unit;
+  throw InputError(option + ": unknown unit '" + name + "'" + io::did_you_mean(name, {"m", "mm", "um", "nm"}) +
+                   " (known: m, mm, um, nm)");
+}
+
+double parse_length(const std::string& text, LengthUnit bare_unit, const std::string& option) {
+  double value = 0;
+  const char* begin = text.data();
+  const char* end = text.data() + text.size();
+  const auto [stop, error] = std::from_chars(begin, end, value);
+  std::string unit_name(stop, end);
+  unit_name.erase(0, unit_name.find_first_not_of(' '));
+  if (error != std::errc() || stop == begin || !std::isfinite(value) || value < 0)
+    throw InputError(option + ": '" + text + "' is not a length >= 0 (e.g. 0.5, in the record's unit, or 0.5um)");
+  return value * metres_per(unit_name.empty() ? bare_unit : parse_length_unit(unit_name, option));
 }
 
 const char* to_string(LengthUnit unit) {
@@ -25,6 +58,7 @@ const char* to_string(LengthUnit unit) {
     case LengthUnit::m: return "m";
     case LengthUnit::mm: return "mm";
     case LengthUnit::um: return "um";
+    case LengthUnit::nm: return "nm";
   }
   return "?";
 }
@@ -34,6 +68,7 @@ double metres_per(LengthUnit unit) {
     case LengthUnit::m: return 1.0;
     case LengthUnit::mm: return 1e-3;
     case LengthUnit::um: return 1e-6;
+    case LengthUnit::nm: return 1e-9;
   }
   return 1.0;
 }
@@ -88,6 +123,48 @@ std::string column_list(const std::vector<std::string>& names) {
   return list;
 }
 
+/// A header name and the unit it carries: "time (s)", "t [ms]", "x_mm", "position [um]";
+/// a name that is a length unit alone ("nm") has an empty base.
+struct ColumnName {
+  std::string base, unit;
+};
+
+ColumnName split_unit(const std::string& name) {
+  const std::string n = lower(trim(name));
+  auto known = [](const std::string& u) { return length_unit(u).has_value() || seconds_per(u) > 0; };
+  if (known(n)) return {"", n};
+  for (const auto& [open, close] : {std::pair{'(', ')'}, std::pair{'[', ']'}}) {
+    const auto start = n.rfind(open);
+    if (start != std::string::npos && !n.empty() && n.back() == close) {
+      const std::string unit = trim(n.substr(start + 1, n.size() - start - 2));
+      if (known(unit)) return {trim(n.substr(0, start)), unit};
+    }
+  }
+  for (const char separator : {'_', '/'}) {
+    const auto at = n.rfind(separator);
+    if (at != std::string::npos && at > 0 && known(n.substr(at + 1))) return {n.substr(0, at), n.substr(at + 1)};
+  }
+  return {n, ""};
+}
+
+bool is_time_name(const ColumnName& c) { return (c.base == "t" || c.base == "time") && (c.unit.empty() || seconds_per(c.unit) > 0); }
+
+bool is_displacement_name(const ColumnName& c) {
+  static const std::vector<std::string> bases = {"x", "pos", "position", "displacement", "distance", "sliding distance"};
+  const bool unit_ok = c.unit.empty() || length_unit(c.unit).has_value();
+  return unit_ok && (std::find(bases.begin(), bases.end(), c.base) != bases.end() || (c.base.empty() && !c.unit.empty()));
+}
+
+/// "0,001;2,5" or "0,001<TAB>2,5": numbers written with a decimal comma.
+bool looks_like_decimal_commas(const std::string& line) {
+  if (line.find(';') == std::string::npos && line.find('\t') == std::string::npos) return false;
+  for (std::size_t k = 1; k + 1 < line.size(); ++k)
+    if (line[k] == ',' && std::isdigit(static_cast<unsigned char>(line[k - 1])) &&
+        std::isdigit(static_cast<unsigned char>(line[k + 1])))
+      return true;
+  return false;
+}
+
 class RecordReader {
  public:
   RecordReader(const std::string& source, const RecordFormat& format) : source_(source), format_(format) {}
@@ -95,6 +172,8 @@ class RecordReader {
   Record read(std::istream& in) {
     std::string line;
     for (int line_number = 1; std::getline(in, line); ++line_number) {
+      if (line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
+      raw_line_ = line;
       const auto comment = line.find('#');
       if (comment != std::string::npos) line.erase(comment);
       line = trim(line);
@@ -111,9 +190,35 @@ class RecordReader {
     return record_;
   }
 
+  /// Samples given as numbers (t empty: format.dt), checked as lines of a file are.
+  Record from_samples(const std::vector<double>& time, const std::vector<double>& x) {
+    place_ = "sample";
+    names_ = {"t", "x"};
+    record_.column = names_[1];
+    if (!time.empty() && time.size() != x.size())
+      throw InputError(source_ + ": " + std::to_string(time.size()) + " times for " + std::to_string(x.size()) +
+                       " samples");
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      const int sample = static_cast<int>(k);
+      if (!std::isfinite(x[k])) fail(sample, "x is not a finite number");
+      if (!time.empty()) {
+        if (!std::isfinite(time[k])) fail(sample, "t is not a finite number");
+        take_time(time[k], sample);
+      }
+      record_.displacement.push_back(x[k] * metres_per(format_.unit.value_or(LengthUnit::m)));
+    }
+    if (x.size() < 2) throw InputError(source_ + ": a spectrum needs a record of many samples, not " +
+                                       std::to_string(x.size()));
+    record_.dt = time.empty() ? format_.dt : (last_time_ - record_.start_time) / static_cast<double>(x.size() - 1);
+    return record_;
+  }
+
  private:
-  [[noreturn]] void fail(int line_number, const std::string& what) const {
-    throw InputError(source_ + ": line " + std::to_string(line_number) + ": " + what);
+  [[noreturn]] void fail(int where, const std::string& what) const {
+    const std::string hint = looks_like_decimal_commas(raw_line_)
+                                 ? " (decimal commas? write numbers with a point, e.g. sed 's/,/./g')"
+                                 : "";
+    throw InputError(source_ + ": " + place_ + " " + std::to_string(where) + ": " + what + hint);
   }
 
   void take_line(const std::vector<std::string>& fields, int line_number) {
@@ -127,8 +232,8 @@ class RecordReader {
     if (fields.size() != names_.size())
       fail(line_number, std::to_string(fields.size()) + " fields, expected " + std::to_string(names_.size()) +
                             " (" + column_list(names_) + ")");
-    const double x = number(fields, x_index_, line_number) * metres_per(format_.unit);
-    if (time_index_ >= 0) take_time(number(fields, time_index_, line_number), line_number);
+    const double x = number(fields, x_index_, line_number) * metres_per(record_.unit);
+    if (time_index_ >= 0) take_time(number(fields, time_index_, line_number) * seconds_per_time_, line_number);
     record_.displacement.push_back(x);
     last_line_ = line_number;
   }
@@ -157,7 +262,7 @@ class RecordReader {
         time_index_ = find_column(format_.time_column, "--time-column", line_number);
       } else {
         for (int k = 0; k < count && time_index_ < 0; ++k)
-          if (const std::string n = lower(names_[k]); n == "t" || n == "time") time_index_ = k;
+          if (is_time_name(split_unit(names_[k]))) time_index_ = k;
         if (time_index_ < 0 && count == 2 && names_[0] == "1") time_index_ = 0;
         if (time_index_ < 0)
           fail(line_number, "no time column (columns: " + column_list(names_) +
@@ -167,13 +272,28 @@ class RecordReader {
     if (!format_.column.empty()) {
       x_index_ = find_column(format_.column, "--column", line_number);
     } else {
-      const auto x = std::find(names_.begin(), names_.end(), "x");
-      if (x != names_.end()) x_index_ = static_cast<int>(x - names_.begin());
-      else if (count - (time_index_ >= 0 ? 1 : 0) == 1) x_index_ = time_index_ == 0 ? 1 : 0;
-      else fail(line_number, "which column is the displacement? give --column (columns: " + column_list(names_) + ")");
+      for (int k = 0; k < count && x_index_ < 0; ++k)
+        if (k != time_index_ && is_displacement_name(split_unit(names_[k]))) x_index_ = k;
+      if (x_index_ < 0 && count - (time_index_ >= 0 ? 1 : 0) == 1) x_index_ = time_index_ == 0 ? 1 : 0;
+      if (x_index_ < 0) fail(line_number, "which column is the displacement? give --column (columns: " + column_list(names_) + ")");
     }
     if (x_index_ == time_index_) fail(line_number, "the displacement column is the time column");
     record_.column = names_[static_cast<std::size_t>(x_index_)];
+    if (time_index_ >= 0) {
+      const std::string unit = split_unit(names_[static_cast<std::size_t>(time_index_)]).unit;
+      if (seconds_per(unit) > 0) seconds_per_time_ = seconds_per(unit);
+    }
+    const std::string header_unit = split_unit(record_.column).unit;
+    if (format_.unit) {
+      record_.unit = *format_.unit;
+      record_.unit_source = "--units";
+    } else if (const auto unit = length_unit(header_unit)) {
+      record_.unit = *unit;
+      record_.unit_source = "header";
+    } else {
+      record_.unit = LengthUnit::m;
+      record_.unit_source = "default";
+    }
   }
 
   // Uniform sampling is what a spectrum of samples assumes: a missing sample (a gap) or
@@ -207,24 +327,39 @@ class RecordReader {
   }
 
   std::string source_;
+  std::string place_ = "line";
   RecordFormat format_;
   std::vector<std::string> names_;
   int time_index_ = -1, x_index_ = -1;
   int last_line_ = 0;
   double last_time_ = 0, first_interval_ = 0;
+  double seconds_per_time_ = 1;
+  std::string raw_line_;
   Record record_;
 };
+
+void check_format(const RecordFormat& format) {
+  if (format.dt < 0 || !std::isfinite(format.dt)) throw InputError("--dt: must be a positive number of seconds");
+  if (!(format.time_tolerance > 0 && format.time_tolerance < 0.5))
+    throw InputError("time tolerance must be between 0 and 0.5");
+}
 
 }  // namespace
 
 Record read_record(std::istream& in, const std::string& source, const RecordFormat& format) {
-  if (format.dt < 0 || !std::isfinite(format.dt)) throw InputError("--dt: must be a positive number of seconds");
-  if (!(format.time_tolerance > 0 && format.time_tolerance < 0.5))
-    throw InputError("time tolerance must be between 0 and 0.5");
+  check_format(format);
   return RecordReader(source, format).read(in);
 }
 
+Record record_from_samples(const std::vector<double>& time, const std::vector<double>& x,
+                           const RecordFormat& format, const std::string& source) {
+  check_format(format);
+  if (time.empty() && !(format.dt > 0)) throw InputError(source + ": give the sample times or a positive dt");
+  return RecordReader(source, format).from_samples(time, x);
+}
+
 Record read_record_file(const std::string& path, const RecordFormat& format) {
+  if (path == "-") return read_record(std::cin, "stdin", format);
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open");
   return read_record(in, path, format);

@@ -37,7 +37,7 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
   config.dt = sensor.sample_interval;
   config.seed = sensor.seed;
   Stepper stepper(params, config, 0, 1);
-  Record record{.displacement = {}, .dt = sensor.sample_interval, .start_time = 0, .column = "x"};
+  Record record{.displacement = {}, .dt = sensor.sample_interval, .start_time = 0, .column = "x", .unit = LengthUnit::m, .unit_source = "synthesized"};
   record.displacement.reserve(static_cast<std::size_t>(samples));
   record.displacement.push_back(0.0);
   double xi = 0;
@@ -63,7 +63,7 @@ std::string record_csv(const Record& record, LengthUnit unit, const std::string&
   std::ostringstream out;
   std::istringstream lines(comments);
   for (std::string line; std::getline(lines, line);) out << "# " << line << "\n";
-  out << "t,x\n";
+  out << "t (s),x (" << to_string(unit) << ")\n";  // units in the header: analyze reads them
   const double scale = 1 / metres_per(unit);
   char text[64];
   for (std::size_t n = 0; n < record.displacement.size(); ++n) {

@@ -1,6 +1,8 @@
 #include "cli/analyze.hpp"
 
 #include <cmath>
+#include <filesystem>
+#include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -16,7 +18,8 @@ struct AnalysisCommands::Options {
   // analyze
   std::string file;
   RecordFormat format;
-  std::string units = "m";
+  std::string units;                  // empty: from the header, else m
+  std::string resolution, sensor_noise;  // lengths, in the record's unit or with their own
   AnalysisRequest request;
   std::vector<double> slope_band;  // LO HI [rad/s]
   std::string compare_case;
@@ -26,11 +29,14 @@ struct AnalysisCommands::Options {
   double normal_mass = 0, driving_mass = 0;
   std::string out = "analysis";
   bool quiet = false, no_plot = false;
+  FigureStyle figure;
+  std::string title;
   // synth
   std::string synth_case = "reference";
   std::vector<std::string> synth_overrides;
   SensorRequest sensor;
   std::string synth_units = "um";
+  std::string unit_source;  // where analyze took the record's unit from
   std::string synth_out = "record";
 };
 
@@ -40,6 +46,44 @@ using Options = AnalysisCommands::Options;
 
 // Below this share of the white floor at the top of the band, the floor line misleads.
 constexpr double kWhiteFloorShortfall = 0.5;
+// Faster than any friction experiment the model describes: the unit is the likely cause.
+constexpr double kImplausibleSpeed = 1.0;  // [m/s]
+// Exit status of a command whose outputs are written but do not hold what they claim.
+constexpr int kFitFailedStatus = 3;
+
+/// Whether a fit describes the data: chi2/dof within a few standard deviations of 1
+/// (chi2/dof has sd sqrt(2/dof)), at least 3 allowed for correlated neighbours; and an
+/// alpha that keeps the model inside its first-order theory (docs/model.md §4.1).
+struct Verdict {
+  bool ok = true;
+  std::string reason;
+};
+
+std::string short_number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
+}
+
+Verdict judge_chi2(double chi2_per_dof, int dof) {
+  const double allowed = std::max(3.0, 1 + 5 * std::sqrt(2.0 / std::max(dof, 1)));
+  if (chi2_per_dof <= allowed) return {};
+  return {false, "chi2/dof " + short_number(chi2_per_dof) + " > " + short_number(allowed) +
+                     ": the fitted curve does not describe the data in the band"};
+}
+
+Verdict judge_alpha(const AlphaFit& fit, const Parameters& fitted) {
+  Verdict verdict = judge_chi2(fit.chi2_per_dof, fit.points - 1);
+  const Landmarks l = landmarks(fitted);
+  std::string outside;
+  if (l.forces_can_stall) outside = "alpha F_kin >= 2 (F_drive - F_kin): the forces can stall the block";
+  else if (l.coupling_eps > 0.3) outside = "coupling eps = " + short_number(l.coupling_eps) + " > 0.3";
+  if (!outside.empty()) {
+    verdict.reason += (verdict.ok ? "" : "; ") + outside + ", outside the first-order theory (docs/model.md §4.1)";
+    verdict.ok = false;
+  }
+  return verdict;
+}
 
 Parameters build_parameters(const std::string& case_name, const std::vector<std::string>& overrides) {
   ParameterBuilder builder(case_name);
@@ -55,7 +99,9 @@ struct Findings {
   std::optional<SlopeFit> slope;
   std::optional<Parameters> model;    // the compared case, at the fitted alpha if fitted
   std::optional<AlphaFit> alpha;
+  Verdict slope_verdict, alpha_verdict;
   std::vector<double> model_values;   // model seen through the estimator, per point
+  bool ok() const { return slope_verdict.ok && alpha_verdict.ok; }
 };
 
 std::string analysis_table(const Options& o, const RecordSpectrum& s, const Findings& f) {
@@ -64,6 +110,9 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
   else out << "# slidespec " << SLIDESPEC_VERSION << "\n";
   const SlidingFit& v = s.sliding;
   out << "# label = measured: " << o.file << " (column " << o.format.column << ")\n"
+      << "# units = " << to_string(o.format.unit.value_or(LengthUnit::m)) << "  # of the displacement column, from "
+      << o.unit_source << "\n"
+      << "# ok = " << (f.ok() ? "true" : "false") << "  # false: a fit failed (see its line)\n"
       << "# record = " << o.file << "\n# samples = " << s.samples << "\n# dt = " << number(s.dt) << "  # [s]\n"
       << "# duration = " << number(s.duration) << "  # [s]\n"
       << "# measured_mean_speed = " << number(v.v) << "  # [m/s] +- " << number(v.v_error) << " (from "
@@ -79,18 +128,20 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
     out << "# slope = " << number(f.slope->slope) << "  # +- " << number(f.slope->slope_error) << ", C_x ~ omega^slope over "
         << number(f.slope->omega_low) << " .. " << number(f.slope->omega_high) << " rad/s, " << f.slope->points
         << " points, chi2/dof " << number(f.slope->chi2_per_dof) << "\n"
+        << "# slope_fit_ok = " << (f.slope_verdict.ok ? "true" : "false  # " + f.slope_verdict.reason) << "\n"
         << "# force_slope = " << number(f.slope->force_slope()) << "  # +- " << number(f.slope->slope_error)
         << ", M^2 omega^4 C_x ~ omega^force_slope\n";
   if (f.alpha)
     out << "# fitted_alpha = " << number(f.alpha->alpha) << "  # +- " << number(f.alpha->alpha_error) << " over "
         << number(f.alpha->omega_low) << " .. " << number(f.alpha->omega_high) << " rad/s, " << f.alpha->points
-        << " points, chi2/dof " << number(f.alpha->chi2_per_dof) << "\n";
+        << " points, chi2/dof " << number(f.alpha->chi2_per_dof) << "\n"
+        << "# alpha_fit_ok = " << (f.alpha_verdict.ok ? "true" : "false  # " + f.alpha_verdict.reason) << "\n";
   out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, mean over the bin's frequencies; stderr [m^2 s] from "
          "the scatter between segments; floor [m^2 s] quantization noise q^2/12 seen through the estimator; "
          "below_floor 1 when C_x < floor + 2 stderr; n_avg; bandwidth [rad/s]; C_v = omega^2 C_x [m^2/s]";
   if (f.slope) out << "; fit [m^2 s] the fitted power law inside its band";
   if (f.model) out << "; theory [m^2 s] the model seen through the estimator (no floor)";
-  out << "\nomega\tC_x\tstderr\tfloor\tbelow_floor\tn_avg\tbandwidth\tC_v" << (f.slope ? "\tfit" : "")
+  out << "\n# omega\tC_x\tstderr\tfloor\tbelow_floor\tn_avg\tbandwidth\tC_v" << (f.slope ? "\tfit" : "")
       << (f.model ? "\ttheory" : "") << "\n";
   for (std::size_t k = 0; k < s.points.size(); ++k) {
     const AnalysisPoint& p = s.points[k];
@@ -110,7 +161,9 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
 std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findings& f) {
   nlohmann::ordered_json doc;
   doc["slidespec_version"] = SLIDESPEC_VERSION;
-  doc["record"] = {{"file", o.file}, {"column", o.format.column}, {"units", o.units},
+  doc["ok"] = f.ok();
+  doc["record"] = {{"file", o.file}, {"column", o.format.column},
+                   {"units", to_string(o.format.unit.value_or(LengthUnit::m))}, {"units_from", o.unit_source},
                    {"samples", s.samples}, {"dt", s.dt}, {"duration", s.duration}};
   doc["measured_mean_speed"] = {{"value", s.sliding.v}, {"standard_error", s.sliding.v_error},
                                 {"blocks", s.sliding.blocks}};
@@ -126,15 +179,17 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
     doc["slope_fit"] = {{"omega_low", f.slope->omega_low}, {"omega_high", f.slope->omega_high},
                         {"points", f.slope->points}, {"slope", f.slope->slope},
                         {"standard_error", f.slope->slope_error}, {"chi2_per_dof", f.slope->chi2_per_dof},
-                        {"force_slope", f.slope->force_slope()}, {"reaches_floor", f.slope->reaches_floor}};
+                        {"force_slope", f.slope->force_slope()}, {"reaches_floor", f.slope->reaches_floor},
+                        {"ok", f.slope_verdict.ok}, {"failure", f.slope_verdict.reason}};
   if (f.model) {
     doc["compare_case"] = o.compare_case;
-    for (const auto& [key, value] : describe(*f.model)) doc["model_parameters"][key] = value;
+    doc["model_parameters"] = io::parameters_json(*f.model);
   }
   if (f.alpha)
     doc["alpha_fit"] = {{"omega_low", f.alpha->omega_low}, {"omega_high", f.alpha->omega_high},
                         {"points", f.alpha->points}, {"alpha", f.alpha->alpha},
-                        {"standard_error", f.alpha->alpha_error}, {"chi2_per_dof", f.alpha->chi2_per_dof}};
+                        {"standard_error", f.alpha->alpha_error}, {"chi2_per_dof", f.alpha->chi2_per_dof},
+                        {"ok", f.alpha_verdict.ok}, {"failure", f.alpha_verdict.reason}};
   for (std::size_t k = 0; k < s.points.size(); ++k) {
     const AnalysisPoint& p = s.points[k];
     nlohmann::ordered_json point = {{"omega", p.omega}, {"C_x", p.C_x}, {"stderr", p.standard_error},
@@ -146,21 +201,10 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
   return doc.dump(2) + "\n";
 }
 
-/// The default band of the alpha fit: where the data are usable and the model's Eq. (1)
-/// omega^-4 holds (5 v/a to omega_c/3), the band the paper's Fig. 6 compares.
-std::pair<double, double> default_fit_band(const RecordSpectrum& s, const Parameters& p) {
-  const Landmarks l = landmarks(p);
-  const double low = std::max(s.usable_low, 5 * l.renewal_rate);
-  const double high = std::min(s.usable_high, l.omega_c / 3);
-  if (!(high > low))
-    throw InputError("--fit alpha: the usable band " + number(s.usable_low) + " .. " + number(s.usable_high) +
-                     " rad/s misses the model's omega^-4 band; give --fit-band LO HI");
-  return {low, high};
-}
-
 int command_analyze(Options o) {
+  o.figure.check();
   io::check_output_prefix(o.out);
-  o.format.unit = parse_length_unit(o.units);
+  if (!o.units.empty()) o.format.unit = parse_length_unit(o.units);
   Findings f;
   if (o.normal_mass > 0 || o.driving_mass > 0) f.mu = friction_coefficient(o.normal_mass, o.driving_mass);
   if (!o.fit.empty() && o.fit != "alpha") throw InputError("--fit: only 'alpha' can be fitted");
@@ -169,25 +213,53 @@ int command_analyze(Options o) {
 
   const Record record = read_record_file(o.file, o.format);
   o.format.column = record.column;
+  o.format.unit = record.unit;
+  o.unit_source = record.unit_source;
+  if (!o.resolution.empty()) o.request.resolution = parse_length(o.resolution, record.unit, "--resolution");
+  if (!o.sensor_noise.empty()) o.request.sensor_noise = parse_length(o.sensor_noise, record.unit, "--sensor-noise");
   const RecordSpectrum s = analyze_record(record, o.request);
-  if (!o.slope_band.empty()) f.slope = fit_slope(s, o.slope_band[0], o.slope_band[1]);
+  if (!o.slope_band.empty()) {
+    f.slope = fit_slope(s, o.slope_band[0], o.slope_band[1]);
+    f.slope_verdict = judge_chi2(f.slope->chi2_per_dof, f.slope->points - 2);
+  }
   if (f.model) {
     if (!o.fit.empty()) {
-      const auto [low, high] = o.fit_band.empty() ? default_fit_band(s, *f.model)
+      const auto [low, high] = o.fit_band.empty() ? default_alpha_band(s, *f.model)
                                                   : std::pair{o.fit_band[0], o.fit_band[1]};
       f.alpha = fit_alpha(s, *f.model, low, high);
       f.model->alpha = f.alpha->alpha;
+      f.alpha_verdict = judge_alpha(*f.alpha, *f.model);
     }
     f.model_values = model_spectrum(s, *f.model);
   }
 
-  io::write_atomically(o.out + ".tsv", analysis_table(o, s, f));
-  io::write_atomically(o.out + ".json", analysis_json(o, s, f));
-  const bool plotted = !o.no_plot && plot({o.out + ".tsv"}, o.out + ".png", "") == 0;
-  if (!o.no_plot && !plotted) std::cerr << "slidespec: warning: " << o.out << ".png not drawn\n";
-  if (o.quiet) return 0;
-  std::cerr << "slidespec: " << o.file << ": " << s.samples << " samples every " << s.dt << " s; v = " << s.sliding.v
-            << " +- " << s.sliding.v_error << " m/s";
+  io::OutputSet outputs;  // the table, the JSON and the picture appear together or not at all
+  outputs.add(o.out + ".tsv", analysis_table(o, s, f));
+  outputs.add(o.out + ".json", analysis_json(o, s, f));
+  const std::string figure = o.figure.path(o.out);
+  const bool plotted =
+      !o.no_plot && plot({outputs.temporary(o.out + ".tsv")},
+                         outputs.add_written_by_other(figure, std::filesystem::path(figure).extension().string()),
+                         o.title, o.figure) == 0;
+  if (!o.no_plot && !plotted) outputs.drop(figure);
+  outputs.commit();
+  if (!o.no_plot && !plotted) std::cerr << "slidespec: warning: " << o.figure.path(o.out) << " not drawn\n";
+  // Warnings and failed fits are printed even with --quiet: they change what the files mean.
+  const std::string unit_note = std::string("read in ") + to_string(record.unit) +
+                                (record.unit_source == "default" ? " (no unit in its header)" : " (from " + record.unit_source + ")");
+  if (std::abs(s.sliding.v) > kImplausibleSpeed)
+    std::cerr << "slidespec: warning: mean speed " << s.sliding.v << " m/s is implausible for friction; likely cause: "
+              << "the record was " << unit_note << "; give --units or name the unit in the header, e.g. x (mm)\n";
+  if (!(s.usable_high > s.usable_low))
+    std::cerr << "slidespec: warning: no usable band: the sensor floor lies above the spectrum everywhere; likely "
+                 "cause: --resolution or --sensor-noise in the wrong unit (a bare number is in "
+              << to_string(record.unit) << ", the record's unit; write e.g. 0.5um)\n";
+  for (const auto& [name, verdict] : {std::pair{"slope", &f.slope_verdict}, std::pair{"alpha", &f.alpha_verdict}})
+    if (!verdict->ok) std::cerr << "slidespec: " << name << " fit FAILED: " << verdict->reason << "\n";
+  const int status = f.ok() ? 0 : kFitFailedStatus;
+  if (o.quiet) return status;
+  std::cerr << "slidespec: " << o.file << ": " << s.samples << " samples every " << s.dt << " s, " << unit_note
+            << "; v = " << s.sliding.v << " +- " << s.sliding.v_error << " m/s";
   if (f.mu) std::cerr << ", mu = M'/M = " << *f.mu;
   std::cerr << "\nslidespec: usable band " << s.usable_low << " .. " << s.usable_high << " rad/s (top set by "
             << (s.usable_high_set_by_floor ? "the sensor floor" : "half of Nyquist") << ")\n";
@@ -195,7 +267,7 @@ int command_analyze(Options o) {
     std::cerr << "slidespec: warning: the highest point lies at " << s.top_to_floor
               << " of the white q^2/12 floor: the quantization error is not white (a steady ramp read "
                  "without noise to dither it; docs/analysis.md), so the floor line is only a guide\n";
-  if (f.slope) {
+  if (f.slope && f.slope_verdict.ok) {
     std::cerr << "slidespec: C_x ~ omega^(" << f.slope->slope << " +- " << f.slope->slope_error << ") over "
               << f.slope->omega_low << " .. " << f.slope->omega_high << " rad/s (" << f.slope->points
               << " points, chi2/dof " << f.slope->chi2_per_dof << "); force spectrum ~ omega^("
@@ -204,12 +276,13 @@ int command_analyze(Options o) {
       std::cerr << "slidespec: warning: the slope band reaches beyond the usable band, where the sensor floor "
                    "bends the spectrum\n";
   }
-  if (f.alpha)
+  if (f.alpha && f.alpha_verdict.ok)
     std::cerr << "slidespec: alpha = " << f.alpha->alpha << " +- " << f.alpha->alpha_error << " (" << o.compare_case
               << ", " << f.alpha->omega_low << " .. " << f.alpha->omega_high << " rad/s, chi2/dof "
               << f.alpha->chi2_per_dof << ")\n";
-  std::cerr << "slidespec: wrote " << o.out << ".tsv, .json" << (plotted ? ", .png" : "") << "\n";
-  return 0;
+  std::cerr << "slidespec: wrote " << o.out << ".tsv, .json" << (plotted ? ", ." + o.figure.format : "")
+            << (f.ok() ? "" : " (marked ok = false)") << "\n";
+  return status;
 }
 
 int command_synth(const Options& o) {
@@ -223,30 +296,59 @@ int command_synth(const Options& o) {
   for (const auto& [key, value] : describe(p)) comments << key << " = " << value << "\n";
   comments << "seed = " << o.sensor.seed << "\nsample_interval = " << o.sensor.sample_interval << " s\n"
            << "resolution = " << o.sensor.resolution << " m\nsensor_noise = " << o.sensor.sensor_noise << " m\n"
-           << "columns: t [s], x [" << to_string(unit) << "]\n";
+           << "columns: t (s), x (" << to_string(unit) << ")\n";
   io::write_atomically(o.synth_out + ".csv", record_csv(record, unit, comments.str()));
   std::cerr << "slidespec: wrote " << o.synth_out << ".csv (" << record.displacement.size()
-            << " samples); analyse it with: slidespec analyze " << o.synth_out << ".csv --units "
-            << to_string(unit) << " --resolution " << o.sensor.resolution << " --sensor-noise " << o.sensor.sensor_noise << "\n";
+            << " samples); analyse it with: slidespec analyze " << o.synth_out << ".csv --resolution "
+            << io::format_number(o.sensor.resolution) << "m --sensor-noise " << io::format_number(o.sensor.sensor_noise)
+            << "m\n";
   return 0;
 }
 
 }  // namespace
 
+int paper_fig6(const std::string& record, const std::string& directory, const FigureStyle& figure, bool quiet) {
+  figure.check();
+  Options o;
+  o.out = directory + "/fig6";
+  io::check_output_prefix(o.out);
+  o.file = record;
+  if (record.empty()) {
+    // A measured-like record: the concrete-fit slider read by the paper's sensor.
+    Options synth;
+    synth.synth_case = "concrete-fit";
+    synth.synth_out = directory + "/fig6_record";
+    io::check_output_prefix(synth.synth_out);
+    command_synth(synth);
+    o.file = synth.synth_out + ".csv";
+    o.sensor_noise = io::format_number(synth.sensor.sensor_noise) + "m";
+  }
+  o.resolution = "0.5um";  // the paper's sensor (docs/model.md §5)
+  o.compare_case = "concrete-fit";
+  o.fit = "alpha";
+  o.quiet = quiet;
+  o.figure = figure;
+  o.title = "Fig. 6: the concrete-fit model (" + std::string(record.empty() ? "synthetic record" : record) +
+            ", alpha fitted)";
+  return command_analyze(o);
+}
+
 AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Options>()) {
   Options& o = *options_;
   analyze_ = app.add_subcommand("analyze", "spectrum, slope and model fit of a measured sliding-distance record");
-  analyze_->add_option("file", o.file, "CSV/TSV record: a time column (or --dt) and a displacement column")
+  analyze_->add_option("file", o.file, "CSV/TSV record ('-': stdin): a time column (or --dt) and a displacement column")
       ->required();
   analyze_->add_option("--column", o.format.column, "displacement column (default: x, or the only other column)");
   analyze_->add_option("--time-column", o.format.time_column, "time column [s] (default: t or time)");
   analyze_->add_option("--dt", o.format.dt, "fixed sampling interval [s] instead of a time column");
-  analyze_->add_option("--units", o.units, "unit of the displacement column: m|mm|um (default m)");
+  analyze_->add_option("--units", o.units,
+                       "unit of the displacement column: m|mm|um|nm (default: from its header, e.g. x (mm), else m)");
   analyze_->add_option("--time-tolerance", o.format.time_tolerance,
                        "largest relative deviation of a sampling interval (default 0.01)");
-  analyze_->add_option("--resolution", o.request.resolution, "sensor resolution q [m]: draws the q^2/12 floor");
-  analyze_->add_option("--sensor-noise", o.request.sensor_noise,
-                       "rms sensor noise before quantization [m]: adds sigma^2 to the floor");
+  analyze_->add_option("--resolution", o.resolution,
+                       "sensor resolution q (record's unit, or with one: 0.5um): draws the q^2/12 floor");
+  analyze_->add_option("--sensor-noise", o.sensor_noise,
+                       "rms sensor noise before quantization (record's unit, or 0.25um): adds sigma^2 to the floor");
   analyze_->add_option("--omega-min", o.request.omega_min, "lowest omega [rad/s] (default: the record allows)");
   analyze_->add_option("--omega-max", o.request.omega_max, "highest omega [rad/s] (default: half of Nyquist)");
   analyze_->add_option("--points", o.request.points_per_decade, "points per decade (default 8)");
@@ -259,7 +361,8 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
   analyze_->add_option("--driving-mass", o.driving_mass, "M', hanging mass driving it [kg], for mu = M'/M");
   analyze_->add_option("--out", o.out, "output prefix: PREFIX.tsv, .json, .png (default analysis)");
   analyze_->add_flag("--quiet", o.quiet, "no summary");
-  analyze_->add_flag("--no-plot", o.no_plot, "skip PREFIX.png");
+  analyze_->add_flag("--no-plot", o.no_plot, "skip the figure PREFIX.png");
+  o.figure.add_to(*analyze_);
 
   synth_ = app.add_subcommand("synth", "a synthetic displacement-sensor record of a simulated slider (CSV)");
   synth_->add_option("--case", o.synth_case, "named case (default reference)");

@@ -1,13 +1,44 @@
-// Pictures come from tools/plot_spectra.py (matplotlib, Debian's python3-matplotlib).
+// Pictures come from tools/plot_spectra.py (matplotlib, Debian's python3-matplotlib),
+// with the exact theory computed here on a fine grid for every table that names its
+// model parameters.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
 
 namespace slidespec::cli {
 
-/// Runs the plotting tool on spectrum tables and returns its exit status (0 done, 2 bad
-/// input, with its own one-line message on stderr; 127 the tool could not be started).
-int plot(const std::vector<std::string>& tables, const std::string& png, const std::string& title);
+/// How a figure is written: format, size and resolution, and colours per table.
+struct FigureStyle {
+  std::string format = "png";       ///< png | pdf | svg
+  std::string size;                 ///< "WxH" in inches; empty: the tool's default
+  double dpi = 150;                 ///< dots per inch (PNG; PDF and SVG are vector)
+  std::vector<std::string> colors;  ///< matplotlib colours, one per table; empty: the cycle
+
+  /// --format, --size, --dpi on a command that writes PREFIX.<format>.
+  void add_to(CLI::App& command);
+  /// --size, --dpi only (the format comes from the output's extension).
+  void add_size_to(CLI::App& command);
+  /// Throws InputError for an unknown format, a malformed size or a dpi out of 10..2400.
+  void check() const;
+  /// PREFIX.<format>.
+  std::string path(const std::string& prefix) const { return prefix + "." + format; }
+};
+
+/// The format of a figure path by its extension (png, pdf, svg); InputError otherwise.
+std::string format_of(const std::string& path);
+
+/// Draws `tables` into `out` and returns the tool's exit status (0 done, 2 bad input,
+/// with its own one-line message on stderr; 127 the tool could not be started).
+int plot(const std::vector<std::string>& tables, const std::string& out, const std::string& title,
+         const FigureStyle& style = {});
+
+/// Points per decade of the theory line at least (more where it bends: resonances).
+inline constexpr int kTheoryPointsPerDecade = 96;
+
+/// The exact theory of a table's model on a grid fine enough to resolve its resonances,
+/// over the table's omega range: omegas and C_x. Empty when the table names no model.
+std::pair<std::vector<double>, std::vector<double>> fine_theory_of_table(const std::string& path);
 
 }  // namespace slidespec::cli

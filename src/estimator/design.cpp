@@ -199,7 +199,7 @@ std::shared_ptr<const Layout> build_layout(const EstimatorConfig& requested) {
       band.transfer_center[j] = t;
       band.transfer_below[j] = layout->transfer(point.band, omega - band.kernel_width);
       band.transfer_above[j] = layout->transfer(point.band, omega + band.kernel_width);
-      // MODEL.md section 3: C = interval/(2 pi) |sum w z e^{-i omega t}|^2 / sum w^2.
+      // docs/model.md §3: C = interval/(2 pi) |sum w z e^{-i omega t}|^2 / sum w^2.
       band.bin_factor[j] = band.interval / (2.0 * kPi * layout->window_power) / t;
     }
   }

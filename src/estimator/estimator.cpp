@@ -8,12 +8,14 @@
 #include <cmath>
 #include <complex>
 #include <cstring>
+#include <numbers>
 #include <stdexcept>
 #include <utility>
 
 #include "estimator/design.hpp"
-#include "estimator/real_fft.hpp"
+#include "estimator/kernels.hpp"
 #include "io/binary.hpp"
+#include "simd/path_table.hpp"
 #include "slidespec/parameters.hpp"
 
 namespace slidespec {
@@ -352,9 +354,41 @@ SpectrumAccumulator SpectrumAccumulator::load(const std::string& bytes) {
   return SpectrumAccumulator(std::move(impl));
 }
 
+namespace estimator_detail {
+
+// The transform's twiddles, from long double and exact at the quadrants, so that no
+// path and no libm can round them differently.
+const FourierTables& fourier_tables() {
+  static const FourierTables tables = [] {
+    FourierTables t{};
+    constexpr int L = kSegmentLength;
+    for (int m = 0; m < L; ++m) {
+      const long double angle = 2.0L * std::numbers::pi_v<long double> * m / L;
+      t.cosine[m] = static_cast<double>(std::cos(angle));
+      t.sine[m] = static_cast<double>(std::sin(angle));
+      if (m % (L / 4) == 0) {
+        const int quadrant = m / (L / 4);
+        t.cosine[m] = quadrant == 0 ? 1.0 : quadrant == 2 ? -1.0 : 0.0;
+        t.sine[m] = quadrant == 1 ? 1.0 : quadrant == 3 ? -1.0 : 0.0;
+      }
+    }
+    for (int m = 0; m < L / 2; ++m) {
+      int reversed = 0;
+      for (int bit = 1, rest = m; bit < L / 2; bit <<= 1, rest >>= 1) reversed = (reversed << 1) | (rest & 1);
+      t.bit_reverse[m] = static_cast<std::uint16_t>(reversed);
+    }
+    return t;
+  }();
+  return tables;
+}
+
+}  // namespace estimator_detail
+
 // ---------------------------------------------------------------------------------------
-// Estimator: per lane and band a segment ring buffer, the last 2*reach samples of the
-// band's increment stream (decimator and differencing history) and sample counters.
+// Estimator: the lanes side by side (a structure of arrays, row n = sample n of every
+// lane, `stride` = lanes padded to the path's width), so every streaming pass runs
+// across lanes on whole vectors. Per band: the last 2*reach samples of its increment
+// stream in front of the new ones, a segment ring, and counters shared by all lanes.
 
 namespace {
 
@@ -363,130 +397,114 @@ constexpr std::size_t kSegmentMask = detail::kSegmentLength - 1;
 static_assert((detail::kSegmentLength & (detail::kSegmentLength - 1)) == 0);
 static_assert(detail::kSegmentLength % detail::kSegmentHop == 0);
 static_assert(detail::kBandDifferences <= kHistory);
-// Steps processed per lane at a time: bounds the scratch memory whatever push() gets.
-constexpr std::size_t kChunk = 4096;
-
-// The two streaming passes, cloned per instruction set by GCC (target_clones, resolved
-// once at load time). Every element's arithmetic is the same at any vector width and no
-// clone may contract to FMA (-ffp-contract=off), so all clones give the same bits.
-#define SLIDESPEC_ESTIMATOR_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
-
-/// target[i] = source[i] - source[i - 1] for i in [from, to).
-SLIDESPEC_ESTIMATOR_CLONES void difference(const double* source, double* target, std::ptrdiff_t from,
-                                           std::ptrdiff_t to) {
-  for (std::ptrdiff_t i = from; i < to; ++i) target[i] = source[i] - source[i - 1];
-}
-
-/// The half-band filter on split input: out[j] = h[reach] centre[j] + sum over odd t of
-/// h[reach + t] (side[j - (t+1)/2] + side[j + (t-1)/2]), summed in the order of t.
-SLIDESPEC_ESTIMATOR_CLONES void half_band(const double* taps, const double* centre, const double* side,
-                                          std::ptrdiff_t outputs, double* out) {
-  constexpr int reach = detail::kHalfBandReach;
-  for (std::ptrdiff_t j = 0; j < outputs; ++j) out[j] = taps[reach] * centre[j];
-  for (int t = 1; t <= reach; t += 2) {
-    const double tap = taps[reach + t];
-    const double* before = side - (t + 1) / 2;  // centre[-t]
-    const double* after = side + (t - 1) / 2;   // centre[+t]
-    for (std::ptrdiff_t j = 0; j < outputs; ++j) out[j] += tap * (before[j] + after[j]);
-  }
-}
-
-/// in[n] = window[n] * segment[n] for n < count.
-SLIDESPEC_ESTIMATOR_CLONES void window_into(const double* window, const double* segment, double* in,
-                                            std::size_t count) {
-  for (std::size_t n = 0; n < count; ++n) in[n] = window[n] * segment[n];
-}
+// Rows (steps) processed at a time: bounds the scratch memory whatever push() gets.
+constexpr std::size_t kChunk = 1024;
 
 struct BandStream {
-  std::array<double, detail::kSegmentLength> ring{};
-  std::array<double, kHistory> history{};
+  // Rows [0, kHistory): the stream's previous samples (zeros before the start); new
+  // samples are written after them, and the last kHistory rows moved back afterwards.
+  std::vector<double> extended;
+  std::vector<double> ring;       // [kSegmentLength][stride], bands that transform only
   std::uint64_t received = 0;     // samples of the band's increment stream so far
   std::uint64_t differenced = 0;  // samples of its differenced stream so far
-};
-
-struct Lane {
-  std::vector<BandStream> bands;
-  double last_value = 0;
-  bool has_last_value = false;
-  SpectrumAccumulator::Impl statistics;
 };
 
 }  // namespace
 
 struct SpectrumEstimator::Impl {
   std::shared_ptr<const detail::Layout> layout;
-  std::vector<Lane> lanes;
-  detail::RealFft fft{detail::kSegmentLength};
-  std::vector<std::vector<double>> band_input;  // [band]: samples entering the band
-  std::vector<std::vector<double>> extended;    // [band]: history followed by new samples
+  detail::StreamKernels kernels;  // of the chosen instruction-set path
+  int lane_count = 0;
+  std::size_t stride = 0;
+  std::vector<BandStream> bands;
+  std::vector<SpectrumAccumulator::Impl> statistics;  // [lane]
+  std::vector<double> last_value;                     // [stride], SampleKind::value
+  bool has_last_value = false;
 
-  // Scratch of one band's call, reused by the next band (kChunk + 2 * kHistory each).
-  std::array<std::vector<double>, 2> difference_scratch;
-  std::vector<double> decimator_centre, decimator_side;
-  std::vector<double> lane_major;  // [lane][kChunk]: one chunk of push()'s data
+  // Scratch of one band's call, reused by the next band.
+  std::array<std::vector<double>, 2> difference_scratch;  // [kBandDifferences + kChunk][stride]
+  std::vector<double> transform_work;                     // [kSegmentLength][stride]
+  std::vector<double> power;                              // [kSegmentLength / 2 + 1][stride]
+  std::vector<double> point_average;                      // [stride]
 
-  void feed(Lane& lane, int band, const double* increments, std::size_t n);
-  void difference_into_segments(Lane& lane, int band, const double* y, std::size_t n);
-  std::size_t decimate(const BandStream& stream, const double* y, std::size_t n, double* out);
-  void close_segment(Lane& lane, int band);
+  double* row(std::vector<double>& rows, std::ptrdiff_t r) {
+    return rows.data() + static_cast<std::ptrdiff_t>(stride) * r;
+  }
+  void feed(int band, std::size_t n);
+  void difference_into_segments(int band, std::size_t n);
+  std::size_t decimate(int band, std::size_t n);
+  void close_segment(int band);
 };
 
-void SpectrumEstimator::Impl::close_segment(Lane& lane, int b) {
-  BandStream& stream = lane.bands[b];
-  double* in = fft.input();
-  // The segment is the whole ring, oldest sample at `start`: two contiguous pieces.
-  const std::size_t start = stream.differenced & kSegmentMask;
-  const std::size_t wrapped = detail::kSegmentLength - start;
-  window_into(layout->window.data(), stream.ring.data() + start, in, wrapped);
-  window_into(layout->window.data() + wrapped, stream.ring.data(), in + wrapped, start);
-  fft.execute();
-  const std::complex<double>* X = fft.output();
-  const detail::BandLayout& band = layout->bands[b];
-  SpectrumAccumulator::Impl& stats = lane.statistics;
-  for (int k : band.points) {
-    const detail::OutputPoint& point = layout->points[k];
-    double sum = 0;
-    for (int j = point.first_bin; j < point.first_bin + point.bin_count; ++j) {
-      const double re = X[j].real(), im = X[j].imag();
-      sum += (re * re + im * im) * band.bin_factor[j];
-    }
-    const double q = sum / point.bin_count;
-    stats.sum_q[k] += q;
-    stats.sum_q2[k] += q * q;
-  }
+namespace {
+
+// A band's segments and same-stream segment pairs are counted whether or not the band
+// serves an output point, so the saved statistics never depend on which bands transform.
+void count_segment(SpectrumAccumulator::Impl& stats, int b) {
   const std::uint64_t index = stats.segments[b]++;
   for (int lag = 1; lag <= detail::kOverlapLags; ++lag)
     if (index >= static_cast<std::uint64_t>(lag)) ++stats.pairs[b * detail::kOverlapLags + lag - 1];
 }
 
-void SpectrumEstimator::Impl::feed(Lane& lane, int b, const double* increments, std::size_t n) {
-  if (n == 0) return;
-  BandStream& stream = lane.bands[b];
-  double* ext = extended[b].data();
-  std::copy(stream.history.begin(), stream.history.end(), ext);
-  std::copy(increments, increments + n, ext + kHistory);
-  const double* y = ext + kHistory;  // y[-kHistory..-1] is the previous samples
-  difference_into_segments(lane, b, y, n);
-  const std::size_t produced = b + 1 < layout->band_count ? decimate(stream, y, n, band_input[b + 1].data()) : 0;
-  std::copy(ext + n, ext + n + kHistory, stream.history.begin());
-  stream.received += n;
-  feed(lane, b + 1, band_input[b + 1 < layout->band_count ? b + 1 : b].data(), produced);
+}  // namespace
+
+void SpectrumEstimator::Impl::close_segment(int b) {
+  for (SpectrumAccumulator::Impl& stats : statistics) count_segment(stats, b);
+  const detail::BandLayout& band = layout->bands[b];
+  if (band.points.empty()) return;
+  BandStream& stream = bands[b];
+  // The ring's oldest row, at `start`, is the segment's first sample.
+  const auto lag = static_cast<std::ptrdiff_t>(stride);
+  // Only the bins the band's points average (points ascend in omega).
+  const detail::OutputPoint& lowest = layout->points[band.points.front()];
+  const detail::OutputPoint& highest = layout->points[band.points.back()];
+  kernels.segment_power(detail::fourier_tables(), layout->window.data(), stream.ring.data(),
+                        stream.differenced & kSegmentMask, lowest.first_bin, highest.first_bin + highest.bin_count - 1,
+                        transform_work.data(), power.data(), lag);
+  for (int k : band.points) {
+    const detail::OutputPoint& point = layout->points[k];
+    kernels.bin_average(power.data(), band.bin_factor.data(), point.first_bin, point.bin_count, lag,
+                        point_average.data());
+    for (int l = 0; l < lane_count; ++l) {
+      const double q = point_average[l];
+      statistics[l].sum_q[k] += q;
+      statistics[l].sum_q2[k] += q * q;
+    }
+  }
+}
+
+// Band b's n new rows are in its extended buffer after its history: difference them into
+// the segments, decimate them into band b + 1's buffer, keep the last rows as history,
+// and go on with band b + 1.
+void SpectrumEstimator::Impl::feed(int b, std::size_t n) {
+  for (; b < layout->band_count && n > 0; ++b) {
+    BandStream& stream = bands[b];
+    difference_into_segments(b, n);
+    const std::size_t produced = b + 1 < layout->band_count ? decimate(b, n) : 0;
+    std::copy_n(row(stream.extended, static_cast<std::ptrdiff_t>(n)), kHistory * stride, stream.extended.data());
+    stream.received += n;
+    n = produced;
+  }
 }
 
 // Differencing whitens the band before the window sees it; the first samples lack
 // history and are dropped rather than differenced against zeros. Each order is one pass
-// over the whole call (contiguous, so it vectorizes), forming exactly the same
-// differences of differences as sample-by-sample differencing would.
-void SpectrumEstimator::Impl::difference_into_segments(Lane& lane, int b, const double* y, std::size_t n) {
+// over all rows of the call, forming exactly the same differences of differences as
+// sample-by-sample differencing would.
+void SpectrumEstimator::Impl::difference_into_segments(int b, std::size_t n) {
   constexpr int D = detail::kBandDifferences;
-  BandStream& stream = lane.bands[b];
-  const auto count = static_cast<std::ptrdiff_t>(n);
-  const double* source = y;
-  double* target = difference_scratch[0].data() + D;  // indices -D .. n-1
-  for (int order = 1; order <= D; ++order) {
-    difference(source, target, order - D, count);
+  BandStream& stream = bands[b];
+  // A band that serves no output point (in a run, the two fastest: they only decimate
+  // for the bands below) keeps its segment count but never differences or transforms.
+  const bool transformed = !layout->bands[b].points.empty();
+  const auto lag = static_cast<std::ptrdiff_t>(stride);
+  const auto end = static_cast<std::ptrdiff_t>(n) * lag;
+  const double* source = row(stream.extended, kHistory);
+  double* target = row(difference_scratch[0], D);  // rows -D .. n-1
+  for (int order = 1; transformed && order <= D; ++order) {
+    kernels.difference(source, target, (order - D) * lag, end, lag);
     source = target;
-    target = difference_scratch[order % 2].data() + D;
+    target = row(difference_scratch[order % 2], D);
   }
   const double* differenced = source;
 
@@ -500,97 +518,104 @@ void SpectrumEstimator::Impl::difference_into_segments(Lane& lane, int b, const 
     const std::size_t take = static_cast<std::size_t>(std::min<std::uint64_t>(n - i, next_close - done));
     // At most one wrap of the ring: two contiguous copies.
     const std::size_t at = done & kSegmentMask, before_wrap = std::min(take, detail::kSegmentLength - at);
-    std::copy_n(differenced + i, before_wrap, stream.ring.data() + at);
-    std::copy_n(differenced + i + before_wrap, take - before_wrap, stream.ring.data());
+    if (transformed) {
+      std::copy_n(differenced + i * stride, before_wrap * stride, row(stream.ring, static_cast<std::ptrdiff_t>(at)));
+      std::copy_n(differenced + (i + before_wrap) * stride, (take - before_wrap) * stride, stream.ring.data());
+    }
     stream.differenced += take;
     i += take;
-    if (stream.differenced == next_close) close_segment(lane, b);
+    if (stream.differenced == next_close) close_segment(b);
   }
 }
 
-// Half-band decimation by two: an output at every even stream index from kHistory on,
-// centred kHalfBandReach samples back. Only the centre tap and odd offsets are nonzero,
-// so the input is split into its centre (even) and side (odd) samples and every tap
-// becomes one contiguous pass over all outputs; each output's sum keeps the tap order.
-std::size_t SpectrumEstimator::Impl::decimate(const BandStream& stream, const double* y, std::size_t n,
-                                              double* out) {
+// Half-band decimation by two into band b + 1: an output at every even stream index
+// from kHistory on, centred kHalfBandReach samples back.
+std::size_t SpectrumEstimator::Impl::decimate(int b, std::size_t n) {
   constexpr int reach = detail::kHalfBandReach;
-  constexpr int side_before = (reach + 1) / 2;  // side samples before the first centre
-  const std::uint64_t received = stream.received;
+  const std::uint64_t received = bands[b].received;
   std::size_t first = received >= kHistory ? 0 : static_cast<std::size_t>(kHistory - received);
   if (((received + first) & 1) != 0) ++first;
   if (first >= n) return 0;
   const auto outputs = static_cast<std::ptrdiff_t>((n - first + 1) / 2);
-  const double* centre_of_first = y + static_cast<std::ptrdiff_t>(first) - reach;
-  double* centre = decimator_centre.data();
-  double* side = decimator_side.data() + side_before;  // side[k] = centre_of_first[2k + 1]
-  for (std::ptrdiff_t j = 0; j < outputs; ++j) centre[j] = centre_of_first[2 * j];
-  for (std::ptrdiff_t k = -side_before; k < outputs + (reach - 1) / 2; ++k) side[k] = centre_of_first[2 * k + 1];
-  half_band(layout->taps.data(), centre, side, outputs, out);
+  const double* centre = row(bands[b].extended, kHistory + static_cast<std::ptrdiff_t>(first) - reach);
+  kernels.half_band(layout->taps.data(), centre, outputs, static_cast<std::ptrdiff_t>(stride),
+                    row(bands[b + 1].extended, kHistory));
   return static_cast<std::size_t>(outputs);
 }
 
-SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes) {
+SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes, SimdPath simd) {
   if (lanes < 1) throw InputError("estimator: need at least one lane");
   auto layout = detail::Layout::make(config);
   impl_ = std::make_unique<Impl>();
-  impl_->layout = layout;
-  for (int l = 0; l < lanes; ++l) {
-    impl_->lanes.push_back(Lane{std::vector<BandStream>(layout->band_count), 0.0, false,
-                                SpectrumAccumulator::Impl(layout)});
+  Impl& s = *impl_;
+  s.layout = layout;
+  // Automatic: the widest path no wider than the lanes (a path pads the lanes to its
+  // width, and every path gives the same bits).
+  if (simd == SimdPath::automatic) {
+    simd = SimdPath::scalar;
+    for (SimdPath candidate : available_simd_paths())
+      if (lane_width(candidate) <= lanes) simd = candidate;
   }
-  impl_->band_input.resize(layout->band_count);
-  impl_->extended.resize(layout->band_count);
+  const simd::PathTable& path = simd::path_table(simd);
+  s.kernels = path.stream;
+  s.lane_count = lanes;
+  s.stride = static_cast<std::size_t>((lanes + path.width - 1) / path.width * path.width);
+  s.statistics.assign(static_cast<std::size_t>(lanes), SpectrumAccumulator::Impl(layout));
+  s.last_value.assign(s.stride, 0.0);
+  s.bands.resize(layout->band_count);
+  std::size_t capacity = kChunk;  // rows a band receives per call at most
   for (int b = 0; b < layout->band_count; ++b) {
-    const std::size_t capacity = (kChunk >> std::min(b, 12)) + 2;
-    impl_->band_input[b].assign(capacity, 0.0);
-    impl_->extended[b].assign(capacity + kHistory, 0.0);
+    s.bands[b].extended.assign((kHistory + capacity) * s.stride, 0.0);
+    if (!layout->bands[b].points.empty()) s.bands[b].ring.assign(detail::kSegmentLength * s.stride, 0.0);
+    capacity = capacity / 2 + 1;
   }
-  for (auto& scratch : impl_->difference_scratch) scratch.assign(kChunk + 2 * kHistory, 0.0);
-  impl_->decimator_centre.assign(kChunk + 2 * kHistory, 0.0);
-  impl_->decimator_side.assign(kChunk + 2 * kHistory, 0.0);
-  impl_->lane_major.assign(kChunk * static_cast<std::size_t>(lanes), 0.0);
+  for (auto& scratch : s.difference_scratch) scratch.assign((detail::kBandDifferences + kChunk) * s.stride, 0.0);
+  s.transform_work.assign(detail::kSegmentLength * s.stride, 0.0);
+  s.power.assign((detail::kSegmentLength / 2 + 1) * s.stride, 0.0);
+  s.point_average.assign(s.stride, 0.0);
 }
 
 SpectrumEstimator::~SpectrumEstimator() = default;
 SpectrumEstimator::SpectrumEstimator(SpectrumEstimator&&) noexcept = default;
 SpectrumEstimator& SpectrumEstimator::operator=(SpectrumEstimator&&) noexcept = default;
 
-int SpectrumEstimator::lanes() const { return static_cast<int>(impl_->lanes.size()); }
+int SpectrumEstimator::lanes() const { return impl_->lane_count; }
 const EstimatorConfig& SpectrumEstimator::config() const { return impl_->layout->config; }
 
 void SpectrumEstimator::push(const double* data, std::size_t steps) {
-  const std::size_t lane_count = impl_->lanes.size();
+  Impl& s = *impl_;
+  const auto lanes = static_cast<std::size_t>(s.lane_count);
+  const bool values = s.layout->config.input == SampleKind::value;
   for (std::size_t start = 0; start < steps; start += kChunk) {
     const std::size_t n = std::min(kChunk, steps - start);
-    // Lane-major once per chunk: one sequential read of the step-major data, where
-    // reading each lane's column in place would pull every cache line in once per lane.
-    double* lane_major = impl_->lane_major.data();
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t l = 0; l < lane_count; ++l) lane_major[l * kChunk + i] = data[(start + i) * lane_count + l];
-    for (std::size_t l = 0; l < lane_count; ++l) {
-      Lane& lane = impl_->lanes[l];
-      const double* column = lane_major + l * kChunk;
-      if (impl_->layout->config.input == SampleKind::increment) {
-        impl_->feed(lane, 0, column, n);
-        continue;
-      }
-      double* y = impl_->band_input[0].data();
-      std::size_t m = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        const double value = column[i];
-        if (lane.has_last_value) y[m++] = value - lane.last_value;
-        lane.last_value = value;
-        lane.has_last_value = true;
-      }
-      impl_->feed(lane, 0, y, m);
+    // Band 0's new rows, after its history; padding lanes stay zero.
+    double* y = s.row(s.bands[0].extended, kHistory);
+    if (!values && s.stride == lanes) {
+      std::copy_n(data + start * lanes, n * lanes, y);
+      s.feed(0, n);
+      continue;
     }
+    std::size_t m = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double* step = data + (start + i) * lanes;
+      if (values) {
+        if (s.has_last_value)
+          for (std::size_t l = 0; l < lanes; ++l) y[m * s.stride + l] = step[l] - s.last_value[l];
+        for (std::size_t l = 0; l < lanes; ++l) s.last_value[l] = step[l];
+        m += s.has_last_value ? 1 : 0;
+        s.has_last_value = true;
+      } else {
+        for (std::size_t l = 0; l < lanes; ++l) y[m * s.stride + l] = step[l];
+        ++m;
+      }
+    }
+    s.feed(0, m);
   }
 }
 
 SpectrumAccumulator SpectrumEstimator::accumulator(int lane) const {
   if (lane < 0 || lane >= lanes()) throw std::out_of_range("estimator: no such lane");
-  return SpectrumAccumulator(std::make_unique<SpectrumAccumulator::Impl>(impl_->lanes[lane].statistics));
+  return SpectrumAccumulator(std::make_unique<SpectrumAccumulator::Impl>(impl_->statistics[lane]));
 }
 
 double SpectrumEstimator::segment_duration(double omega) const {

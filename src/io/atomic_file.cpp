@@ -22,11 +22,8 @@ std::string directory_of(const std::string& path) {
 }
 }  // namespace
 
-void write_atomically(const std::string& path, const std::string& content) {
-  std::string temp = path + ".tmp.XXXXXX";
-  const int fd = mkstemp(temp.data());
-  if (fd < 0)
-    throw std::runtime_error("cannot create " + temp + ": " + std::strerror(errno));
+namespace {
+void write_all(int fd, const std::string& temp, const std::string& content) {
   const char* data = content.data();
   size_t left = content.size();
   while (left > 0) {
@@ -46,11 +43,111 @@ void write_atomically(const std::string& path, const std::string& content) {
     ::unlink(temp.c_str());
     throw std::runtime_error("cannot flush " + temp);
   }
-  if (std::rename(temp.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    ::unlink(temp.c_str());
-    throw std::runtime_error("cannot rename " + temp + " to " + path + ": " + why);
+}
+
+void sync_directory(const std::string& path) {
+  const int fd = ::open(directory_of(path).c_str(), O_RDONLY | O_DIRECTORY);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
+}
+}  // namespace
+
+void write_atomically(const std::string& path, const std::string& content) {
+  OutputSet one;
+  one.add(path, content);
+  one.commit();
+}
+
+OutputSet::~OutputSet() {
+  for (const Pending& p : pending_)
+    if (!p.temp.empty()) ::unlink(p.temp.c_str());
+}
+
+void OutputSet::add(const std::string& path, const std::string& content) {
+  std::string temp = path + ".tmp.XXXXXX";
+  const int fd = mkstemp(temp.data());
+  if (fd < 0) throw std::runtime_error("cannot create " + temp + ": " + std::strerror(errno));
+  write_all(fd, temp, content);
+  pending_.push_back({path, temp});
+}
+
+std::string OutputSet::add_written_by_other(const std::string& path, const std::string& extension) {
+  std::string temp = path + ".tmp.XXXXXX" + extension;
+  const int fd = mkstemps(temp.data(), static_cast<int>(extension.size()));
+  if (fd < 0) throw std::runtime_error("cannot create " + temp + ": " + std::strerror(errno));
+  ::close(fd);
+  pending_.push_back({path, temp});
+  return temp;
+}
+
+const std::string& OutputSet::temporary(const std::string& path) const {
+  for (const Pending& p : pending_)
+    if (p.path == path && !p.temp.empty()) return p.temp;
+  throw std::logic_error("OutputSet: no " + path);
+}
+
+void OutputSet::drop(const std::string& path) {
+  for (auto p = pending_.begin(); p != pending_.end(); ++p)
+    if (p->path == path) {
+      ::unlink(p->temp.c_str());
+      p->temp.clear();
+      return;
+    }
+}
+
+void OutputSet::commit() {
+  // The other program's file must be on disk too before it replaces anything.
+  for (const Pending& p : pending_) {
+    if (p.temp.empty()) continue;
+    const int fd = ::open(p.temp.c_str(), O_RDONLY);
+    if (fd < 0 || ::fsync(fd) != 0) {
+      if (fd >= 0) ::close(fd);
+      throw std::runtime_error("cannot flush " + p.temp);
+    }
+    ::close(fd);
   }
+  // A hard link keeps each old file, so a failed rename further on can put it back.
+  std::vector<std::string> backups(pending_.size());
+  auto remove_backups = [&] {
+    for (const std::string& b : backups)
+      if (!b.empty()) ::unlink(b.c_str());
+  };
+  for (std::size_t k = 0; k < pending_.size(); ++k) {
+    if (::access(pending_[k].path.c_str(), F_OK) != 0) continue;
+    backups[k] = pending_[k].path + ".tmp.old." + std::to_string(::getpid());
+    ::unlink(backups[k].c_str());  // left by a dead process of the same id, if anything
+    if (::link(pending_[k].path.c_str(), backups[k].c_str()) != 0) {
+      const std::string why = std::strerror(errno);
+      backups[k].clear();
+      remove_backups();
+      for (const Pending& p : pending_)
+        if (!p.temp.empty()) ::unlink(p.temp.c_str());
+      pending_.clear();
+      throw std::runtime_error("cannot keep the old " + pending_[k].path + " while replacing it: " + why);
+    }
+  }
+  for (std::size_t k = 0; k < pending_.size(); ++k) {
+    const Pending& p = pending_[k];
+    if (p.temp.empty() ? (::unlink(p.path.c_str()) == 0 || errno == ENOENT)
+                       : std::rename(p.temp.c_str(), p.path.c_str()) == 0)
+      continue;
+    const std::string why = std::strerror(errno);
+    for (std::size_t j = 0; j < k; ++j) {
+      if (!backups[j].empty()) std::rename(backups[j].c_str(), pending_[j].path.c_str());
+      else ::unlink(pending_[j].path.c_str());
+      backups[j].clear();
+    }
+    remove_backups();
+    const std::string failed = pending_[k].path;
+    for (std::size_t j = k; j < pending_.size(); ++j)
+      if (!pending_[j].temp.empty()) ::unlink(pending_[j].temp.c_str());
+    pending_.clear();
+    throw std::runtime_error("cannot write " + failed + ": " + why + " (no output of the set was changed)");
+  }
+  remove_backups();
+  for (const Pending& p : pending_) sync_directory(p.path);
+  pending_.clear();
 }
 
 void check_output_prefix(const std::string& prefix) {

@@ -2,12 +2,45 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace slidespec::io {
 
 /// Writes `content` to a temporary file beside `path`, flushes it to disk and renames it
 /// over `path`, so a reader (or an interrupt) never sees a half-written file.
 void write_atomically(const std::string& path, const std::string& content);
+
+/// Several outputs that appear together or not at all. Each is written to a temporary
+/// beside it and flushed first; commit() then renames them in order. If a rename fails
+/// (or anything before it, a full disk say), every file already renamed is put back as it
+/// was (restored from a hard link to the old file, or removed if it was new) and no
+/// temporary remains. Only a crash between the renames (power loss, SIGKILL) can leave a
+/// part of the set new; then each file is still whole, old or new.
+class OutputSet {
+ public:
+  OutputSet() = default;
+  OutputSet(const OutputSet&) = delete;
+  OutputSet& operator=(const OutputSet&) = delete;
+  ~OutputSet();  // removes the temporaries of an uncommitted set
+
+  /// Writes `content` to the temporary of `path` (throws std::runtime_error, nothing visible).
+  void add(const std::string& path, const std::string& content);
+  /// A fresh empty temporary for `path`, ending in `extension` (".png"), for another program
+  /// to write; it joins the set. Returns its name.
+  std::string add_written_by_other(const std::string& path, const std::string& extension);
+  /// The temporary that will become `path` (to read a table before it is committed).
+  const std::string& temporary(const std::string& path) const;
+  /// `path` is not produced after all (a plot that failed to draw): an old file there, of
+  /// another run, goes with the commit, so no old member of the set stays beside new ones.
+  void drop(const std::string& path);
+  void commit();
+
+ private:
+  struct Pending {
+    std::string path, temp;
+  };
+  std::vector<Pending> pending_;
+};
 
 /// The whole of a file (a saved run state, say); InputError "WHAT: cannot read PATH".
 std::string read_file(const std::string& path, const std::string& what);

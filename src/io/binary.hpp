@@ -42,6 +42,16 @@ class Reader {
     position_ += size;
     return value;
   }
+  /// A count of items of at least `bytes_each` bytes still to be read: more than the bytes
+  /// that remain can hold is a damaged file, refused before anything is allocated for it.
+  std::uint64_t get_count(std::uint64_t bytes_each) {
+    const auto count = get<std::uint64_t>();
+    if (count > (bytes_.size() - position_) / bytes_each)
+      throw InputError(what_ + ": corrupt count " + std::to_string(count) + " at byte " +
+                       std::to_string(position_ - sizeof count));
+    return count;
+  }
+  std::size_t remaining() const { return bytes_.size() - position_; }
   bool at_end() const { return position_ == bytes_.size(); }
 
  private:

@@ -3,6 +3,8 @@
 #include <fftw3.h>
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <charconv>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -15,8 +17,34 @@ namespace slidespec::io {
 
 std::string format_number(double x) {
   char text[32];
-  std::snprintf(text, sizeof text, "%.9e", x);
-  return text;
+  const auto end = std::to_chars(text, text + sizeof text, x).ptr;
+  return std::string(text, end);
+}
+
+std::string run_label(const std::string& case_name, const Parameters& p) {
+  const auto base = describe(ParameterBuilder(case_name).build());
+  std::string changed;
+  for (const auto& [key, value] : describe(p)) {
+    if (key == "eta1") continue;  // derived from v (or v from it, then v is listed)
+    const auto same = std::find_if(base.begin(), base.end(), [&](const auto& b) { return b.first == key; });
+    if (same != base.end() && same->second == value) continue;
+    changed += (changed.empty() ? "" : ", ") + key + "=" + value;
+  }
+  return changed.empty() ? case_name : case_name + " + " + changed;
+}
+
+std::string case_of(const std::string& label) { return label.substr(0, label.find(" + ")); }
+
+nlohmann::ordered_json parameters_json(const Parameters& p) {
+  nlohmann::ordered_json block = nlohmann::ordered_json::object();
+  for (const auto& [key, value] : describe(p)) {
+    double number = 0;
+    const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), number);
+    if (error != std::errc() || end != value.data() + value.size()) block[key] = value;
+    else if (value.find_first_of(".eE") == std::string::npos) block[key] = std::stoll(value);
+    else block[key] = number;
+  }
+  return block;
 }
 
 namespace {
@@ -33,7 +61,8 @@ std::string versions() {
 
 std::string metadata_lines(const Parameters& p, const std::string& case_name) {
   std::ostringstream out;
-  out << "# slidespec " << SLIDESPEC_VERSION << "\n# case = " << case_name << "\n";
+  out << "# slidespec " << SLIDESPEC_VERSION << "\n# case = " << case_of(case_name) << "\n";
+  if (case_of(case_name) != case_name) out << "# label = " << case_name << "\n";
   for (const auto& [key, value] : describe(p)) out << "# " << key << " = " << value << "\n";
   const Landmarks l = landmarks(p);
   out << "# renewal_rate = " << format_number(l.renewal_rate) << "  # v/a [1/s]\n"
@@ -60,6 +89,7 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
       << "# reached_precision = " << format_number(result.reached_precision)
       << "  # largest stderr/C_x (target " << request.precision << ")\n"
       << "# complete = " << (result.complete ? "true" : "false") << "\n"
+      << "# stationary = " << (result.stationary ? "true" : "false  # " + result.stationarity) << "\n"
       << "# versions = " << versions() << "\n";
   for (std::size_t b = 0; b < result.sub_bands.size(); ++b) {
     const SubBand& band = result.sub_bands[b];
@@ -72,7 +102,7 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
          " stderr [m^2 s]; theory [m^2 s] continuous exact first-order theory, its mean over the same bins;"
          " n_avg periodogram values averaged; bandwidth [rad/s]; C_v = omega^2 C_x [m^2/s];"
          " C_F = M^2 omega^4 C_x [N^2 s]; theory_at_omega [m^2 s]; C_eq1 [m^2 s] the paper's Eq. (1)\n";
-  out << "omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\n";
+  out << "# omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\n";
   for (const RunPoint& point : result.points) {
     out << format_number(point.omega) << "\t" << format_number(point.C_x) << "\t"
         << format_number(point.standard_error) << "\t" << format_number(point.theory) << "\t"
@@ -90,8 +120,9 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
   nlohmann::ordered_json doc;
   doc["slidespec_version"] = SLIDESPEC_VERSION;
   doc["versions"] = versions();
-  doc["case"] = case_name;
-  for (const auto& [key, value] : describe(p)) doc["parameters"][key] = value;
+  doc["case"] = case_of(case_name);
+  doc["label"] = case_name;
+  doc["parameters"] = parameters_json(p);
   const Landmarks l = landmarks(p);
   doc["landmarks"] = {{"renewal_rate", l.renewal_rate},   {"omega_c", l.omega_c},
                       {"diffusion_D", l.diffusion},       {"eq1_prefactor", l.eq1_prefactor},
@@ -101,6 +132,8 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                     {"duration", request.duration},         {"realizations", request.realizations},
                     {"seed", request.seed}};
   doc["complete"] = result.complete;
+  doc["stationary"] = result.stationary;
+  if (!result.stationary) doc["stationarity"] = result.stationarity;
   doc["reached_precision"] = result.reached_precision;
   doc["measured_mean_speed"] = {{"value", result.mean_speed}, {"standard_error", result.mean_speed_error}};
   doc["simulated_time"] = result.simulated_time;

@@ -1,6 +1,7 @@
 // The text forms of results: TSV tables with '#' metadata lines, and JSON.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "slidespec/parameters.hpp"
@@ -8,10 +9,22 @@
 
 namespace slidespec::io {
 
-/// Fixed-width scientific notation, 10 significant digits.
+/// The shortest text that reads back as the same double ("1e-05", "0.5", "548.2").
 std::string format_number(double x);
 
-/// '#' lines: version, case, every parameter, and the landmarks of the theory.
+/// "reference + N=5, alpha=3": the case and the parameters that differ from it (eta1 is
+/// derived, so left out); the case alone when none differ.
+std::string run_label(const std::string& case_name, const Parameters& p);
+
+/// The case of a run label "reference + N=5, alpha=3" (the label itself when no keys were set).
+std::string case_of(const std::string& label);
+
+/// The parameters as a JSON object of numbers (and the words of chain, renewal,
+/// touching), in the form --params reads back.
+nlohmann::ordered_json parameters_json(const Parameters& p);
+
+/// '#' lines: version, case (and label when keys were set), every parameter, and the
+/// landmarks of the theory. `case_name` may be a label "CASE + KEY=V, ...".
 std::string metadata_lines(const Parameters& p, const std::string& case_name);
 
 /// The run's table: metadata, the run's own facts, a header, one row per point.

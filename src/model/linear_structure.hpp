@@ -1,7 +1,7 @@
 // The model's linear structure: mass, damping and stiffness about the steady sliding state.
 //
 // Everything downstream (exact theory, stepper) works from this description, not from
-// the chain itself, so that other contact geometries (MODEL.md section 6: blocks on
+// the chain itself, so that other contact geometries (docs/model.md §6: blocks on
 // blocks) only need to build another LinearStructure.
 #pragma once
 
@@ -36,10 +36,10 @@ struct LinearStructure {
   int coordinates() const { return static_cast<int>(mass.rows()); }
 };
 
-/// The flat model of MODEL.md section 1: the big block and N miniblocks in a chain.
+/// The flat model of docs/model.md §1: the big block and N miniblocks in a chain.
 LinearStructure flat_structure(const Parameters& p);
 
-/// Blocks on blocks (MODEL.md section 6): the big block, then every level's blocks in
+/// Blocks on blocks (docs/model.md §6): the big block, then every level's blocks in
 /// order, each block's children consecutive and chained to each other; the touching
 /// levels' blocks are the contacts. For one level it is flat_structure, bit for bit.
 LinearStructure tree_structure(const Parameters& p);

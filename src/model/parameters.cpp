@@ -1,13 +1,17 @@
 #include "slidespec/parameters.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
+
+#include "io/suggest.hpp"
 
 namespace slidespec {
 
@@ -105,7 +109,7 @@ const std::vector<Case>& cases() {
       // Level 2: contacts ten times smaller, D = 0.1 mm (k0 ~ E D, m ~ rho D^3, eta0 ~
       // sqrt(k0/m), a ~ D); both levels touch. docs/hierarchy.md derives each value.
       {"hierarchical",
-       "blocks on blocks: ten 0.1 mm microcontacts on each miniblock (MODEL.md section 6)",
+       "blocks on blocks: ten 0.1 mm microcontacts on each miniblock (docs/model.md §6)",
        {{"levels", "2"}, {"N_2", "10"}, {"m_2", "1e-8"}, {"k0_2", "1e3"}, {"k1_2", "10"},
         {"eta0_2", "8e4"}, {"a_2", "1e-4"}, {"alpha_2", "1"}, {"touching", "1,2"}}},
   };
@@ -217,7 +221,9 @@ ParameterBuilder::ParameterBuilder(const std::string& case_name) {
   }
   std::string names;
   for (const Case& c : cases()) names += (names.empty() ? "" : ", ") + c.name;
-  throw InputError("unknown case '" + case_name + "' (known: " + names + ")");
+  std::vector<std::string> known;
+  for (const Case& c : cases()) known.push_back(c.name);
+  throw InputError("unknown case '" + case_name + "'" + io::did_you_mean(case_name, known) + " (known: " + names + ")");
 }
 
 ParameterBuilder& ParameterBuilder::set(const std::string& assignment) {
@@ -266,20 +272,64 @@ ParameterBuilder& ParameterBuilder::set(const std::string& key, const std::strin
   } else {
     std::string known;
     for (const auto& k : parameter_keys()) known += (known.empty() ? "" : " ") + k;
-    throw InputError("unknown parameter '" + key + "' (known: " + known + ")");
+    throw InputError("unknown parameter '" + key + "'" + io::did_you_mean(key, parameter_keys()) + " (known: " +
+                     known + ")");
   }
   return *this;
 }
+
+namespace {
+
+// Inputs are kept within 1e-100..1e100 so that products and ratios of a few of them (the
+// landmarks, the stepper's coefficients) stay far from overflow and underflow.
+constexpr double kSmallest = 1e-100, kLargest = 1e100;
+
+std::string format_real(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+void check_magnitude(const std::string& key, double value) {
+  const double size = std::fabs(value);
+  if (size != 0 && !(size >= kSmallest && size <= kLargest))
+    throw InputError("parameter " + key + ": " + format_real(value) + " is outside 1e-100..1e100 (its derived "
+                     "quantities would not be representable)");
+}
+
+/// Every derived rate and landmark a run or the theory uses must be a normal number.
+void check_derived(const Parameters& p) {
+  const Landmarks l = landmarks(p);
+  auto normal = [](const char* what, double value, bool zero_allowed) {
+    if (!std::isfinite(value) || (!(zero_allowed && value == 0) && !std::isnormal(value)))
+      throw InputError(std::string("parameters: derived ") + what + " = " + format_real(value) +
+                       " is not a representable number; bring the parameters it depends on closer to 1");
+  };
+  normal("omega_c = sqrt(N k0 / M)", l.omega_c, false);
+  normal("v / a (renewal rate)", l.renewal_rate, false);
+  normal("D (diffusion)", l.diffusion, true);
+  normal("Eq. (1) prefactor", l.eq1_prefactor, true);
+  for (int level = 1; level <= p.levels; ++level) {
+    const Level b = p.level(level);
+    normal("k0 / m (miniblock resonance squared)", b.k0 / b.m, false);
+    normal("k1 / m", b.k1 / b.m, true);
+    normal("random force variance", p.random_force_variance(level), true);
+  }
+}
+
+}  // namespace
 
 Parameters ParameterBuilder::build() const {
   Parameters p = params_;
   auto positive = [](const std::string& key, double value) {
     if (!(value > 0))
       throw InputError("parameter " + key + ": must be > 0 (got " + std::to_string(value) + ")");
+    check_magnitude(key, value);
   };
   auto non_negative = [](const std::string& key, double value) {
     if (!(value >= 0))
       throw InputError("parameter " + key + ": must be >= 0 (got " + std::to_string(value) + ")");
+    check_magnitude(key, value);
   };
   if (user_set_v_ && user_set_eta1_)
     throw InputError("parameters v and eta1: give one of them, the other is derived");
@@ -312,6 +362,7 @@ Parameters ParameterBuilder::build() const {
   double touching_mass = 0;
   for (int l = 1; l <= p.levels; ++l)
     if (p.touches(l)) touching_mass += static_cast<double>(p.blocks(l)) * p.level(l).m;
+  check_magnitude("F_drive", p.F_drive);
   if (!(p.F_drive > p.F_kin))
     throw InputError("parameters F_drive, F_kin: F_drive must exceed F_kin for steady sliding (got " +
                      std::to_string(p.F_drive) + " <= " + std::to_string(p.F_kin) + ")");
@@ -324,6 +375,9 @@ Parameters ParameterBuilder::build() const {
   }
   if (!std::isfinite(p.v) || !std::isfinite(p.eta1) || !(p.v > 0) || !(p.eta1 > 0))
     throw InputError("parameters v, eta1: the derived value is not a finite positive number");
+  check_magnitude(user_set_eta1_ ? "v (derived from eta1)" : "eta1 (derived from v)", user_set_eta1_ ? p.v : p.eta1);
+  check_magnitude("F_drive - F_kin", p.F_drive - p.F_kin);
+  check_derived(p);
   return p;
 }
 
@@ -372,14 +426,17 @@ std::vector<std::string> read_parameter_file(const std::string& path) {
   }
   if (!doc.is_object())
     throw InputError("parameter file '" + path + "': expected a JSON object of KEY: value");
+  // A run's output JSON: its "parameters" block, where eta1 is listed beside the v it
+  // was derived from (or v beside eta1: they agree, and v is kept).
+  if (doc.contains("parameters") && doc["parameters"].is_object()) doc = doc["parameters"];
+  if (doc.contains("v") && doc.contains("eta1")) doc.erase("eta1");
   std::vector<std::string> assignments;
   for (const auto& [key, value] : doc.items()) {
     if (value.is_string()) assignments.push_back(key + "=" + value.get<std::string>());
+    else if (value.is_number_integer()) assignments.push_back(key + "=" + std::to_string(value.get<long long>()));
     else if (value.is_number()) {
-      std::ostringstream text;
-      text.precision(17);
-      text << value.get<double>();
-      assignments.push_back(key + "=" + text.str());
+      char text[32];
+      assignments.push_back(key + "=" + std::string(text, std::to_chars(text, text + sizeof text, value.get<double>()).ptr));
     } else {
       throw InputError("parameter file '" + path + "': value of " + key +
                        " is neither a number nor a string");
@@ -389,11 +446,9 @@ std::vector<std::string> read_parameter_file(const std::string& path) {
 }
 
 std::vector<std::pair<std::string, std::string>> describe(const Parameters& p) {
-  auto num = [](double x) {
-    std::ostringstream s;
-    s.precision(std::numeric_limits<double>::max_digits10);
-    s << x;
-    return s.str();
+  auto num = [](double x) {  // shortest text that reads back as x
+    char text[32];
+    return std::string(text, std::to_chars(text, text + sizeof text, x).ptr);
   };
   std::vector<std::pair<std::string, std::string>> described = {
           {"N", std::to_string(p.N)}, {"M", num(p.M)},

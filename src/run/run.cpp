@@ -28,16 +28,10 @@ constexpr double kOmegaDtMax = 0.3;
 constexpr double kRenewalDtMax = 0.1;
 // Each realization of a sub-band spans this many of the segments serving its lowest point.
 constexpr double kSegmentsPerRealization = 6;
-// The first round of a precision-driven run: fixed, not scaled by the thread count, so
-// that every later round (chosen from the results so far) is the same on any machine;
-// large enough that the error bars from the scatter between realizations are themselves
-// good to ~13%.
-constexpr std::uint64_t kInitialRealizations = 64;
-// Precision-driven runs stop growing here and report the precision they reached: 65536
-// realizations, or 2e9 realization-steps per sub-band (about a minute on two cores),
-// whichever comes first. Where the random forces stall the block the spectrum collapses
-// and its scatter can keep any precision out of reach.
-constexpr std::uint64_t kMaxRealizationsPerBand = std::uint64_t{1} << 16;
+// Precision-driven runs stop growing at kMaxRealizationsPerBand (session.hpp) or 2e9
+// realization-steps per sub-band (about a minute on two cores), whichever comes first, and
+// report the precision they reached. Where the random forces stall the block the spectrum
+// collapses and its scatter can keep any precision out of reach.
 constexpr double kMaxStepsPerBand = 2e9;
 // Batches per process in one chunk: the unit of checkpoints, of the work shared between
 // processes and of what an interrupt can lose. It changes no number (every sum runs over
@@ -135,7 +129,7 @@ std::vector<BatchRecord> run_batches_of(const Parameters& p, const SubBand& band
     run_batches(
         p, stepper_config, first, count, steps, request.threads, kBatchRealizations,
         [&](std::uint64_t batch_first, int batch_count) -> IncrementSink {
-          auto estimator = std::make_shared<SpectrumEstimator>(config, batch_count);
+          auto estimator = std::make_shared<SpectrumEstimator>(config, batch_count, request.simd);
           estimators[batch_first] = estimator;
           return [&, estimator, batch_count](const double* data, std::size_t n) {
             if (stop && stop->load(std::memory_order_relaxed)) throw Interrupted{};
@@ -170,6 +164,34 @@ std::vector<BatchRecord> run_batches_of(const Parameters& p, const SubBand& band
   return prefix;
 }
 
+// A stationary run slides at v on average in every sub-band, short by the second-order
+// eps^2/2 (0.3% for the reference case, at most 4.5% where eps <= 0.3); a stalled block
+// loses most of it (84% for the stall example, docs/model.md). Half of v, beyond five
+// standard errors, lies far from both.
+constexpr double kStalledSpeedDeficit = 0.5;
+constexpr double kSpeedStandardErrors = 5;
+
+/// Marks `result` non-stationary when a sub-band's realizations do not slide at v.
+void check_stationarity(const RunSession::Impl& s, RunResult& result) {
+  const double v = s.params.v;
+  for (std::size_t b = 0; b < s.bands.size(); ++b) {
+    double sum = 0, sum2 = 0, n = 0;
+    for (const BatchRecord& batch : s.bands[b].batches)
+      for (double speed : batch.speed) sum += speed, sum2 += speed * speed, n += 1;
+    if (n < 2) continue;
+    const double mean = sum / n;
+    const double error = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1));
+    if (std::fabs(mean - v) - kSpeedStandardErrors * error > kStalledSpeedDeficit * v) {
+      char why[200];
+      std::snprintf(why, sizeof why, "sub-band %zu slides at %.3g m/s on average (+- %.2g), not v = %.3g m/s",
+                    b, mean, error, v);
+      result.stationary = false;
+      result.stationarity = why;
+      return;
+    }
+  }
+}
+
 double worst_relative_error(const std::vector<SpectrumPoint>& points, std::size_t expected_points) {
   if (points.size() < expected_points) return INFINITY;
   double worst = 0;
@@ -183,10 +205,7 @@ double worst_relative_error(const std::vector<SpectrumPoint>& points, std::size_
 std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& request) {
   const std::vector<double> omegas =
       log_spaced_omegas(request.omega_min, request.omega_max, request.points_per_decade);
-  if (!(request.precision > 0) || !(request.precision < 1))
-    throw InputError("--precision: must be between 0 and 1 (a relative standard error)");
-  if (request.duration < 0 || !std::isfinite(request.duration))
-    throw InputError("--duration: must be a positive number of seconds");
+  check_request_fields(request);
 
   // About one decade per sub-band; a short remainder joins the sub-band below it.
   const std::size_t per_band = static_cast<std::size_t>(request.points_per_decade);
@@ -227,6 +246,7 @@ RunSession::Impl::Impl(const Parameters& p, const RunRequest& r, std::string nam
                      " (parts share the batches of the whole run)");
   if (r.first_realization > 0 && r.realizations == 0)
     throw InputError("--realizations-range: needs a fixed realization count (not --precision)");
+  check_plan(p, plan);
   for (SubBand& band : plan) {
     steps.push_back(static_cast<std::int64_t>(std::ceil(band.duration / band.dt)));
     band.duration = static_cast<double>(steps.back()) * band.dt;
@@ -235,7 +255,7 @@ RunSession::Impl::Impl(const Parameters& p, const RunRequest& r, std::string nam
 }
 
 RunSession::RunSession(const Parameters& params, const RunRequest& request, std::string case_name)
-    : impl_(std::make_unique<Impl>(params, request, std::move(case_name))) {}
+    : impl_((validate_request(params, request), std::make_unique<Impl>(params, request, std::move(case_name)))) {}
 RunSession::RunSession(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 RunSession::~RunSession() = default;
 RunSession::RunSession(RunSession&&) noexcept = default;
@@ -267,6 +287,13 @@ bool RunSession::advance(const Control& control) {
     s.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   const std::size_t band_count = s.plan.size();
+  std::mutex progress_mutex;
+  // With periodic checkpoints a chunk is one batch per thread, so a checkpoint comes at
+  // most one batch after it is due (the chunk size changes no number).
+  const int threads = s.request.threads > 0 ? s.request.threads
+                                            : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const std::uint64_t chunk_batches_per_process =
+      control.checkpoint_every > 0 && control.checkpoint ? static_cast<std::uint64_t>(threads) : kChunkBatches;
   for (std::size_t b = 0; b < band_count; ++b) {
     BandTotals& totals = s.bands[b];
     const SubBand& band = s.plan[b];
@@ -292,7 +319,7 @@ bool RunSession::advance(const Control& control) {
         }
         // This process's share of the chunk: a contiguous run of its batches.
         const std::uint64_t chunk = std::min(totals.planned - totals.realizations,
-                                             kChunkBatches * kBatchRealizations * comm.size());
+                                             chunk_batches_per_process * kBatchRealizations * comm.size());
         const std::uint64_t chunk_batches = (chunk + kBatchRealizations - 1) / kBatchRealizations;
         const std::uint64_t first_batch = chunk_batches * comm.rank() / comm.size();
         const std::uint64_t end_batch = chunk_batches * (comm.rank() + 1) / comm.size();
@@ -303,6 +330,7 @@ bool RunSession::advance(const Control& control) {
           if (!control.progress) return;
           const double in_band = (static_cast<double>(totals.realizations) + f * static_cast<double>(chunk)) /
                                  static_cast<double>(totals.planned);
+          const std::lock_guard<std::mutex> lock(progress_mutex);  // one call at a time (run.hpp)
           control.progress((static_cast<double>(b) + in_band) / static_cast<double>(band_count),
                            "sub-band " + std::to_string(b + 1) + "/" + std::to_string(band_count) + ", round " +
                                std::to_string(totals.rounds + 1));
@@ -431,6 +459,7 @@ RunResult RunSession::result() const {
     const double variance = std::max(0.0, sum2 / n - result.mean_speed * result.mean_speed);
     result.mean_speed_error = n > 1 ? std::sqrt(variance / (n - 1)) : INFINITY;
   }
+  check_stationarity(s, result);
   result.reached_precision = 0;
   for (const RunPoint& point : result.points)
     result.reached_precision = std::max(result.reached_precision, point.standard_error / point.C_x);

@@ -18,6 +18,22 @@ namespace run_detail {
 // SIMD width or thread count (and a multiple of every lane width).
 constexpr int kBatchRealizations = 8;
 
+// The first round of a precision-driven run: fixed, not scaled by the thread count, so
+// that every later round (chosen from the results so far) is the same on any machine;
+// large enough that the error bars from the scatter between realizations are themselves
+// good to ~13%.
+constexpr std::uint64_t kInitialRealizations = 64;
+// Bump whenever a change alters any number a run produces (stepper, renewal, estimator):
+// saved states of other numerics are refused on resume and merge, which are bitwise.
+constexpr int kNumericsVersion = 1;
+// A precision-driven sub-band stops growing here (see run.cpp).
+constexpr std::uint64_t kMaxRealizationsPerBand = std::uint64_t{1} << 16;
+
+/// The request's own fields in range (validate.cpp); throws InputError naming the option.
+void check_request_fields(const RunRequest& request);
+/// Every sub-band's time step and step count finite and representable.
+void check_plan(const Parameters& params, const std::vector<SubBand>& plan);
+
 /// One batch of realizations, as the stepper and estimator leave it.
 struct BatchRecord {
   SpectrumAccumulator spectrum;              // its lanes merged in lane order

@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include <zlib.h>
+
 #include "run/session.hpp"
 
 namespace slidespec {
@@ -14,7 +16,58 @@ namespace {
 constexpr char kStateMagic[8] = {'S', 'L', 'S', 'P', 'R', 'U', 'N', 'S'};
 // 2: renewals take effect at their own time inside a step (docs/numerics.md); a state of
 // version 1 holds realizations of the time-stepped process and cannot be continued.
-constexpr std::uint32_t kStateVersion = 2;
+// 3: a checksummed envelope (below) and the numerics version in the fingerprint.
+constexpr std::uint32_t kStateVersion = 3;
+// A batch record's fixed fields: the accumulator's length, the realization and point counts.
+constexpr std::uint64_t kSmallestBatchBytes = 24;
+// The envelope: magic, version, body length, a checksum of those 20 bytes (so the length
+// can be trusted to tell a truncated file from a corrupt one), the body, and a checksum
+// of everything before it.
+constexpr std::size_t kHeaderBytes = sizeof kStateMagic + 4 + 8 + 4;
+
+std::uint32_t checksum(const char* data, std::size_t size) {
+  uLong crc = crc32(0L, Z_NULL, 0);
+  while (size > 0) {
+    const auto piece = static_cast<uInt>(std::min<std::size_t>(size, 1u << 30));
+    crc = crc32(crc, reinterpret_cast<const Bytef*>(data), piece);
+    data += piece;
+    size -= piece;
+  }
+  return static_cast<std::uint32_t>(crc);
+}
+
+/// The body of a state file after its envelope is checked; throws InputError saying
+/// "truncated" or "corrupt".
+std::string open_envelope(const std::string& bytes) {
+  if (bytes.size() < sizeof kStateMagic || std::memcmp(bytes.data(), kStateMagic, sizeof kStateMagic) != 0)
+    throw InputError("run state: not a slidespec run state file");
+  if (bytes.size() < kHeaderBytes)
+    throw InputError("run state: truncated (" + std::to_string(bytes.size()) + " bytes, less than its header)");
+  io::Reader header(bytes, "run state");
+  for (std::size_t i = 0; i < sizeof kStateMagic; ++i) header.get<char>();
+  const auto version = header.get<std::uint32_t>();
+  const auto length = header.get<std::uint64_t>();
+  if (header.get<std::uint32_t>() != checksum(bytes.data(), kHeaderBytes - 4))
+    throw InputError(version == 1 || version == 2
+                         ? "run state: format version " + std::to_string(version) +
+                               " (before checksums) or a corrupt file; this build reads version " +
+                               std::to_string(kStateVersion)
+                         : "run state: corrupt (its header fails its checksum)");
+  if (version != kStateVersion)
+    throw InputError("run state: format version " + std::to_string(version) + ", this build reads version " +
+                     std::to_string(kStateVersion));
+  const std::uint64_t expected = kHeaderBytes + length + 4;
+  if (length > bytes.size() || bytes.size() < expected)
+    throw InputError("run state: truncated (" + std::to_string(bytes.size()) + " of " + std::to_string(expected) +
+                     " bytes)");
+  if (bytes.size() > expected)
+    throw InputError("run state: corrupt (" + std::to_string(bytes.size() - expected) + " bytes after its end)");
+  std::uint32_t stored;
+  std::memcpy(&stored, bytes.data() + expected - 4, 4);
+  if (stored != checksum(bytes.data(), expected - 4))
+    throw InputError("run state: corrupt (its content fails its checksum)");
+  return bytes.substr(kHeaderBytes, length);
+}
 
 std::string number_text(double x) {
   char text[40];
@@ -34,6 +87,7 @@ std::vector<std::pair<std::string, std::string>> fingerprint(const Parameters& p
   fields.emplace_back("realizations", std::to_string(r.realizations));
   fields.emplace_back("first_realization", std::to_string(r.first_realization));
   fields.emplace_back("seed", std::to_string(r.seed));
+  fields.emplace_back("numerics", std::to_string(kNumericsVersion));
   fields.emplace_back("version", SLIDESPEC_VERSION);
   return fields;
 }
@@ -87,7 +141,8 @@ BatchRecord get_batch(io::Reader& in) {
   batch.spectrum = SpectrumAccumulator::load(in.get_bytes());
   const auto count = in.get<std::uint64_t>();
   const auto points = in.get<std::uint64_t>();
-  if (count > kBatchRealizations || points > 100000) throw InputError("run state: corrupt batch record");
+  if (count > kBatchRealizations || points > 100000 || count * points * sizeof(double) > in.remaining())
+    throw InputError("run state: corrupt batch record");
   batch.own_mean.assign(count, std::vector<double>(points));
   for (auto& mean : batch.own_mean)
     for (double& x : mean) x = in.get<double>();
@@ -108,8 +163,7 @@ std::uint64_t realizations_in(const std::vector<BatchRecord>& batches) {
 
 std::string RunSession::save() const {
   const Impl& s = *impl_;
-  std::string bytes(kStateMagic, sizeof kStateMagic);
-  io::put<std::uint32_t>(bytes, kStateVersion);
+  std::string bytes;
   const auto fields = fingerprint(s.params, s.request);
   io::put<std::uint64_t>(bytes, fields.size());
   for (const auto& [key, value] : fields) io::put_bytes(bytes, key), io::put_bytes(bytes, value);
@@ -125,7 +179,13 @@ std::string RunSession::save() const {
     io::put<std::uint64_t>(bytes, totals.batches.size());
     for (const BatchRecord& batch : totals.batches) put_batch(bytes, batch);
   }
-  return bytes;
+  std::string file(kStateMagic, sizeof kStateMagic);
+  io::put<std::uint32_t>(file, kStateVersion);
+  io::put<std::uint64_t>(file, bytes.size());
+  io::put<std::uint32_t>(file, checksum(file.data(), file.size()));
+  file += bytes;
+  io::put<std::uint32_t>(file, checksum(file.data(), file.size()));
+  return file;
 }
 
 RunSession RunSession::load(const std::string& bytes) {
@@ -139,22 +199,20 @@ RunSession RunSession::load(const std::string& bytes) {
   }
 }
 
-RunSession RunSession::load_checked(const std::string& bytes) {
-  if (bytes.size() < sizeof kStateMagic || std::memcmp(bytes.data(), kStateMagic, sizeof kStateMagic) != 0)
-    throw InputError("run state: not a slidespec run state file");
+RunSession RunSession::load_checked(const std::string& file) {
+  const std::string bytes = open_envelope(file);
   io::Reader in(bytes, "run state");
-  for (std::size_t i = 0; i < sizeof kStateMagic; ++i) in.get<char>();
-  const auto version = in.get<std::uint32_t>();
-  if (version != kStateVersion)
-    throw InputError("run state: format version " + std::to_string(version) + ", this build reads version " +
-                     std::to_string(kStateVersion));
-  std::vector<std::pair<std::string, std::string>> fields(in.get<std::uint64_t>());
+  // Every count is bounded by the bytes that remain before anything is allocated for it.
+  std::vector<std::pair<std::string, std::string>> fields(in.get_count(16));
   for (auto& [key, value] : fields) key = in.get_bytes(), value = in.get_bytes();
   auto field = [&](const std::string& key) {
     for (const auto& [k, value] : fields)
       if (k == key) return value;
     throw InputError("run state: no " + key + " recorded");
   };
+  if (field("numerics") != std::to_string(kNumericsVersion))
+    throw InputError("run state: computed with numerics version " + field("numerics") + ", this build computes with " +
+                     std::to_string(kNumericsVersion) + " (a resumed or merged run would not be bitwise); rerun it");
   if (field("version") != SLIDESPEC_VERSION)
     throw InputError("run state: made by slidespec " + field("version") + ", this is " SLIDESPEC_VERSION);
   RunRequest request;
@@ -168,7 +226,7 @@ RunSession RunSession::load_checked(const std::string& bytes) {
   request.seed = std::stoull(field("seed"));
   request.threads = in.get<std::int32_t>();
   request.simd = static_cast<SimdPath>(in.get<std::int32_t>());
-  const std::vector<std::pair<std::string, std::string>> described(fields.begin(), fields.end() - 9);
+  const std::vector<std::pair<std::string, std::string>> described(fields.begin(), fields.end() - 10);
   const Parameters params = rebuild_parameters(described);
   auto impl = std::make_unique<Impl>(params, request, in.get_bytes());
   if (fingerprint(params, request) != fields) throw InputError("run state: its request does not rebuild exactly");
@@ -179,7 +237,7 @@ RunSession RunSession::load_checked(const std::string& bytes) {
     totals.planned = in.get<std::uint64_t>();
     totals.rounds = in.get<std::int32_t>();
     totals.finished = in.get<std::uint8_t>() != 0;
-    totals.batches.resize(in.get<std::uint64_t>());
+    totals.batches.resize(in.get_count(kSmallestBatchBytes));
     for (BatchRecord& batch : totals.batches) batch = get_batch(in);
     totals.realizations = realizations_in(totals.batches);
   }

@@ -1,9 +1,7 @@
-// The stepper's kernel, written once and instantiated per instruction set.
-//
-// kernel_<path>.cpp defines, inside its own namespace, `Batch` (xsimd::batch<double, Arch>
-// or plain double for the scalar path) and the four operations below, then includes
-// kernel.inc. Separate namespaces keep each path's symbols apart, so the linker can never
-// hand the SSE2 path a function compiled for AVX-512.
+// The stepper's kernel, written once (kernel.inc) and compiled per instruction-set path
+// inside that path's namespace (simd/path.cpp.in), which defines Batch, width, load,
+// store, broadcast and any_passed (simd/primitives.inc). Each path exports its kernels
+// through its table (simd/path_table.hpp).
 #pragma once
 
 #include <cstddef>
@@ -31,12 +29,5 @@ struct KernelArgs {
 };
 
 using GroupKernel = void (*)(const KernelArgs&);
-
-/// The kernel for a state of `dimension` components and `inputs` input classes on a
-/// path, or nullptr if that path was not compiled for this shape.
-GroupKernel scalar_kernel(int dimension, int inputs);
-GroupKernel sse2_kernel(int dimension, int inputs);
-GroupKernel avx2_kernel(int dimension, int inputs);
-GroupKernel avx512_kernel(int dimension, int inputs);
 
 }  // namespace slidespec::stepper

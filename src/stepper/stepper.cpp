@@ -5,82 +5,27 @@
 #include <exception>
 #include <mutex>
 #include <thread>
-#include <xsimd/xsimd.hpp>
 
 #include "model/linear_structure.hpp"
+#include "simd/path_table.hpp"
 #include "stepper/exact_step.hpp"
 #include "stepper/kernel.hpp"
 #include "stepper/renewal.hpp"
 
 namespace slidespec {
 
-const char* to_string(SimdPath path) {
-  switch (path) {
-    case SimdPath::automatic: return "auto";
-    case SimdPath::scalar: return "scalar";
-    case SimdPath::sse2: return "sse2";
-    case SimdPath::avx2: return "avx2";
-    case SimdPath::avx512: return "avx512";
-  }
-  return "?";
-}
-
-SimdPath parse_simd_path(const std::string& name) {
-  for (SimdPath p : {SimdPath::automatic, SimdPath::scalar, SimdPath::sse2, SimdPath::avx2,
-                     SimdPath::avx512})
-    if (name == to_string(p)) return p;
-  throw InputError("--simd: '" + name + "' is not one of scalar, sse2, avx2, avx512, auto");
-}
-
-std::vector<SimdPath> available_simd_paths() {
-  const auto cpu = xsimd::available_architectures();
-  std::vector<SimdPath> paths = {SimdPath::scalar};
-  if (cpu.sse2) paths.push_back(SimdPath::sse2);
-  if (cpu.avx2) paths.push_back(SimdPath::avx2);
-  if (cpu.avx512f) paths.push_back(SimdPath::avx512);
-  return paths;
-}
-
-SimdPath resolve_simd_path(SimdPath requested) {
-  const auto paths = available_simd_paths();
-  if (requested == SimdPath::automatic) return paths.back();
-  if (std::find(paths.begin(), paths.end(), requested) == paths.end())
-    throw InputError(std::string("--simd: this CPU cannot run the ") + to_string(requested) + " path");
-  return requested;
-}
-
-int lane_width(SimdPath path) {
-  switch (resolve_simd_path(path)) {
-    case SimdPath::sse2: return 2;
-    case SimdPath::avx2: return 4;
-    case SimdPath::avx512: return 8;
-    default: return 1;
-  }
-}
-
-namespace {
-stepper::GroupKernel kernel_for(SimdPath path, int dimension, int inputs) {
-  switch (path) {
-    case SimdPath::sse2: return stepper::sse2_kernel(dimension, inputs);
-    case SimdPath::avx2: return stepper::avx2_kernel(dimension, inputs);
-    case SimdPath::avx512: return stepper::avx512_kernel(dimension, inputs);
-    default: return stepper::scalar_kernel(dimension, inputs);
-  }
-}
-}  // namespace
-
 struct Stepper::Impl {
   Impl(const Parameters& p, const StepperConfig& c, std::uint64_t first_realization, int n)
       : params(p),
         config(c),
         path(resolve_simd_path(c.simd)),
-        width(lane_width(path)),
+        width(simd::path_table(path).width),
         first(first_realization),
         count(n),
         padded((n + width - 1) / width * width),
         lumped(model::lumped_tree_structure(p)),
         step(stepper::exact_step(lumped, c.dt)),
-        kernel(kernel_for(path, step.dimension, step.inputs)),
+        kernel(simd::path_table(path).group_kernel(step.dimension, step.inputs)),
         renewal(model::tree_structure(p).contacts, lumped.class_of_contact, p.renewal, c.seed, c.stream,
                 first_realization, padded) {
     if (!(c.dt > 0) || !std::isfinite(c.dt)) throw InputError("time step dt must be > 0");
@@ -91,7 +36,7 @@ struct Stepper::Impl {
     z.assign(static_cast<size_t>(step.dimension) * padded, 0.0);
     xi.assign(padded, 0.0);
     offset_sum.assign(padded, 0.0);
-    // Start in equilibrium with the initial forces (MODEL.md section 1: steady sliding),
+    // Start in equilibrium with the initial forces (docs/model.md §1: steady sliding),
     // computed in plain scalar code so that every path starts from the same bits.
     for (int lane = 0; lane < padded; ++lane)
       for (int r = 0; r < step.dimension; ++r) {

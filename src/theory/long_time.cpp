@@ -1,4 +1,4 @@
-// Mean speed and diffusion constant of the quasi-static block (docs/model.md section 7):
+// Mean speed and diffusion constant of the quasi-static block (docs/model.md §7):
 // exactly, from a Laplace representation of 1/u, and as the O(eps^2) series, from the
 // moments of the total random force up to the fourth.
 #include <algorithm>

@@ -1,4 +1,4 @@
-// The second-order force spectrum of docs/model.md section 7: in time, the poisson
+// The second-order force spectrum of docs/model.md §7: in time, the poisson
 // renewals of the quasi-static block form a Markov process with generator v u(G) L, and a
 // second-order resolvent expansion of its velocity spectrum gives Phi below.
 #include <complex>

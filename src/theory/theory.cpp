@@ -10,11 +10,22 @@
 
 namespace slidespec {
 
+namespace {
+// Beyond these a table is no longer a spectrum one reads, and the work grows with the count.
+constexpr int kMostPointsPerDecade = 1000;
+constexpr long kMostPoints = 100000;
+}  // namespace
+
 std::vector<double> log_spaced_omegas(double omega_min, double omega_max, int points_per_decade) {
   if (!(omega_min > 0) || !(omega_max > omega_min) || !std::isfinite(omega_max))
     throw InputError("omega range: need 0 < omega-min < omega-max (finite)");
-  if (points_per_decade < 1) throw InputError("points: need at least 1 point per decade");
+  if (points_per_decade < 1 || points_per_decade > kMostPointsPerDecade)
+    throw InputError("points: need 1 to " + std::to_string(kMostPointsPerDecade) + " points per decade (got " +
+                     std::to_string(points_per_decade) + ")");
   const double decades = std::log10(omega_max / omega_min);
+  if (!(decades * points_per_decade < kMostPoints))
+    throw InputError("points: omega-min to omega-max at " + std::to_string(points_per_decade) +
+                     " per decade is more than " + std::to_string(kMostPoints) + " points");
   // Round so that 0.1..1e5 at 8 per decade gives exactly 49 points, both ends included.
   const long steps = std::lround(std::floor(decades * points_per_decade + 1e-9));
   std::vector<double> omegas;
@@ -66,7 +77,13 @@ std::vector<double> exact_spectrum(const Parameters& p, const std::vector<double
       analyzed = true;
     }
     solver.factorize(Z);
+    // A singular or non-finite Z (extreme parameters) leaves the factors unusable.
+    if (solver.info() != Eigen::Success)
+      throw InputError("parameters: the dynamic stiffness at omega = " + std::to_string(omega) +
+                       " cannot be factorized (parameters too extreme)");
     const Eigen::VectorXcd G0 = solver.solve(unit_block);
+    if (!G0.allFinite())
+      throw InputError("parameters: the response at omega = " + std::to_string(omega) + " is not finite");
     // The contacts of a level share one force spectrum: sum their responses first.
     std::vector<double> per_level(static_cast<std::size_t>(p.levels) + 1, 0.0);
     for (const model::Contact& c : s.contacts)

@@ -207,5 +207,33 @@ TEST(ReadRecord, RefusesEachMalformedFileNamingTheLine) {
   EXPECT_PRED2(names, refusal(drifting), "sampling is not uniform");
 }
 
+// Numbers handed over by a program (the Python module) pass the checks a file passes.
+TEST(ReadRecord, SamplesAsNumbersAreReadAsTheirFileIs) {
+  RecordFormat mm;
+  mm.unit = LengthUnit::mm;
+  const Record file = read("t,x\n0.5,1.0\n1.0,1.5\n1.5,2.5\n", mm);
+  const Record numbers = record_from_samples({0.5, 1.0, 1.5}, {1.0, 1.5, 2.5}, mm);
+  EXPECT_EQ(numbers.displacement, file.displacement);
+  EXPECT_EQ(numbers.dt, file.dt);
+  EXPECT_EQ(numbers.start_time, file.start_time);
+  RecordFormat fixed;
+  fixed.dt = 0.01;
+  EXPECT_EQ(record_from_samples({}, {1, 2, 3}, fixed).dt, 0.01);
+  const auto refused = [](const std::vector<double>& t, const std::vector<double>& x, const std::string& what) {
+    try {
+      record_from_samples(t, x, {});
+    } catch (const InputError& e) {
+      return std::string(e.what()).find(what) != std::string::npos;
+    }
+    return false;
+  };
+  EXPECT_TRUE(refused({0, 1, 2, 4}, {0, 0, 0, 0}, "record: sample 3: sampling is not uniform"));
+  EXPECT_TRUE(refused({0, 1, 1}, {0, 0, 0}, "sample 2: time"));
+  EXPECT_TRUE(refused({0, 1, 2}, {0, NAN, 0}, "sample 1: x is not a finite number"));
+  EXPECT_TRUE(refused({0, 1}, {0, 1, 2}, "2 times for 3 samples"));
+  EXPECT_TRUE(refused({}, {0, 1, 2}, "give the sample times or a positive dt"));
+  EXPECT_TRUE(refused({0}, {0}, "many samples"));
+}
+
 }  // namespace
 }  // namespace slidespec

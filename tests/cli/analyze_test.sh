@@ -6,13 +6,13 @@ source "$(dirname "$0")/common.sh"
 # A short synthetic record (60 s at 1 kHz, a fine sensor so that a band shows) through the whole path.
 "$bin" synth --set alpha=0.4 --duration 60 --resolution 1e-8 --sensor-noise 5e-9 --out "$work/rec" 2> "$work/synth.err" || fail "synth failed: $(cat "$work/synth.err")"
 [ "$(grep -vc '^#' "$work/rec.csv")" -eq 60002 ] || fail "synth: expected a header and 60001 samples"
-grep -q "^t,x$" "$work/rec.csv" || fail "synth: no t,x header"
-"$bin" analyze "$work/rec.csv" --units um --resolution 1e-8 --sensor-noise 5e-9 --fit-slope 30 100 \
+grep -q "^t (s),x (um)$" "$work/rec.csv" || fail "synth: no t (s),x (um) header"
+"$bin" analyze "$work/rec.csv" --units um --resolution 1e-8m --sensor-noise 5e-9m --fit-slope 30 100 \
   --compare-case reference --set alpha=0.4 --fit alpha --fit-band 30 100 --normal-mass 2 --driving-mass 1 \
   --out "$work/an" 2> "$work/an.err" || fail "analyze failed: $(cat "$work/an.err")"
 for ext in tsv json png; do [ -s "$work/an.$ext" ] || fail "analyze wrote no .$ext"; done
-grep -q "^omega	C_x	stderr	floor	below_floor	n_avg	bandwidth	C_v	fit	theory$" "$work/an.tsv" || fail "analyze table header"
-grep -q "^# mu = 5.0*e-01" "$work/an.tsv" || fail "mu = M'/M not reported"
+grep -q "^# omega	C_x	stderr	floor	below_floor	n_avg	bandwidth	C_v	fit	theory$" "$work/an.tsv" || fail "analyze table header"
+grep -q "^# mu = 0.5 " "$work/an.tsv" || fail "mu = M'/M not reported"
 grep -q '"alpha_fit"' "$work/an.json" || fail "no alpha fit in the JSON"
 grep -q "alpha = " "$work/an.err" || fail "no alpha in the summary"
 ls -a "$work" | grep -q "tmp\|\.plot_spectra" && fail "a temporary file was left behind"
@@ -37,6 +37,49 @@ expect_refused analyze-missing-directory "does not exist" analyze "$work/rec.csv
 expect_refused synth-bad-interval "sample-interval" synth --sample-interval -1 $out
 expect_refused synth-bad-case slow synth --case slow $out
 expect_refused synth-missing-directory "does not exist" synth --out "$work/nowhere/x"
+
+# Units from the header: the same record in mm, headed "time (s),position (mm)", gives the
+# same speed; a bare --resolution is in the record's unit, one with a unit is converted.
+speed() { /usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['measured_mean_speed']['value'])" "$1"; }
+awk -F, '/^#/ {next} $1 ~ /^[0-9-]/ {printf "%s,%.12g\n", $1, $2 / 1000; next} {print "time (s),position (mm)"}' "$work/rec.csv" > "$work/mm.csv"
+"$bin" analyze "$work/mm.csv" --resolution 1e-5 --sensor-noise 5e-9m --quiet --no-plot --out "$work/mm" || fail "analyze of a mm record"
+v_um=$(speed "$work/an.json"); v_mm=$(speed "$work/mm.json")
+/usr/bin/python3 -c "import sys; a, b = map(float, sys.argv[1:]); sys.exit(abs(a - b) > 1e-9 * abs(a) or not 4e-4 < a < 6e-4)" "$v_um" "$v_mm" \
+  || fail "units from the header: v = $v_mm m/s from mm, $v_um m/s from um"
+grep -q '^# units = mm  # of the displacement column, from header' "$work/mm.tsv" || fail "mm record: unit source not reported"
+grep -q '^# resolution = 1e-08' "$work/mm.tsv" || fail "--resolution 1e-5 in a mm record is not 1e-8 m"
+for header in "t_s,x_mm" "t [s],x [mm]" "time,mm"; do
+  sed "1,/^time/s/^time (s),position (mm)\$/$header/" "$work/mm.csv" > "$work/h.csv"
+  "$bin" analyze "$work/h.csv" --quiet --no-plot --out "$work/h" || fail "header '$header' not read"
+  [ "$(speed "$work/h.json")" = "$v_mm" ] || fail "header '$header': v = $(speed "$work/h.json"), expected $v_mm"
+done
+# A byte order mark is ignored; '-' reads standard input; --units overrides the header.
+{ printf '\xEF\xBB\xBF'; cat "$work/mm.csv"; } | "$bin" analyze - --quiet --no-plot --out "$work/bom" || fail "BOM or stdin"
+[ "$(speed "$work/bom.json")" = "$v_mm" ] || fail "stdin with a BOM: another speed"
+"$bin" analyze "$work/rec.csv" --units m --no-plot --out "$work/over" 2> "$work/over.err"
+grep -q "implausible.*read in m (from --units)" "$work/over.err" || fail "no implausible-speed warning naming the unit: $(cat "$work/over.err")"
+# An empty usable band (a resolution given in the wrong unit) is warned about with its cause.
+"$bin" analyze "$work/mm.csv" --resolution 1 --quiet --no-plot --out "$work/floor" 2> "$work/floor.err"
+grep -q "no usable band.*wrong unit" "$work/floor.err" || fail "empty usable band not explained: $(cat "$work/floor.err")"
+printf 't;x\n0;0,001\n0,001;0,002\n' > "$work/comma.csv"
+expect_refused decimal-comma "decimal commas" analyze "$work/comma.csv" $out
+expect_refused bad-resolution "resolution" analyze "$work/mm.csv" --resolution 1furlong $out
+expect_refused units-typo "did you mean 'um'" analyze "$work/mm.csv" --units uum $out
+
+# A failed fit: a random walk (slope -2) against the model's omega^-4 is reported as failed,
+# with ok = false in both files and exit status 3, and its alpha not printed as a result.
+/usr/bin/python3 -c "
+import numpy as np; r = np.random.default_rng(1); n = 200000
+x = np.cumsum(r.normal(0, 1e-7, n)) + 5e-4 * np.arange(n) * 1e-3
+np.savetxt('$work/walk.csv', np.c_[np.arange(n) * 1e-3, x], delimiter=',', header='t,x', comments='')"
+"$bin" analyze "$work/walk.csv" --compare-case reference --fit alpha --fit-band 1 100 --no-plot --out "$work/walk" 2> "$work/walk.err"
+status=$?
+[ $status -eq 3 ] || fail "failed fit: exit status $status, expected 3"
+grep -q "alpha fit FAILED: chi2/dof" "$work/walk.err" || fail "failed fit not reported: $(cat "$work/walk.err")"
+grep -q "alpha = " "$work/walk.err" && fail "a failed alpha printed as a result"
+grep -q '^  "ok": false' "$work/walk.json" || fail "failed fit: JSON ok is not false"
+grep -q '^# alpha_fit_ok = false' "$work/walk.tsv" || fail "failed fit: TSV does not say so"
+grep -q '^  "ok": true' "$work/an.json" || fail "a good fit is not ok = true"
 
 [ $failures -eq 0 ] && echo "cli_analyze: all checks passed"
 exit $((failures > 0))

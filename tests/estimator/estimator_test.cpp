@@ -16,6 +16,8 @@
 #include <thread>
 
 #include "estimator/design.hpp"
+#include "estimator/kernels.hpp"
+#include "simd/path_table.hpp"
 #include "slidespec/parameters.hpp"
 
 // Every allocation in this binary is counted, so a test can show that push() allocates
@@ -284,6 +286,77 @@ TEST(Estimator, LaneDependsOnlyOnItsOwnDataBitwise) {
     SpectrumEstimator one(kSmallConfig, 1);
     one.push(column.data(), steps);
     EXPECT_EQ(many.accumulator(0).save(), one.accumulator(0).save()) << lanes << " lanes";
+  }
+}
+
+TEST(Estimator, EverySimdPathMatchesTheScalarPathBitwise) {
+  // Lane counts around every width, both input kinds, and chunks that split the
+  // decimators' outputs unevenly, so every kernel's leftover elements are exercised.
+  for (SampleKind kind : {SampleKind::value, SampleKind::increment}) {
+    EstimatorConfig config = kSmallConfig;
+    config.input = kind;
+    for (int lanes : {1, 3, 8, 9}) {
+      const std::size_t steps = 120000;
+      const auto data = ar1_data(lanes, steps, 65);
+      auto saved = [&](SimdPath path) {
+        SpectrumEstimator estimator(config, lanes, path);
+        for (std::size_t done = 0, n = 1; done < steps; done += n, n = n * 7 % 9973 + 1)
+          estimator.push(data.data() + done * lanes, std::min(n, steps - done));
+        std::string all;
+        for (int l = 0; l < lanes; ++l) all += estimator.accumulator(l).save();
+        return all;
+      };
+      const std::string scalar = saved(SimdPath::scalar);
+      for (SimdPath path : available_simd_paths())
+        EXPECT_EQ(saved(path), scalar) << to_string(path) << ", " << lanes << " lanes";
+    }
+  }
+}
+
+TEST(Estimator, SegmentTransformMatchesTheDefinitionOfTheDft) {
+  // |X_k|^2 of every lane against X_k = sum_n w_n x_{(start + n) mod L} e^{-2 pi i k n/L}
+  // summed in long double, on every path, lanes padded around each width, the segment
+  // wrapped around its ring. A wrong twiddle or index is an O(1) error, rounding ~1e-15
+  // of sqrt(L sum (w x)^2).
+  constexpr int L = estimator_detail::kSegmentLength;
+  const auto& tables = estimator_detail::fourier_tables();
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> uniform(0.1, 1.0);
+  std::vector<double> window(L);
+  for (double& w : window) w = uniform(rng);
+  const std::size_t start = 37;
+  for (SimdPath path : available_simd_paths()) {
+    const estimator_detail::StreamKernels kernels = simd::path_table(path).stream;
+    const int width = lane_width(path);
+    for (int lanes : {1, width + 1, 2 * width}) {
+      const std::ptrdiff_t stride = (lanes + width - 1) / width * width;
+      std::vector<double> ring(L * stride, 0.0), work(L * stride), power((L / 2 + 1) * stride);
+      for (int n = 0; n < L; ++n)
+        for (int l = 0; l < lanes; ++l) ring[n * stride + l] = normal(rng) + (l == 0 ? std::cos(0.7 * n) : 0.0);
+      kernels.segment_power(tables, window.data(), ring.data(), start, 0, L / 2, work.data(), power.data(), stride);
+      for (int l = 0; l < lanes; ++l) {
+        std::vector<long double> segment(L);
+        long double energy = 0;
+        for (int n = 0; n < L; ++n) {
+          segment[n] = static_cast<long double>(window[n]) * ring[((start + n) % L) * stride + l];
+          energy += segment[n] * segment[n];
+        }
+        const double tolerance = 1e-13 * std::sqrt(static_cast<double>(L * energy));
+        double worst = 0;
+        for (int k = 0; k <= L / 2; ++k) {
+          long double re = 0, im = 0;
+          for (int n = 0; n < L; ++n) {
+            const long double angle = -2.0L * std::numbers::pi_v<long double> * ((static_cast<long>(k) * n) % L) / L;
+            re += segment[n] * std::cos(angle);
+            im += segment[n] * std::sin(angle);
+          }
+          const double exact = static_cast<double>(std::sqrt(re * re + im * im));
+          worst = std::max(worst, std::abs(std::sqrt(power[k * stride + l]) - exact));
+        }
+        EXPECT_LT(worst, tolerance) << to_string(path) << ", lane " << l << " of " << lanes;
+      }
+    }
   }
 }
 

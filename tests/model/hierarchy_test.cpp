@@ -1,4 +1,4 @@
-// Blocks on blocks (MODEL.md section 6): the per-level keys and the tree's structure.
+// Blocks on blocks (docs/model.md §6): the per-level keys and the tree's structure.
 #include <gtest/gtest.h>
 
 #include <string>

@@ -1,5 +1,5 @@
 // The acceptance criterion of `slidespec run` against the exact theory, on every case of
-// docs/model.md and on parameter sets that are not cases. Built twice: the short variant
+// docs/model.md §4 and on parameter sets that are not cases. Built twice: the short variant
 // (narrower band, 10% precision) runs in the default suite; SLIDESPEC_LONG_ACCEPTANCE
 // builds the full band at the default 5% (ctest label "long").
 #include <gtest/gtest.h>
@@ -59,6 +59,7 @@ TEST_P(Acceptance, DeviationsFromTheoryAreStandardNormal) {
   const Parameters p = builder.build();
   const RunResult result = run_spectrum(p, request_for(s));
   ASSERT_TRUE(result.complete);
+  EXPECT_TRUE(result.stationary) << result.stationarity;
   // The simulation is the full model, the theory its first order: they differ by terms of
   // order eps^2 (the mean speed by eps^2/2 exactly). Where eps^2 reaches 1%, the error bars
   // (0.3..1% at most points, well below the 5% target, since the lowest point of each
@@ -97,7 +98,7 @@ TEST_P(Acceptance, DeviationsFromTheoryAreStandardNormal) {
   }
   EXPECT_LT(worst, 0.15) << s.name;
   EXPECT_LE(result.reached_precision, request_for(s).precision) << s.name;
-  // The measured mean speed: v / (1 + eps^2/2) to second order (docs/model.md).
+  // The measured mean speed: v / (1 + eps^2/2) to second order (docs/model.md §4.1).
   EXPECT_NEAR(result.mean_speed, p.v / (1 + 0.5 * eps * eps), 4 * result.mean_speed_error + 1e-3 * p.v)
       << s.name;
 }

@@ -3,10 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <cstdlib>
+#include <thread>
 
 using namespace slidespec;
 
@@ -36,6 +38,7 @@ Agreement agreement(const RunResult& result) {
 void expect_agreement(const RunResult& result, const std::string& what) {
   const Agreement a = agreement(result);
   ASSERT_GT(a.points, 0) << what;
+  EXPECT_TRUE(result.stationary) << what << ": " << result.stationarity;
   // For honest error bars |z| <= 2 holds for 95.4% of points; 85% leaves room for the
   // binomial scatter of a few dozen points (3 standard deviations below 95.4% at n = 40).
   EXPECT_GE(a.within_two, 0.85 * a.points) << what;
@@ -68,7 +71,7 @@ TEST(Run, RingChainWithPeriodicRenewalAgreesWithTheory) {
   RunRequest r = short_request();
   // Away from the zeros of the periodic force spectrum (every 2 pi v/a = pi rad/s): below
   // ~60 rad/s a log bin holds only a few zeros, and renewal in distance jitters the
-  // renewal times, filling them in (10% above theory there, docs/model.md).
+  // renewal times, filling them in (10% above theory there, docs/model.md §4.1).
   r.omega_min = 100;
   const Parameters p = ParameterBuilder().set("chain=ring").set("renewal=periodic").set("N=12").build();
   expect_agreement(run_spectrum(p, r), "ring, periodic, N=12");
@@ -115,6 +118,25 @@ TEST(Run, AStopRequestEndsTheRunWithWhatAccumulated) {
       },
       &stop);
   EXPECT_FALSE(result.complete);
+}
+
+// Workers call the progress callback; the run serializes the calls (run.hpp), so a
+// callback without a lock of its own (a Python progress bar) never runs twice at once.
+TEST(Run, ProgressCallsFromWorkersNeverOverlap) {
+  RunRequest r = short_request();
+  r.omega_min = 100;
+  r.omega_max = 1e3;
+  r.realizations = 32;
+  r.threads = 2;
+  std::atomic<int> inside{0}, overlaps{0}, calls{0};
+  run_spectrum(ParameterBuilder().build(), r, [&](double, const std::string&) {
+    if (++inside > 1) ++overlaps;
+    ++calls;
+    std::this_thread::sleep_for(std::chrono::microseconds(20));
+    --inside;
+  });
+  EXPECT_GT(calls.load(), 10);
+  EXPECT_EQ(overlaps.load(), 0);
 }
 
 TEST(Run, TimeStepIsSetByTheBandNotByTheStiffness) {

@@ -1,4 +1,4 @@
-// The map of docs/model.md section 7: for six miniblocks, eps from 0.05 to the stall
+// The map of docs/model.md §7: for six miniblocks, eps from 0.05 to the stall
 // boundary (1/3), the full model's mean speed and diffusion constant against the first-
 // and second-order theory and the exact quasi-static result, as TSV on stdout (minutes;
 // run under nice). Plot with tools/plot_long_time_map.py.

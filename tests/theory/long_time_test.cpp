@@ -1,4 +1,4 @@
-// The long-time motion of the second-order theory (docs/model.md section 7) against an
+// The long-time motion of the second-order theory (docs/model.md §7) against an
 // independent simulation of the quasi-static block in sliding distance, which is exact to
 // every order in eps, and against the full model's stepper.
 #include <gtest/gtest.h>
@@ -14,7 +14,7 @@ using namespace slidespec;
 using namespace long_time_test;
 
 // The O(eps^2) coefficients, independent of the exact integral: the flat model's closed
-// forms (docs/model.md section 7) from the general expression, and the exact result's
+// forms (docs/model.md §7) from the general expression, and the exact result's
 // departure from them shrinking as eps^4 (D) and eps^6 (V).
 TEST(LongTimeMotion, SecondOrderIsTheExactResultsSeries) {
   for (const char* renewal : {"poisson", "periodic"})

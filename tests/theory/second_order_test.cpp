@@ -1,4 +1,4 @@
-// The second-order spectrum (docs/model.md section 7): its limits against the long-time
+// The second-order spectrum (docs/model.md §7): its limits against the long-time
 // motion derived independently (moments in distance, not the resolvent in time), its
 // reduction to first order, and (label long) simulated spectra at eps 0.2-0.3.
 #include <gtest/gtest.h>

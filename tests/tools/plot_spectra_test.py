@@ -7,6 +7,8 @@ Without SLIDESPEC the tests that need a theory table are skipped, saying so.
 """
 
 import importlib.util
+import math
+import re
 import os
 import pathlib
 import random
@@ -25,6 +27,7 @@ TOOL = pathlib.Path(__file__).resolve().parents[2] / "tools" / "plot_spectra.py"
 SLIDESPEC = os.environ.get("SLIDESPEC")
 NO_SLIDESPEC = "SLIDESPEC is not set: cannot generate theory tables (set it to the binary)"
 PNG_SIZE = (750, 1050)  # rows, columns: 7 x 5 inches at 150 dpi
+RUN_PNG_SIZE = (930, 1050)  # 7 x 6.2 inches: with the residual panel
 
 
 def load_tool():
@@ -86,11 +89,11 @@ class PictureTest(unittest.TestCase):
         self.addCleanup(self.directory.cleanup)
         self.path = pathlib.Path(self.directory.name)
 
-    def assert_picture(self, png):
+    def assert_picture(self, png, size=PNG_SIZE):
         """Exists, has the promised size, and holds a real drawing, not a blank canvas."""
         self.assertTrue(png.is_file(), f"{png} was not written")
         image = matplotlib.image.imread(png)
-        self.assertEqual(image.shape[:2], PNG_SIZE)
+        self.assertEqual(image.shape[:2], size)
         colours = np.unique(image[:, :, :3].reshape(-1, 3), axis=0)
         self.assertGreater(len(colours), 50, "the picture looks blank")
         self.assertEqual([p.name for p in self.path.glob(".plot_spectra.*")], [],
@@ -111,7 +114,7 @@ class PictureTest(unittest.TestCase):
             png = self.path / f"run_{kind}.png"
             result = run_tool(table, "-o", png, "--kind", kind)
             self.assertEqual(result.returncode, 0, result.stderr)
-            self.assert_picture(png)
+            self.assert_picture(png, RUN_PNG_SIZE)
 
     def test_overlay_of_three_files(self):
         files = [theory_table(self.path, "reference"),
@@ -122,7 +125,7 @@ class PictureTest(unittest.TestCase):
         result = run_tool(*files, "-o", png, "--labels", "reference,fast (run),N = 100",
                           "--omega-min", "0.3", "--omega-max", "3e4")
         self.assertEqual(result.returncode, 0, result.stderr)
-        self.assert_picture(png)
+        self.assert_picture(png, RUN_PNG_SIZE)
 
     def test_non_positive_values_are_skipped(self):
         table = simulated_table(theory_table(self.path, "reference"), self.path / "run.tsv")
@@ -137,7 +140,93 @@ class PictureTest(unittest.TestCase):
         png = self.path / "gaps.png"
         result = run_tool(table, "-o", png)
         self.assertEqual(result.returncode, 0, result.stderr)
-        self.assert_picture(png)
+        self.assert_picture(png, RUN_PNG_SIZE)
+
+    def test_format_from_the_extension(self):
+        table = simulated_table(theory_table(self.path, "reference"), self.path / "run.tsv")
+        for extension, magic in ((".png", b"\x89PNG\r\n"), (".pdf", b"%PDF-"), (".svg", b"<?xml")):
+            out = self.path / f"run{extension}"
+            result = run_tool(table, "-o", out)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.assertEqual(out.read_bytes()[:len(magic)], magic, extension)
+        self.assertIn(b"<svg", (self.path / "run.svg").read_bytes()[:500])
+        result = run_tool(table, "-o", self.path / "run.jpg")
+        self.assertEqual(result.returncode, 2)
+        self.assertIn(".jpg", result.stderr)
+        self.assertFalse((self.path / "run.jpg").exists())
+
+    def test_size_and_dpi(self):
+        table = theory_table(self.path, "reference")
+        png = self.path / "small.png"
+        result = run_tool(table, "-o", png, "--size", "4x3", "--dpi", "100")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assert_picture(png, (300, 400))
+        self.assertEqual(run_tool(table, "-o", png, "--size", "4by3").returncode, 2)
+
+    def test_fine_theory_line_through_the_command_line(self):
+        """`slidespec plot` recomputes the theory of a run on >= 64 points per decade: the
+        drawn theory path (SVG group 'theory') has that many vertices over the run's band."""
+        table = simulated_table(theory_table(self.path, "reference"), self.path / "run.tsv")
+        svg = self.path / "run.svg"
+        result = subprocess.run([SLIDESPEC, "plot", str(table), "-o", str(svg)],
+                                capture_output=True, text=True, timeout=120)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        text = svg.read_text()
+        start = text.index('<g id="theory"')
+        path = text[start:text.index("</g>", start)]
+        vertices = len(re.findall(r"[ML]\s*-?[0-9.]+\s+-?[0-9.]+", path))
+        decades = math.log10(1e5 / 0.1)
+        self.assertGreaterEqual(vertices, 64 * decades, f"{vertices} vertices over {decades} decades")
+        # Without the command line, the tool draws the table's own (coarse) theory column.
+        coarse = self.path / "coarse.svg"
+        self.assertEqual(run_tool(table, "-o", coarse).returncode, 0)
+        coarse_text = coarse.read_text()
+        start = coarse_text.index('<g id="theory"')
+        coarse_path = coarse_text[start:coarse_text.index("</g>", start)]
+        self.assertLess(len(re.findall(r"[ML]\s*-?[0-9.]+\s+-?[0-9.]+", coarse_path)), vertices)
+
+
+class FigureTest(unittest.TestCase):
+    """The parts of a figure, found by their gids in the matplotlib figure itself."""
+
+    def setUp(self):
+        if not SLIDESPEC:
+            self.skipTest(NO_SLIDESPEC)
+        self.directory = tempfile.TemporaryDirectory()
+        self.addCleanup(self.directory.cleanup)
+        self.path = pathlib.Path(self.directory.name)
+
+    def render(self, *files, extra=()):
+        args = plot_spectra.parse_arguments([*map(str, files), "-o", "x.png", *extra])
+        spectra = [plot_spectra.read_spectrum(str(f)) for f in files]
+        return plot_spectra.render(spectra, plot_spectra.legend_labels(spectra), args)
+
+    def residual_axes(self, figure):
+        return [a for a in figure.axes if a.get_gid() == plot_spectra.RESIDUAL_ID]
+
+    def test_residual_panel_under_runs_only(self):
+        theory = theory_table(self.path, "reference")
+        run = simulated_table(theory, self.path / "run.tsv", ["case = reference"])
+        figure = self.render(run)
+        (panel,) = self.residual_axes(figure)
+        self.assertEqual(panel.get_ylabel(), r"$C_x/\mathrm{theory} - 1$")
+        self.assertTrue(panel.collections, "no +-2 stderr band")  # fill_between
+        band = panel.collections[0].get_paths()[0].vertices[:, 1]
+        self.assertGreater(band.max(), 0.09)  # 2 x the 5 % stderr of the synthetic run
+        self.assertEqual(self.residual_axes(self.render(theory)), [])
+        self.assertEqual(self.residual_axes(self.render(run, extra=["--no-residuals"])), [])
+
+    def test_legend_names_simulation_and_theory_with_units(self):
+        run = simulated_table(theory_table(self.path, "reference"), self.path / "run.tsv",
+                              ["case = reference"])
+        figure = self.render(run)
+        texts = [t.get_text() for t in figure.axes[0].get_legend().get_texts()]
+        self.assertIn("simulation, ±1 stderr", texts)
+        self.assertIn("exact first-order theory", texts)
+        self.assertIn(r"reference: N = 30, v = 0.5 mm/s, a = 1 mm, $\alpha$ = 1", texts)
+        markers = [line for line in figure.axes[0].lines if line.get_gid() == "simulation"]
+        self.assertEqual(len(markers), 1)
+        self.assertEqual(markers[0].get_linestyle(), "None")  # points, not a line
 
 
 class LegendTest(unittest.TestCase):
@@ -151,7 +240,14 @@ class LegendTest(unittest.TestCase):
         reference = spectrum({**common, "case": "reference", "v": "0.00050000000000000001"})
         fast = spectrum({**common, "case": "fast", "v": "5e-3", "eta1": "3333333.3"})
         self.assertEqual(plot_spectra.legend_labels([reference, fast]),
-                         ["reference, v = 5e-4", "fast, v = 5e-3"])
+                         ["reference: v = 0.5 mm/s", "fast: v = 5 mm/s"])
+
+    def test_set_keys_are_named_with_symbols(self):
+        labels = plot_spectra.legend_labels([
+            spectrum({"case": "reference", "label": "reference + N=5, alpha=3", "N": "5",
+                      "alpha": "3", "a": "1e-4"}),
+            spectrum({"case": "reference", "N": "30", "alpha": "1", "a": "1e-4"})])
+        self.assertEqual(labels, [r"reference: N = 5, $\alpha$ = 3", r"reference: N = 30, $\alpha$ = 1"])
 
     def test_equal_numbers_written_differently_do_not_differ(self):
         labels = plot_spectra.legend_labels([spectrum({"case": "reference", "v": "5e-4"}),

@@ -1,0 +1,71 @@
+// The whole reference spectrum beside the plain cost of its randomness, in one benchmark
+// run: `slidespec run --case reference` (0.1 .. 1e5 rad/s, 5% per point) on two threads
+// against a plain loop that only draws as many renewals as that run needs, on one core.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cstdint>
+#include <random>
+
+#include "process_time.hpp"
+#include "slidespec/run.hpp"
+
+namespace {
+
+using namespace slidespec;
+using bench::process_cpu_seconds;
+
+/// The renewals a run of `result`'s plan draws, on average: x/a marks per miniblock
+/// (the reference case is flat), x = v t.
+double expected_renewals(const Parameters& p, const RunResult& result) {
+  double renewals = 0;
+  for (const SubBand& band : result.sub_bands)
+    renewals += static_cast<double>(band.realizations) * p.N * p.renewal_rate() * band.duration;
+  return renewals;
+}
+
+/// The plain loop: each renewal is a new mark spacing (exponential) and a new force
+/// (uniform), drawn with std::mt19937_64 the obvious way.
+double draw_plain_renewals(std::uint64_t count) {
+  std::mt19937_64 rng(1);
+  std::exponential_distribution<double> spacing(1.0);
+  std::uniform_real_distribution<double> force(-0.5, 0.5);
+  double sum = 0;
+  for (std::uint64_t i = 0; i < count; ++i) sum += spacing(rng) + force(rng);
+  return sum;
+}
+
+// Args: threads of the run. One iteration is one run then the plain loop, so both see
+// the same load; `run_over_plain` is the ratio (wall time, goal <= 0.5).
+void ReferenceSpectrumVsPlainRenewals(benchmark::State& state) {
+  const Parameters p = ParameterBuilder("reference").build();
+  RunRequest request;
+  request.threads = static_cast<int>(state.range(0));
+  request.omega_min = 0.1;
+  request.omega_max = 1e5;
+  request.precision = 0.05;
+  double run_wall = 0, run_cpu = 0, plain_wall = 0, plain_cpu = 0, renewals = 0;
+  for (auto _ : state) {
+    double cpu = process_cpu_seconds();
+    const RunResult result = run_spectrum(p, request);
+    run_cpu += process_cpu_seconds() - cpu;
+    run_wall += result.wall_seconds;
+    renewals = expected_renewals(p, result);
+    cpu = process_cpu_seconds();
+    const auto start = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(draw_plain_renewals(static_cast<std::uint64_t>(renewals)));
+    plain_wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    plain_cpu += process_cpu_seconds() - cpu;
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["run_s"] = run_wall / n;
+  state.counters["run_cpu_s"] = run_cpu / n;
+  state.counters["plain_renewals_s"] = plain_wall / n;
+  state.counters["renewals"] = renewals;
+  state.counters["run_over_plain"] = run_wall / plain_wall;
+  state.counters["run_cpu_over_plain_cpu"] = run_cpu / plain_cpu;
+}
+BENCHMARK(ReferenceSpectrumVsPlainRenewals)->Arg(2)->ArgName("threads")->Iterations(1)->Unit(benchmark::kSecond)
+    ->UseRealTime();
+
+}  // namespace

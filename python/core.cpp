@@ -1,0 +1,355 @@
+// slidespec._core: the core library for Python. It converts arrays, exceptions and the
+// GIL and nothing else; the interface users meet is python/slidespec/__init__.py.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "io/tables.hpp"
+#include "slidespec/analysis.hpp"
+#include "slidespec/parameters.hpp"
+#include "slidespec/run.hpp"
+#include "slidespec/theory.hpp"
+
+namespace py = pybind11;
+using namespace slidespec;
+
+namespace {
+
+using Overrides = std::vector<std::pair<std::string, std::string>>;
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+Parameters build(const std::string& case_name, const Overrides& overrides) {
+  ParameterBuilder builder(case_name);
+  for (const auto& [key, value] : overrides) builder.set(key, value);
+  return builder.build();
+}
+
+Array to_array(const std::vector<double>& values) {
+  Array out(static_cast<py::ssize_t>(values.size()));
+  std::copy(values.begin(), values.end(), out.mutable_data());
+  return out;
+}
+
+std::vector<double> to_vector(const Array& values) {
+  return std::vector<double>(values.data(), values.data() + values.size());
+}
+
+/// A run advanced by its own thread, so that the caller's thread keeps the interpreter
+/// (signals, progress bars) and can ask it to stop. Python never runs on the worker.
+class Run {
+ public:
+  explicit Run(RunSession session) : session_(std::move(session)) {}
+  ~Run() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();  // the workers never take the GIL: no deadlock
+  }
+  Run(const Run&) = delete;
+  Run& operator=(const Run&) = delete;
+
+  void start(int threads, const std::string& simd) {
+    if (thread_.joinable()) throw std::logic_error("the run was started already");
+    const SimdPath path = parse_simd_path(simd);
+    resolve_simd_path(path);
+    session_.set_execution(threads, path);
+    done_ = false;
+    thread_ = std::thread([this] {
+      RunSession::Control control;
+      control.stop = &stop_;
+      control.progress = [this](double fraction, const std::string& what) {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        fraction_ = fraction;
+        what_ = what;
+      };
+      bool finished = false;
+      std::exception_ptr error;
+      try {
+        finished = session_.advance(control);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      const std::lock_guard<std::mutex> lock(mutex_);
+      finished_ = finished;
+      error_ = error;
+      done_ = true;
+      ended_.notify_all();
+    });
+  }
+
+  /// Waits up to `seconds` for the run to end, without the GIL; true when it has.
+  bool wait(double seconds) {
+    py::gil_scoped_release release;
+    std::unique_lock<std::mutex> lock(mutex_);
+    return ended_.wait_for(lock, std::chrono::duration<double>(seconds), [this] { return done_; });
+  }
+
+  std::pair<double, std::string> progress() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return {fraction_, what_};
+  }
+
+  void stop() { stop_ = true; }
+
+  /// Ends the thread (after stop(), at its next batch); true when the run reached its end.
+  bool join() {
+    {
+      py::gil_scoped_release release;
+      if (thread_.joinable()) thread_.join();
+    }
+    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+    return finished_;
+  }
+
+  /// The result as `slidespec run` writes PREFIX.json.
+  std::string result_json() const {
+    py::gil_scoped_release release;
+    return io::run_json(session_.parameters(), session_.case_name(), session_.request(), session_.result());
+  }
+
+  /// The points' doubles as computed, to check that the JSON form carries them exactly.
+  py::dict raw_points() const {
+    const RunResult result = session_.result();
+    std::vector<double> omega, C_x, stderr_, theory;
+    for (const RunPoint& p : result.points) {
+      omega.push_back(p.omega);
+      C_x.push_back(p.C_x);
+      stderr_.push_back(p.standard_error);
+      theory.push_back(p.theory);
+    }
+    py::dict out;
+    out["omega"] = to_array(omega);
+    out["C_x"] = to_array(C_x);
+    out["stderr"] = to_array(stderr_);
+    out["theory"] = to_array(theory);
+    return out;
+  }
+
+  py::bytes save() const { return py::bytes(session_.save()); }
+  bool finished() const { return session_.finished(); }
+
+ private:
+  RunSession session_;
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::condition_variable ended_;
+  double fraction_ = 0;
+  std::string what_;
+  bool done_ = true, finished_ = false;
+  std::exception_ptr error_;
+};
+
+std::unique_ptr<Run> new_run(const std::string& case_name, const Overrides& overrides, const py::dict& request) {
+  RunRequest r;
+  r.omega_min = request["omega_min"].cast<double>();
+  r.omega_max = request["omega_max"].cast<double>();
+  r.points_per_decade = request["points_per_decade"].cast<int>();
+  r.precision = request["precision"].cast<double>();
+  r.duration = request["duration"].cast<double>();
+  r.realizations = request["realizations"].cast<std::uint64_t>();
+  r.seed = request["seed"].cast<std::uint64_t>();
+  return std::make_unique<Run>(RunSession(build(case_name, overrides), r, case_name));
+}
+
+/// A record's spectrum (analyze_record), kept for the fits that read it.
+class Spectrum {
+ public:
+  Spectrum(const Array& time, const Array& x, const py::dict& format, const py::dict& request) {
+    RecordFormat f;
+    f.dt = format["dt"].cast<double>();
+    f.unit = parse_length_unit(format["units"].cast<std::string>());
+    f.time_tolerance = format["time_tolerance"].cast<double>();
+    AnalysisRequest r;
+    r.omega_min = request["omega_min"].cast<double>();
+    r.omega_max = request["omega_max"].cast<double>();
+    r.points_per_decade = request["points_per_decade"].cast<int>();
+    r.resolution = request["resolution"].cast<double>();
+    r.sensor_noise = request["sensor_noise"].cast<double>();
+    const std::vector<double> t = to_vector(time), samples = to_vector(x);
+    py::gil_scoped_release release;
+    spectrum_ = analyze_record(record_from_samples(t, samples, f), r);
+    request_ = r;
+  }
+
+  /// The fields of `slidespec analyze`'s JSON.
+  py::dict to_dict() const {
+    const RecordSpectrum& s = spectrum_;
+    py::dict d;
+    d["slidespec_version"] = SLIDESPEC_VERSION;
+    d["record"] = py::dict(py::arg("samples") = s.samples, py::arg("dt") = s.dt, py::arg("duration") = s.duration);
+    d["measured_mean_speed"] = py::dict(py::arg("value") = s.sliding.v, py::arg("standard_error") = s.sliding.v_error,
+                                        py::arg("blocks") = s.sliding.blocks);
+    d["xi_rms"] = s.sliding.xi_rms;
+    d["resolution"] = request_.resolution;
+    d["sensor_noise"] = request_.sensor_noise;
+    d["quantization_variance"] = s.quantization_variance;
+    d["top_to_floor"] = s.top_to_floor;
+    d["usable_band"] = py::dict(py::arg("omega_low") = s.usable_low, py::arg("omega_high") = s.usable_high,
+                                py::arg("top_set_by") = s.usable_high_set_by_floor ? "noise floor" : "half of Nyquist");
+    py::list points;
+    for (const AnalysisPoint& p : s.points)
+      points.append(py::dict(py::arg("omega") = p.omega, py::arg("C_x") = p.C_x, py::arg("stderr") = p.standard_error,
+                             py::arg("floor") = p.noise_floor, py::arg("below_floor") = p.below_floor,
+                             py::arg("n_avg") = p.n_avg, py::arg("bandwidth") = p.bandwidth));
+    d["points"] = points;
+    return d;
+  }
+
+  py::dict slope(double low, double high) const {
+    const SlopeFit f = fit_slope(spectrum_, low, high);
+    return py::dict(py::arg("omega_low") = f.omega_low, py::arg("omega_high") = f.omega_high,
+                    py::arg("points") = f.points, py::arg("slope") = f.slope,
+                    py::arg("standard_error") = f.slope_error, py::arg("chi2_per_dof") = f.chi2_per_dof,
+                    py::arg("amplitude") = f.amplitude, py::arg("force_slope") = f.force_slope(),
+                    py::arg("reaches_floor") = f.reaches_floor);
+  }
+
+  py::dict alpha(const std::string& case_name, const Overrides& overrides, double low, double high) const {
+    const Parameters p = build(case_name, overrides);
+    AlphaFit f;
+    {
+      py::gil_scoped_release release;
+      f = fit_alpha(spectrum_, p, low, high);
+    }
+    return py::dict(py::arg("omega_low") = f.omega_low, py::arg("omega_high") = f.omega_high,
+                    py::arg("points") = f.points, py::arg("alpha") = f.alpha,
+                    py::arg("standard_error") = f.alpha_error, py::arg("chi2_per_dof") = f.chi2_per_dof);
+  }
+
+  std::pair<double, double> alpha_band(const std::string& case_name, const Overrides& overrides) const {
+    return default_alpha_band(spectrum_, build(case_name, overrides));
+  }
+
+  Array model(const std::string& case_name, const Overrides& overrides) const {
+    const Parameters p = build(case_name, overrides);
+    std::vector<double> values;
+    {
+      py::gil_scoped_release release;
+      values = model_spectrum(spectrum_, p);
+    }
+    return to_array(values);
+  }
+
+ private:
+  RecordSpectrum spectrum_;
+  AnalysisRequest request_;
+};
+
+py::dict landmarks_dict(const std::string& case_name, const Overrides& overrides) {
+  const Landmarks l = landmarks(build(case_name, overrides));
+  py::dict d;
+  d["renewal_rate"] = l.renewal_rate;
+  d["omega_c"] = l.omega_c;
+  d["diffusion_D"] = l.diffusion;
+  d["eq1_prefactor"] = l.eq1_prefactor;
+  d["coupling_eps"] = l.coupling_eps;
+  d["forces_can_stall"] = l.forces_can_stall;
+  d["outside_first_order"] = l.outside_first_order();
+  return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "slidespec's core library (use the slidespec package, not this module)";
+  py::register_exception_translator([](std::exception_ptr error) {
+    try {
+      if (error) std::rethrow_exception(error);
+    } catch (const InputError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    }
+  });
+  m.attr("version") = SLIDESPEC_VERSION;
+
+  m.def("cases", [] {
+    std::vector<std::tuple<std::string, std::string, Overrides>> out;
+    for (const Case& c : cases()) out.emplace_back(c.name, c.description, c.changes);
+    return out;
+  }, "The named cases: (name, description, [(key, value) changed from the reference]).");
+  m.def("parameter_keys", &parameter_keys, "Every settable parameter key (KEY_l for level l).");
+  m.def("describe", [](const std::string& case_name, const Overrides& overrides) {
+    return describe(build(case_name, overrides));
+  }, "Every (key, value text) of a case with overrides; ValueError names a bad key.");
+  m.def("landmarks", &landmarks_dict, "The theory's landmarks of a parameter set, SI units.");
+  m.def("log_spaced_omegas", [](double low, double high, int per_decade) {
+    return to_array(log_spaced_omegas(low, high, per_decade));
+  }, "Log-spaced omegas [rad/s], per_decade a decade, both ends included.");
+  m.def("theory", [](const std::string& case_name, const Overrides& overrides, const Array& omega, int order) {
+    const Parameters p = build(case_name, overrides);
+    if (order != 1 && order != 2) throw InputError("order: need 1 or 2");
+    // As `slidespec theory --order 2` computes C_x2: the exact C_x times the ratio.
+    const std::unique_ptr<SecondOrderTheory> second = order == 2 ? std::make_unique<SecondOrderTheory>(p) : nullptr;
+    const std::vector<double> omegas = to_vector(omega);
+    std::vector<double> values;
+    {
+      py::gil_scoped_release release;
+      values = exact_spectrum(p, omegas);
+      if (second)
+        for (std::size_t k = 0; k < values.size(); ++k) values[k] *= second->ratio(omegas[k]);
+    }
+    return to_array(values);
+  }, "The exact first- (order 1) or second-order C_x [m^2 s] at omegas [rad/s], without the GIL.");
+  m.def("long_time_motion", [](const std::string& case_name, const Overrides& overrides, const std::string& theory) {
+    const Parameters p = build(case_name, overrides);
+    const MotionTheory kind = theory == "first_order"    ? MotionTheory::first_order
+                              : theory == "second_order" ? MotionTheory::second_order
+                              : theory == "quasi_static" ? MotionTheory::quasi_static
+                                                         : throw InputError("theory: '" + theory +
+                                                                            "' is not first_order, second_order or quasi_static");
+    const LongTimeMotion motion = long_time_motion(p, kind);
+    return py::dict(py::arg("mean_speed") = motion.mean_speed, py::arg("diffusion") = motion.diffusion);
+  }, "The block's mean speed [m/s] and diffusion constant [m^2/s] in a theory (docs/model.md section 7).");
+  m.def("eq1", [](const std::string& case_name, const Overrides& overrides, const Array& omega) {
+    const Parameters p = build(case_name, overrides);
+    std::vector<double> values;
+    for (double w : to_vector(omega)) values.push_back(eq1_asymptote(p, w));
+    return to_array(values);
+  }, "The paper's Eq. (1) asymptote [m^2 s] at omegas [rad/s].");
+
+  py::class_<Run>(m, "Run", "A run advanced on its own thread; Python stays on the caller's.")
+      .def("start", &Run::start, "Starts the run with threads (0 = all cores) and a SIMD path name.")
+      .def("wait", &Run::wait, "Waits up to seconds without the GIL; True once the run has ended.")
+      .def("progress", &Run::progress, "The latest (fraction, message) the run reported.")
+      .def("stop", &Run::stop, "Asks the run to end at its next block of steps.")
+      .def("join", &Run::join, "Waits for the run's thread; True when the run reached its end.")
+      .def("result_json", &Run::result_json, "The result as `slidespec run` writes PREFIX.json.")
+      .def("raw_points", &Run::raw_points, "omega, C_x, stderr, theory as computed (not through JSON).")
+      .def("save", &Run::save, "The run's saved state (bytes), for load_run.")
+      .def("finished", &Run::finished, "True when every sub-band is done.");
+  m.def("new_run", &new_run, "A run of a case with overrides and a request dict; ValueError before any work.");
+  m.def("load_run", [](const py::bytes& state) { return std::make_unique<Run>(RunSession::load(state)); },
+        "A run from its saved state (Run.save), to continue.");
+
+  py::class_<Spectrum>(m, "Spectrum", "A record's spectrum: x in units at times t [s] (or every dt).")
+      .def(py::init<const Array&, const Array&, const py::dict&, const py::dict&>())
+      .def("default_alpha_band", &Spectrum::alpha_band, "The alpha fit's default band [rad/s].")
+      .def("to_dict", &Spectrum::to_dict, "The fields of `slidespec analyze`'s JSON.")
+      .def("fit_slope", &Spectrum::slope, "C_x ~ omega^slope over [low, high] rad/s.")
+      .def("fit_alpha", &Spectrum::alpha, "alpha of a case fitted over [low, high] rad/s.")
+      .def("model", &Spectrum::model, "A case's spectrum seen through this estimator [m^2 s].");
+  m.def("synthesize", [](const std::string& case_name, const Overrides& overrides, const py::dict& sensor) {
+    SensorRequest s;
+    s.sample_interval = sensor["sample_interval"].cast<double>();
+    s.duration = sensor["duration"].cast<double>();
+    s.resolution = sensor["resolution"].cast<double>();
+    s.sensor_noise = sensor["sensor_noise"].cast<double>();
+    s.seed = sensor["seed"].cast<std::uint64_t>();
+    const Parameters p = build(case_name, overrides);
+    Record record;
+    {
+      py::gil_scoped_release release;
+      record = synthesize_record(p, s);
+    }
+    return py::make_tuple(record.dt, record.start_time, to_array(record.displacement));
+  }, "A synthetic sensor record of a case: (dt [s], t0 [s], x [m]).");
+}

@@ -1,0 +1,689 @@
+"""slidespec: power spectra of frictional sliding noise, from Python.
+
+The spring-block model of Xu, Zhou and Persson: a block pulled over a rough substrate
+through N miniblocks that feel kinetic friction and a random force renewed every sliding
+distance ~a. slidespec gives the spectrum C_x(omega) of the sliding-distance fluctuation
+xi(t) = x(t) - v t, simulated with error bars (run) or exact in first order (theory), and
+analyses measured records (analyze). The numbers are those of the `slidespec` command.
+
+Units are SI throughout: omega in rad/s (angular frequency), C_x in m^2 s (two-sided, so
+that its integral over all omega is <xi^2>), lengths in m, times in s, masses in kg.
+
+    import slidespec as ss
+    p = ss.Parameters("reference", alpha=0.4)
+    r = ss.run(p, omega_min=1, omega_max=1e3, precision=0.05, seed=1, progress=True)
+    r.omega, r.C_x, r.stderr, r.theory          # numpy arrays [rad/s], [m^2 s]
+
+Errors: bad parameters or requests raise ValueError with the command line's message,
+naming the key; files that cannot be read raise OSError. Ctrl-C during run() raises
+KeyboardInterrupt carrying what the run accumulated as `error.result`; resume() continues it.
+"""
+
+import json
+import math
+import re
+import warnings
+from collections.abc import Mapping
+
+import numpy as np
+
+from . import _core
+
+__version__ = _core.version
+__all__ = ["Parameters", "Result", "Analysis", "cases", "omegas", "theory", "eq1", "long_time_motion", "run", "resume",
+           "read", "analyze", "synth", "PrecisionWarning", "ModelWarning"]
+
+
+class PrecisionWarning(UserWarning):
+    """A run ended without reaching the precision it was asked for (its work budget ran out)."""
+
+
+class ModelWarning(UserWarning):
+    """The parameters lie outside the first-order theory's validity, or a result is not
+    what it claims (e.g. not stationary); the numbers are reported all the same."""
+
+
+# ---------------------------------------------------------------------------------------
+# Parameters
+
+_COUNT_KEYS = re.compile(r"^(N|levels)(_\d+)?$")
+_TEXT_KEYS = re.compile(r"^(chain|renewal|touching)(_\d+)?$")
+
+
+def _typed(key, value):
+    """A parameter value as Python meets it: int for counts, str for names, else float."""
+    if not isinstance(value, str):
+        return value
+    if _TEXT_KEYS.match(key):
+        return value
+    if _COUNT_KEYS.match(key):
+        return int(float(value))
+    return float(value)
+
+
+def _text(key, value):
+    """A Python value as the library parses it (repr keeps every bit of a float)."""
+    if isinstance(value, bool):
+        raise ValueError(f"parameter {key}: {value!r} is not a number")
+    if isinstance(value, str):
+        return value
+    if isinstance(value, (list, tuple)):
+        return ",".join(_text(key, v) for v in value)
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    return repr(float(value))
+
+
+def cases(descriptions=False):
+    """Names of the paper's cases (the reference case and its variants).
+
+    With descriptions=True, a dict {name: description}. Parameters(name).to_dict() gives
+    a case's values."""
+    found = _core.cases()
+    if descriptions:
+        return {name: description for name, description, _ in found}
+    return [name for name, _, _ in found]
+
+
+class Parameters(Mapping):
+    """A validated parameter set of the model: a named case plus overrides.
+
+        p = Parameters("reference", alpha=0.4, N=12)
+        p["alpha"], p["eta1"]         # every key, derived ones too
+        p.to_dict()                   # {key: value}, JSON-serialisable
+
+    Keys and units (docs/model.md): N miniblocks; M block mass [kg]; m miniblock mass [kg];
+    k0 miniblock-block spring [N/m]; k1 miniblock-miniblock spring [N/m]; eta0
+    miniblock-block damping rate [1/s]; eta1 miniblock-substrate damping rate [1/s]; v mean
+    sliding speed [m/s]; a mean renewal distance [m]; alpha noise strength [-]; F_drive
+    driving force [N]; F_kin total kinetic friction [N]; chain "open"|"ring"; renewal
+    "poisson"|"periodic"; levels, touching and KEY_l for blocks on blocks (docs/hierarchy.md).
+    Give v or eta1; the other is derived. A bad key or value raises ValueError naming it.
+    """
+
+    def __init__(self, case="reference", /, **overrides):
+        self._case = str(case)
+        self._overrides = tuple((key, _text(key, value)) for key, value in overrides.items())
+        self._values = {key: _typed(key, value)
+                        for key, value in _core.describe(self._case, list(self._overrides))}
+
+    @classmethod
+    def from_dict(cls, values, case="reference"):
+        """Parameters from a {key: value} dict such as to_dict() or Result.parameters
+        gives; eta1 is dropped when v is there (it is derived from v)."""
+        values = dict(values)
+        if "v" in values:
+            values.pop("eta1", None)
+        return cls(case, **values)
+
+    @property
+    def case(self):
+        """The named case the overrides apply to."""
+        return self._case
+
+    @property
+    def overrides(self):
+        """The keys set over the case, as given (text as the library parsed it)."""
+        return dict(self._overrides)
+
+    def replace(self, **changes):
+        """A copy with some keys changed: p.replace(alpha=0.5)."""
+        merged = dict(self._overrides)
+        merged.update((key, _text(key, value)) for key, value in changes.items())
+        return Parameters(self._case, **merged)
+
+    def to_dict(self):
+        """Every parameter {key: value} (int, float or str), JSON-serialisable."""
+        return dict(self._values)
+
+    @property
+    def landmarks(self):
+        """The theory's landmarks: renewal_rate v/a [1/s], omega_c sqrt(N k0/M) [rad/s],
+        diffusion_D [m^2/s], eq1_prefactor [m^2 rad^4/s^3], coupling_eps [-],
+        forces_can_stall, outside_first_order."""
+        return _core.landmarks(self._case, list(self._overrides))
+
+    def __getitem__(self, key):
+        try:
+            return self._values[key]
+        except KeyError:
+            raise KeyError(f"{key!r} is not a parameter (known: {' '.join(self._values)})") from None
+
+    def __iter__(self):
+        return iter(self._values)
+
+    def __len__(self):
+        return len(self._values)
+
+    def __eq__(self, other):
+        return isinstance(other, Parameters) and self._values == other._values
+
+    def __hash__(self):
+        return hash(tuple(self._values.items()))
+
+    def __repr__(self):
+        args = "".join(f", {key}={_typed(key, value)!r}" for key, value in self._overrides)
+        return f"Parameters({self._case!r}{args})"
+
+    def __reduce__(self):
+        return (_rebuild_parameters, (self._case, self._overrides))
+
+    def _args(self):
+        return self._case, list(self._overrides)
+
+
+def _rebuild_parameters(case, overrides):
+    return Parameters(case, **dict(overrides))
+
+
+def _as_parameters(params):
+    if isinstance(params, Parameters):
+        return params
+    if isinstance(params, str):
+        return Parameters(params)
+    raise TypeError(f"expected slidespec.Parameters or a case name, got {type(params).__name__}")
+
+
+# ---------------------------------------------------------------------------------------
+# Theory
+
+def omegas(omega_min=0.1, omega_max=1e5, points=8):
+    """The log-spaced angular frequencies [rad/s] of `slidespec run` and `theory`:
+    `points` per decade from omega_min to omega_max inclusive, as a numpy array."""
+    return _core.log_spaced_omegas(float(omega_min), float(omega_max), int(points))
+
+
+def _positive_omegas(omega):
+    w = np.asarray(omega, dtype=float)
+    if not np.all(np.isfinite(w)) or not np.all(w > 0):
+        raise ValueError("omega: every angular frequency must be a positive finite number [rad/s]")
+    return w
+
+
+def theory(params, omega, order=1):
+    """The exact first-order spectrum C_x(omega) [m^2 s] at each omega [rad/s].
+
+    params: Parameters or a case name. omega: a number or an array of positive angular
+    frequencies [rad/s]; the result has its shape (a float for a number). The values are
+    those `slidespec theory` prints (two-sided, angular: the integral over all omega is
+    <xi^2>); omegas() gives the command's grid. order=2: the second-order spectrum C_x2
+    [m^2 s] of `slidespec theory --order 2` (poisson renewal, one touching level;
+    docs/model.md section 7)."""
+    p = _as_parameters(params)
+    w = _positive_omegas(omega)
+    values = _core.theory(*p._args(), w.ravel(), int(order)).reshape(w.shape)
+    return float(values) if w.ndim == 0 else values
+
+
+def long_time_motion(params, theory="quasi_static"):
+    """The block's long-time motion: {"mean_speed": V [m/s], "diffusion": D [m^2/s]}, with
+    C_x -> D / (pi omega^2) below v/a (docs/model.md section 7).
+
+    theory: "quasi_static" (exact for the quasi-static block), "second_order" or
+    "first_order"."""
+    return _core.long_time_motion(*_as_parameters(params)._args(), str(theory))
+
+
+def eq1(params, omega):
+    """The paper's Eq. (1) asymptote prefactor / omega^4 [m^2 s] at each omega [rad/s]."""
+    p = _as_parameters(params)
+    w = _positive_omegas(omega)
+    values = _core.eq1(*p._args(), w.ravel()).reshape(w.shape)
+    return float(values) if w.ndim == 0 else values
+
+
+# ---------------------------------------------------------------------------------------
+# Results
+
+def _columns(points):
+    """A list of point dicts as {name: numpy array} (nested dicts as dicts of arrays)."""
+    if not points:
+        return {}
+    columns = {}
+    for key in points[0]:
+        values = [point.get(key) for point in points]
+        if all(isinstance(v, dict) for v in values):
+            columns[key] = _columns(values)
+        elif all(isinstance(v, bool) for v in values):
+            columns[key] = np.array(values, dtype=bool)
+        elif all(isinstance(v, (int, float)) or v is None for v in values):
+            columns[key] = np.array([math.nan if v is None else v for v in values], dtype=float)
+        else:
+            columns[key] = list(values)
+    return columns
+
+
+class _Table:
+    """A result held as the command line's JSON document (`data`), with its points as
+    numpy columns. Fields the library adds flow through: every column is an attribute."""
+
+    def __init__(self, data, state=None):
+        self._data = data
+        self._state = state
+        self._columns = _columns(data.get("points", []))
+
+    def to_dict(self):
+        """The result as the command line's PREFIX.json holds it: a JSON-serialisable dict."""
+        return json.loads(json.dumps(self._data))
+
+    @property
+    def columns(self):
+        """Names of the per-point columns (each an attribute holding a numpy array)."""
+        return list(self._columns)
+
+    def __getattr__(self, name):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        if name in self._columns:
+            return self._columns[name]
+        if name in self._data:
+            return self._data[name]
+        raise AttributeError(f"{type(self).__name__} has no field {name!r} "
+                             f"(columns: {' '.join(self._columns)}; fields: {' '.join(self._data)})")
+
+    def __dir__(self):
+        return sorted(set(super().__dir__()) | set(self._columns) | set(self._data))
+
+    def __len__(self):
+        return len(self._data.get("points", []))
+
+    def __getstate__(self):
+        return {"data": self._data, "state": self._state}
+
+    def __setstate__(self, saved):
+        self.__init__(saved["data"], saved["state"])
+
+
+class Result(_Table):
+    """A spectrum run: what `slidespec run` writes, as numpy arrays and fields.
+
+    Columns (numpy arrays, one value per output point):
+      omega [rad/s]; C_x [m^2 s] the estimate (mean of C_x over the point's FFT bins);
+      stderr [m^2 s] its standard error; theory [m^2 s] the exact first-order theory seen
+      through the estimator; theory_at_omega [m^2 s]; n_avg periodogram values averaged;
+      bandwidth [rad/s]; and any column the library or the file adds (see `columns`).
+    Fields: complete (False when interrupted), reached_precision (largest stderr/C_x),
+      mean_speed and mean_speed_error [m/s], simulated_time [s], wall_seconds [s],
+      parameters {key: value}, case, request, sub_bands, and every other key of the JSON.
+    to_dict() gives the JSON document; results pickle. An interrupted result also holds
+    its run's state: resume(result) continues it to the numbers of an unbroken run.
+    """
+
+    @property
+    def omega(self):
+        """Angular frequencies of the points [rad/s]."""
+        return self._columns["omega"]
+
+    @property
+    def C_x(self):
+        """Estimated two-sided spectrum of xi [m^2 s]."""
+        return self._columns["C_x"]
+
+    @property
+    def stderr(self):
+        """Standard error of C_x, from the scatter between realizations [m^2 s]."""
+        return self._columns["stderr"]
+
+    @property
+    def theory(self):
+        """Exact first-order theory averaged as the estimate averages it [m^2 s]."""
+        return self._columns["theory"]
+
+    @property
+    def complete(self):
+        """True when the run reached its end; False when interrupted."""
+        return bool(self._data.get("complete", False))
+
+    @property
+    def mean_speed(self):
+        """Measured mean sliding speed [m/s]."""
+        return _value(self._data.get("measured_mean_speed"))
+
+    @property
+    def mean_speed_error(self):
+        """Standard error of the measured mean sliding speed [m/s]."""
+        speed = self._data.get("measured_mean_speed")
+        return speed.get("standard_error") if isinstance(speed, dict) else None
+
+    @property
+    def parameters(self):
+        """The run's parameters {key: value} (numbers as numbers)."""
+        return {key: _typed(key, value) for key, value in self._data.get("parameters", {}).items()}
+
+    @property
+    def state(self):
+        """The saved run (bytes) of an interrupted result, for resume(); None otherwise."""
+        return self._state
+
+    def __repr__(self):
+        if len(self) == 0:
+            return f"<slidespec.Result {self._data.get('case', '')}: no points>"
+        text = (f"<slidespec.Result {self._data.get('case', '')}: {len(self)} points "
+                f"{self.omega[0]:.3g}..{self.omega[-1]:.3g} rad/s")
+        if "complete" not in self._data:  # a theory table
+            return text + ">"
+        return (text + f", {'complete' if self.complete else 'incomplete'}, "
+                f"largest stderr/C_x {self._data.get('reached_precision', math.nan):.3g}>")
+
+
+def _value(field):
+    return field.get("value") if isinstance(field, dict) else field
+
+
+# ---------------------------------------------------------------------------------------
+# Runs
+
+class _Progress:
+    """A progress bar (tqdm: text in a terminal, a widget in a notebook) or a callback."""
+
+    def __init__(self, progress):
+        self._callback = progress if callable(progress) else None
+        self._bar = None
+        if progress is True:
+            from tqdm.auto import tqdm
+            self._bar = tqdm(total=100, unit="%", dynamic_ncols=True,
+                             desc="run", bar_format="{desc}{percentage:5.1f}%|{bar}| [{elapsed}<{remaining}]")
+        self._last = None
+
+    def update(self, fraction, what):
+        if (fraction, what) == self._last:
+            return
+        self._last = (fraction, what)
+        if self._callback is not None:
+            self._callback(fraction, what)
+        if self._bar is not None:
+            self._bar.n = round(100 * min(max(fraction, 0.0), 1.0), 1)
+            self._bar.set_description(what or "run", refresh=False)
+            self._bar.refresh()
+
+    def close(self):
+        if self._bar is not None:
+            self._bar.close()
+
+
+def _finish(handle):
+    data = json.loads(handle.result_json())
+    result = Result(data, None if data.get("complete") else handle.save())
+    stationary = data.get("stationary")
+    if isinstance(stationary, dict):
+        stationary = stationary.get("value", stationary.get("stationary"))
+    if stationary is False:
+        warnings.warn("the run's spectrum is not stationary (see the result's 'stationary' fields)",
+                      ModelWarning, stacklevel=3)
+    request = data.get("request", {})
+    if (result.complete and not request.get("duration") and not request.get("realizations")
+            and data.get("reached_precision", 0) > request.get("precision", math.inf)):
+        warnings.warn(f"the precision {request['precision']} was not reached within the work "
+                      f"budget of a sub-band (reached {data['reached_precision']:.3g})",
+                      PrecisionWarning, stacklevel=3)
+    return result
+
+
+def _drive(handle, threads, simd, progress):
+    """Runs `handle` on its own thread while this one waits, draws progress and listens
+    for Ctrl-C (the interpreter raises KeyboardInterrupt between waits of 0.1 s)."""
+    bar = _Progress(progress)
+    handle.start(int(threads), str(simd))
+    try:
+        while not handle.wait(0.1):
+            bar.update(*handle.progress())
+    except BaseException as error:
+        handle.stop()
+        handle.join()
+        bar.close()
+        if isinstance(error, KeyboardInterrupt):
+            error.result = _finish(handle)
+        raise
+    handle.join()
+    bar.update(1.0, "done")
+    bar.close()
+    return _finish(handle)
+
+
+def _warn_outside_first_order(p):
+    marks = p.landmarks
+    if marks["forces_can_stall"]:
+        warnings.warn("alpha F_kin >= 2 (F_drive - F_kin): the random forces can stall the block; "
+                      "the first-order theory does not hold here", ModelWarning, stacklevel=3)
+    elif marks["coupling_eps"] > 0.3:
+        warnings.warn(f"eps = {marks['coupling_eps']:.3g} > 0.3: the first-order theory does not "
+                      "hold here", ModelWarning, stacklevel=3)
+
+
+def run(params, *, omega_min=0.1, omega_max=1e5, points=8, precision=0.05, duration=None,
+        realizations=None, seed=1, threads=0, simd="auto", progress=False):
+    """Simulates the spectrum C_x(omega) with error bars, beside the exact theory: `slidespec run`.
+
+    params: Parameters or a case name.
+    omega_min, omega_max: the band [rad/s]; points: output points per decade (log-spaced).
+    precision: target standard error / C_x at every point (0 < precision < 1); realizations
+      are added until every point reaches it or a sub-band's work budget is spent.
+    duration: instead, a fixed simulated time per realization of the lowest sub-band [s].
+    realizations: a fixed number of realizations per sub-band.
+    seed: the random seed; threads: worker threads (0 = all cores); simd:
+      "auto"|"scalar"|"sse2"|"avx2"|"avx512". The same parameters, band, precision and seed
+      give bitwise the numbers of the command line, whatever threads and simd.
+    progress: True draws a bar (tqdm: text in a terminal, a widget in a notebook); a
+      callable gets progress(fraction, message) on this thread, about ten times a second.
+
+    Returns a Result (numpy arrays omega [rad/s], C_x, stderr, theory [m^2 s], ...).
+    Raises ValueError for bad parameters or requests, before any work. The run releases
+    the GIL. Ctrl-C stops it at the next block of steps and raises KeyboardInterrupt with
+    the partial Result (complete False) as `error.result`; resume(error.result) continues it.
+    Warns ModelWarning outside the first-order theory's validity (eps > 0.3, stalling
+    forces) and PrecisionWarning when the budget ran out before the precision.
+    """
+    p = _as_parameters(params)
+    request = {"omega_min": float(omega_min), "omega_max": float(omega_max),
+               "points_per_decade": int(points), "precision": float(precision),
+               "duration": float(duration or 0), "realizations": int(realizations or 0),
+               "seed": int(seed)}
+    if request["realizations"] < 0:
+        raise ValueError("realizations: must be a positive number")
+    if int(seed) < 0:
+        raise ValueError("seed: must be a whole number >= 0")
+    if int(threads) < 0:
+        raise ValueError("threads: must be 0 (all cores) or more")
+    handle = _core.new_run(*p._args(), request)
+    _warn_outside_first_order(p)
+    return _drive(handle, threads, simd, progress)
+
+
+def resume(result, *, threads=0, simd="auto", progress=False):
+    """Continues an interrupted run (a Result with complete False, e.g. the `result` of
+    the KeyboardInterrupt that stopped run()) to its end: the Result is bitwise that of an
+    unbroken run. threads, simd and progress as for run(); they change no number."""
+    if not isinstance(result, Result) or result.state is None:
+        raise ValueError("resume: expected the Result of an interrupted run (it holds the run's state)")
+    return _drive(_core.load_run(result.state), threads, simd, progress)
+
+
+# ---------------------------------------------------------------------------------------
+# Reading the command line's outputs
+
+_LANDMARK_KEYS = ("renewal_rate", "omega_c", "diffusion_D", "eq1_prefactor", "coupling_eps")
+_PARAMETER_KEY = re.compile(r"^(%s)(_\d+)?$" % "|".join(re.escape(k.removesuffix("_l"))
+                                                        for k in _core.parameter_keys()))
+_SUB_BAND = re.compile(r"^sub_band (\d+): omega (\S+) \.\. (\S+), dt = (\S+) s, duration = (\S+) s, "
+                       r"realizations = (\d+)")
+
+
+def _number(text):
+    try:
+        value = float(text)
+    except ValueError:
+        return {"true": True, "false": False}.get(text, text)
+    return int(value) if re.fullmatch(r"[+-]?\d+", text) else value
+
+
+def _read_table(text, path):
+    """A TSV of the command line: '# key = value  # note' lines, a column line (plain,
+    or '#'-prefixed), then tab-separated rows."""
+    data = {"source": str(path)}
+    parameters, landmarks, names, rows = {}, {}, None, []
+    for number, line in enumerate(text.splitlines(), 1):
+        if not line.strip():
+            continue
+        body = line[1:].strip() if line.startswith("#") else None
+        if names is None and "\t" in line and (body if body is not None else line).split("\t")[0] == "omega":
+            names = (body if body is not None else line).split("\t")
+            continue
+        if body is not None:
+            if body.startswith("slidespec ") and "=" not in body:
+                data["slidespec_version"] = body.split()[1]
+            elif match := _SUB_BAND.match(body):
+                b, low, high, dt, duration, count = match.groups()
+                data.setdefault("sub_bands", []).append(
+                    {"omega_low": float(low), "omega_high": float(high), "dt": float(dt),
+                     "duration": float(duration), "realizations": int(count)})
+            elif " = " in body:
+                key, value = body.split(" = ", 1)
+                value, _, note = value.partition("  #")
+                key, value = key.strip(), value.strip()
+                if _PARAMETER_KEY.match(key):
+                    parameters[key] = value
+                elif key in _LANDMARK_KEYS:
+                    landmarks[key] = float(value)
+                elif key == "measured_mean_speed":
+                    error = re.search(r"\+-\s*(\S+)", note)
+                    data[key] = {"value": float(value),
+                                 "standard_error": float(error.group(1)) if error else None}
+                else:
+                    data[key] = _number(value)
+            continue
+        if names is None:
+            raise ValueError(f"{path}: line {number}: a data row before the column line")
+        fields = line.split("\t") if "\t" in line else line.split()
+        if len(fields) != len(names):
+            raise ValueError(f"{path}: line {number}: {len(fields)} fields, the column line has {len(names)}")
+        try:
+            rows.append({name: float(field) for name, field in zip(names, fields)})
+        except ValueError:
+            raise ValueError(f"{path}: line {number}: a field that is not a number") from None
+    if names is None:
+        raise ValueError(f"{path}: no column line (omega ...): not a slidespec table")
+    if parameters:
+        data["parameters"] = parameters
+    if landmarks:
+        data["landmarks"] = landmarks
+    data["points"] = rows
+    return data
+
+
+def read(path):
+    """Reads an output of the command line (`slidespec run`, `theory`, `analyze`, `merge`)
+    as a Result (an Analysis for analyze's output).
+
+    path: PREFIX.tsv (numbers to the table's 10 significant digits) or PREFIX.json (every
+    bit). The TSV's column line may be plain or start with '#'. Columns keep the file's
+    units: omega [rad/s]; C_x, stderr, theory [m^2 s]. Raises OSError when the
+    file cannot be read and ValueError when it is not a slidespec table."""
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    if text.lstrip().startswith("{"):
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as e:
+            raise ValueError(f"{path}: not valid JSON ({e})") from None
+        if not isinstance(data, dict) or "points" not in data:
+            raise ValueError(f"{path}: not a slidespec result (no points)")
+    else:
+        data = _read_table(text, path)
+    if "record" in data or "usable_band" in data:
+        return Analysis(data)
+    return Result(data)
+
+
+# ---------------------------------------------------------------------------------------
+# Measured records
+
+class Analysis(_Table):
+    """The spectrum of a measured (or synthetic) record, as `slidespec analyze` gives it.
+
+    Columns (numpy arrays): omega [rad/s]; C_x [m^2 s] estimate; stderr [m^2 s] from the
+    scatter between segments; floor [m^2 s] the sensor's q^2/12 + sigma^2 seen through the
+    estimator; below_floor (bool) indistinguishable from sensor noise; n_avg; bandwidth
+    [rad/s]; theory [m^2 s] the compared model (at the fitted alpha) when asked.
+    Fields: slope_fit {slope, standard_error, chi2_per_dof, force_slope, omega_low,
+    omega_high [rad/s], ...}; alpha_fit {alpha, standard_error, chi2_per_dof, ...};
+    mean_speed [m/s]; usable_band {omega_low, omega_high} [rad/s]; dt, duration [s].
+    """
+
+    @property
+    def slope(self):
+        """The fitted exponent n of C_x ~ omega^-n... as a signed slope (-4 for omega^-4), or None."""
+        fit = self._data.get("slope_fit")
+        return fit["slope"] if fit else None
+
+    @property
+    def alpha(self):
+        """The fitted alpha [-], or None."""
+        fit = self._data.get("alpha_fit")
+        return fit["alpha"] if fit else None
+
+    @property
+    def mean_speed(self):
+        """The fitted mean sliding speed v [m/s]."""
+        return _value(self._data.get("measured_mean_speed"))
+
+    def __repr__(self):
+        extra = "".join([f", slope {self.slope:.3f}" if self.slope is not None else "",
+                         f", alpha {self.alpha:.3f}" if self.alpha is not None else ""])
+        return f"<slidespec.Analysis: {len(self)} points{extra}>"
+
+
+def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega_min=0.0,
+            omega_max=0.0, points=8, fit_slope=None, compare=None, fit=None, fit_band=None,
+            time_tolerance=0.01):
+    """Spectrum, slope and model fit of a sliding-distance record: `slidespec analyze`.
+
+    t: sample times [s] (uniform within time_tolerance), or None with dt [s].
+    x: positions in `units` ("m", "mm", "um"); v t is fitted and removed.
+    resolution: the sensor's quantization step q [m]; sensor_noise: its rms noise [m];
+      together the white floor q^2/12 + sigma^2.
+    omega_min, omega_max: band [rad/s] (0 = what the record allows); points per decade.
+    fit_slope: (low, high) [rad/s]: fit C_x ~ omega^slope there.
+    compare: Parameters (or a case name) whose theory to set beside the data; with
+      fit="alpha", its alpha is fitted over fit_band (low, high) [rad/s] (default: the
+      usable band within 5 v/a .. omega_c/3, where Eq. (1)'s omega^-4 holds).
+    Returns an Analysis. Raises ValueError for a malformed record or request.
+    """
+    if fit not in (None, "alpha"):
+        raise ValueError("fit: only 'alpha' can be fitted")
+    if fit and compare is None:
+        raise ValueError("fit='alpha' needs compare=Parameters(...)")
+    time = np.empty(0) if t is None else np.asarray(t, dtype=float).ravel()
+    samples = np.asarray(x, dtype=float).ravel()
+    record = {"dt": float(dt or 0), "units": str(units), "time_tolerance": float(time_tolerance)}
+    request = {"omega_min": float(omega_min), "omega_max": float(omega_max), "points_per_decade": int(points),
+               "resolution": float(resolution), "sensor_noise": float(sensor_noise)}
+    spectrum = _core.Spectrum(time, samples, record, request)
+    data = spectrum.to_dict()
+    if fit_slope is not None:
+        data["slope_fit"] = spectrum.fit_slope(float(fit_slope[0]), float(fit_slope[1]))
+    if compare is not None:
+        p = _as_parameters(compare)
+        if fit:
+            if fit_band is None:
+                fit_band = spectrum.default_alpha_band(*p._args())
+            data["alpha_fit"] = spectrum.fit_alpha(*p._args(), float(fit_band[0]), float(fit_band[1]))
+            p = p.replace(alpha=data["alpha_fit"]["alpha"])
+        data["compare_case"] = p.case
+        data["model_parameters"] = p.to_dict()
+        for point, value in zip(data["points"], spectrum.model(*p._args())):
+            point["theory"] = float(value)
+    return Analysis(data)
+
+
+def synth(params="reference", *, sample_interval=1e-3, duration=1000.0, resolution=0.5e-6,
+          sensor_noise=0.25e-6, seed=1):
+    """A synthetic displacement-sensor record of the simulated slider: `slidespec synth`.
+
+    sample_interval [s], duration [s]; resolution: quantization step q [m] (0 = exact);
+    sensor_noise: rms white noise before quantization [m]; seed. Returns (t, x): times [s]
+    and positions x = v t + xi [m], numpy arrays."""
+    p = _as_parameters(params)
+    sensor = {"sample_interval": float(sample_interval), "duration": float(duration),
+              "resolution": float(resolution), "sensor_noise": float(sensor_noise), "seed": int(seed)}
+    step, start, x = _core.synthesize(*p._args(), sensor)
+    return start + step * np.arange(x.size), x

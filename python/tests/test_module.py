@@ -1,0 +1,309 @@
+"""The Python module against the command line it must agree with (run through ctest:
+PYTHONPATH holds the built package, SLIDESPEC the executable)."""
+
+import json
+import os
+import pickle
+import signal
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import slidespec as ss
+from slidespec import _core
+
+CLI = os.environ.get("SLIDESPEC", "slidespec")
+COLUMNS = ["omega", "C_x", "stderr", "theory", "theory_at_omega", "n_avg", "bandwidth"]
+
+
+def cli(*args, check=True):
+    done = subprocess.run([CLI, *args], capture_output=True, text=True)
+    if check:
+        assert done.returncode == 0, done.stderr
+    return done
+
+
+def same_bits(a, b):
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    return a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+# A short run: three sub-bands, a few rounds each, about a second.
+OVERRIDES = {"alpha": 0.4, "N": 12}
+BAND = {"omega_min": 1, "omega_max": 1e3, "precision": 0.08, "seed": 3}
+
+
+@pytest.fixture(scope="module")
+def cli_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("cli") / "short"
+    cli("run", "--case", "reference", "--set", "alpha=0.4", "--set", "N=12", "--omega-min", "1",
+        "--omega-max", "1e3", "--precision", "0.08", "--seed", "3", "--threads", "2",
+        "--out", str(out), "--no-plot", "--quiet")
+    return out
+
+
+@pytest.fixture(scope="module")
+def py_run():
+    return ss.run(ss.Parameters("reference", **OVERRIDES), threads=1, **BAND)
+
+
+def test_run_is_bitwise_the_command_line(cli_run, py_run):
+    with open(f"{cli_run}.json") as f:
+        expected = json.load(f)
+    got = py_run.to_dict()
+    assert len(py_run) == len(expected["points"]) == 25
+    for column in COLUMNS:
+        assert same_bits(getattr(py_run, column), [p[column] for p in expected["points"]]), column
+    for key in ("complete", "reached_precision", "measured_mean_speed", "simulated_time", "sub_bands",
+                "parameters", "request", "landmarks", "realization_steps"):
+        assert got[key] == expected[key], key
+    assert py_run.complete and py_run.mean_speed == expected["measured_mean_speed"]["value"]
+
+
+def test_the_json_form_carries_every_bit():
+    # The result is built from the library's JSON: it must round-trip the doubles.
+    handle = _core.new_run("reference", [("N", "12")], {"omega_min": 10.0, "omega_max": 1e3,
+                           "points_per_decade": 8, "precision": 0.2, "duration": 0.0,
+                           "realizations": 8, "seed": 5})
+    handle.start(2, "auto")
+    assert handle.join()
+    raw = handle.raw_points()
+    points = json.loads(handle.result_json())["points"]
+    for column in ("omega", "C_x", "stderr", "theory"):
+        assert same_bits(raw[column], [p[column] for p in points]), column
+
+
+def test_read_gives_the_same_result(cli_run, py_run):
+    exact = ss.read(f"{cli_run}.json")
+    table = ss.read(f"{cli_run}.tsv")
+    for column in ("omega", "C_x", "stderr", "theory"):
+        assert same_bits(getattr(exact, column), getattr(py_run, column))
+        # The table prints 10 significant digits: not every bit.
+        np.testing.assert_allclose(getattr(table, column), getattr(py_run, column), rtol=6e-10, atol=0)
+    assert table.complete is True and exact.complete is True
+    assert table.parameters == py_run.parameters
+    assert table.seed == 3 and table.case == "reference"
+    assert abs(table.mean_speed / py_run.mean_speed - 1) < 1e-9
+    assert [b["realizations"] for b in table.sub_bands] == [b["realizations"] for b in py_run.sub_bands]
+    # The same table with a '#'-prefixed column line (issue 15's form) reads alike.
+    with open(f"{cli_run}.tsv") as f:
+        lines = f.read().splitlines()
+    column_line = next(i for i, line in enumerate(lines) if line.lstrip("# ").startswith("omega\t"))
+    lines[column_line] = lines[column_line].lstrip("# ")  # the plain form, as before issue 15
+    hashed = cli_run.parent / "hashed.tsv"
+    hashed.write_text("\n".join(lines) + "\n")
+    again = ss.read(hashed)
+    assert again.columns == table.columns
+    for column in table.columns:
+        assert same_bits(getattr(again, column), getattr(table, column))
+
+
+def test_theory_is_the_command_line():
+    printed = cli("theory", "--case", "short-renewal", "--set", "alpha=0.4", "--set", "k1=37.5").stdout
+    rows = [line.split("\t") for line in printed.splitlines() if line and not line.startswith(("#", "omega"))]
+    p = ss.Parameters("short-renewal", alpha=0.4, k1=37.5)
+    omega = ss.omegas(0.1, 1e5, 8)
+    values = ss.theory(p, omega)
+    assert len(rows) == len(omega) == 49
+    # The command prints every digit: the values are bitwise the same.
+    assert same_bits([float(r[0]) for r in rows], omega)
+    assert same_bits([float(r[1]) for r in rows], values)
+    assert same_bits([float(r[2]) for r in rows], ss.eq1(p, omega))
+    # The same values one at a time, for a scalar, and for an array's shape.
+    assert ss.theory(p, float(omega[10])) == values[10]
+    assert ss.theory(p, omega.reshape(7, 7)).shape == (7, 7)
+
+
+def test_second_order_theory_is_the_command_line():
+    printed = cli("theory", "--set", "alpha=1.5", "--order", "2").stdout
+    rows = [line.split("\t") for line in printed.splitlines() if line and not line.startswith(("#", "omega"))]
+    p = ss.Parameters("reference", alpha=1.5)
+    assert same_bits([float(r[3]) for r in rows], ss.theory(p, ss.omegas(), order=2))
+    with pytest.raises(ValueError, match="renewal"):
+        ss.theory(ss.Parameters(renewal="periodic"), 1.0, order=2)
+    with pytest.raises(ValueError, match="order"):
+        ss.theory(p, 1.0, order=3)
+
+
+@pytest.mark.parametrize("overrides", [{"alpha": -1}, {"nonsense": 3}, {"N": 2.5}, {"chain": "loop"},
+                                       {"F_kin": 20}, {"v": 1e-3, "eta1": 5}])
+def test_bad_parameters_raise_the_command_lines_message(overrides):
+    with pytest.raises(ValueError) as error:
+        ss.Parameters("reference", **overrides)
+    args = [arg for key, value in overrides.items() for arg in ("--set", f"{key}={value}")]
+    done = cli("theory", *args, check=False)
+    assert done.returncode == 2
+    assert done.stderr.strip() == f"slidespec: error: {error.value}"
+    assert next(iter(overrides)) in str(error.value)
+
+
+def test_bad_requests_and_files():
+    with pytest.raises(ValueError, match="unknown case 'nope'"):
+        ss.Parameters("nope")
+    with pytest.raises(ValueError, match="precision"):
+        ss.run("reference", precision=2)
+    with pytest.raises(ValueError, match="omega"):
+        ss.run("reference", omega_min=10, omega_max=1)
+    with pytest.raises(ValueError, match="simd"):
+        ss.run("reference", omega_min=100, omega_max=1e3, realizations=8, simd="sse9")
+    with pytest.raises(ValueError, match="omega"):
+        ss.theory("reference", [1.0, -2.0])
+    with pytest.raises(OSError):
+        ss.read("/nonexistent/reference.tsv")
+    with pytest.raises(KeyError, match="alpha_9"):
+        ss.Parameters()["alpha_9"]
+
+
+def test_results_and_parameters_pickle_and_serialise(py_run):
+    again = pickle.loads(pickle.dumps(py_run))
+    for column in COLUMNS:
+        assert same_bits(getattr(again, column), getattr(py_run, column))
+    assert again.to_dict() == py_run.to_dict()
+    assert json.loads(json.dumps(py_run.to_dict())) == py_run.to_dict()
+    assert all(type(getattr(py_run, c)) is np.ndarray for c in COLUMNS)
+    p = ss.Parameters("hierarchical", alpha_2=0.5, touching=[1, 2])
+    q = pickle.loads(pickle.dumps(p))
+    assert q == p and q.to_dict() == p.to_dict() and q["alpha_2"] == 0.5 and q["N_2"] == 10
+    json.dumps(p.to_dict())
+    assert ss.Parameters.from_dict(py_run.parameters) == ss.Parameters("reference", **OVERRIDES)
+    assert p.replace(alpha_2=0.25)["alpha_2"] == 0.25
+
+
+def test_progress_reaches_the_callers_thread_only():
+    calls = []
+    ss.run("reference", omega_min=1, omega_max=1e3, precision=0.1, threads=2,
+           progress=lambda fraction, what: calls.append((threading.get_ident(), fraction, what)))
+    assert len(calls) >= 2
+    assert {ident for ident, _, _ in calls} == {threading.get_ident()}
+    assert all(0 <= f <= 1 for _, f, _ in calls) and calls[-1][1] == 1.0
+    assert any(what.startswith("sub-band") for _, _, what in calls)
+
+
+def test_progress_bar(capsys):
+    ss.run("reference", omega_min=10, omega_max=1e3, precision=0.2, threads=2, progress=True)
+    assert "100.0%" in capsys.readouterr().err
+
+
+def test_a_run_releases_the_gil():
+    ticks, done = 0, threading.Event()
+    worker = threading.Thread(target=lambda: (ss.run("reference", omega_min=1, omega_max=1e4,
+                                                     precision=0.05, threads=1), done.set()))
+    start = time.monotonic()
+    worker.start()
+    while not done.is_set():
+        ticks += 1
+        time.sleep(0.001)
+    worker.join()
+    # Held, the GIL would let this thread tick once per 0.1 s wait at most; released, it
+    # ticks every millisecond or so (a tenth of that leaves room for a busy machine).
+    assert ticks > 0.1 * (time.monotonic() - start) / 0.001
+
+
+CHILD = textwrap.dedent("""
+    import pickle, sys, time, slidespec as ss
+    started = []
+    def progress(fraction, what):
+        if fraction > 0.2 and not started:
+            started.append(time.monotonic())
+            print("running", flush=True)
+    try:
+        ss.run("reference", precision=PRECISION, seed=7, threads=2, progress=progress)
+        print("finished", flush=True)
+    except KeyboardInterrupt as e:
+        pickle.dump(e.result, sys.stdout.buffer)
+        sys.stdout.buffer.flush()
+        if RESUME:
+            pickle.dump(ss.resume(e.result, threads=1), open(sys.argv[1], "wb"))
+""")
+
+
+def interrupted_child(precision, resume, path):
+    code = CHILD.replace("PRECISION", repr(precision)).replace("RESUME", repr(resume))
+    child = subprocess.Popen([sys.executable, "-c", code, str(path)], stdout=subprocess.PIPE)
+    assert child.stdout.readline() == b"running\n"
+    signalled = time.monotonic()
+    child.send_signal(signal.SIGINT)
+    partial = pickle.load(child.stdout)
+    stopped = time.monotonic() - signalled
+    assert child.wait(timeout=300) == 0
+    return partial, stopped
+
+
+def test_ctrl_c_raises_promptly_with_the_partial_result(tmp_path):
+    # At 1% the whole run takes minutes; it stops at the next block of steps.
+    partial, stopped = interrupted_child(0.01, False, tmp_path / "unused")
+    assert stopped < 2.0
+    assert isinstance(partial, ss.Result) and not partial.complete
+    assert len(partial) > 0 and partial.state is not None
+    assert sum(b["realizations"] for b in partial.sub_bands) > 0
+
+
+def test_an_interrupted_run_resumes_to_the_unbroken_numbers(tmp_path):
+    partial, _ = interrupted_child(0.05, True, tmp_path / "resumed.pickle")
+    assert not partial.complete
+    with open(tmp_path / "resumed.pickle", "rb") as f:
+        resumed = pickle.load(f)
+    out = tmp_path / "whole"
+    cli("run", "--case", "reference", "--precision", "0.05", "--seed", "7", "--out", str(out), "--no-plot",
+        "--quiet")
+    whole = ss.read(f"{out}.json")
+    assert resumed.complete and len(resumed) == len(whole) == 49
+    for column in COLUMNS:
+        assert same_bits(getattr(resumed, column), getattr(whole, column)), column
+
+
+def test_analyze_is_the_command_line(tmp_path):
+    record = tmp_path / "record"
+    cli("synth", "--set", "alpha=0.4", "--duration", "1000", "--seed", "4", "--out", str(record))
+    cli("analyze", f"{record}.csv", "--units", "um", "--resolution", "0.5e-6m", "--sensor-noise", "0.25e-6m",
+        "--fit-slope", "3", "18", "--compare-case", "reference", "--fit", "alpha", "--out",
+        str(tmp_path / "analysis"), "--no-plot", "--quiet")
+    with open(tmp_path / "analysis.json") as f:
+        expected = json.load(f)
+    t, x = _read_csv(f"{record}.csv")
+    a = ss.analyze(t, x, units="um", resolution=0.5e-6, sensor_noise=0.25e-6, fit_slope=(3, 18),
+                   compare=ss.Parameters("reference"), fit="alpha")
+    for column in ("omega", "C_x", "stderr", "floor", "theory"):
+        assert same_bits(getattr(a, column), [p[column] for p in expected["points"]]), column
+    assert a.slope_fit["slope"] == expected["slope_fit"]["slope"]
+    assert a.alpha == expected["alpha_fit"]["alpha"]
+    assert a.mean_speed == expected["measured_mean_speed"]["value"]
+    json.dumps(a.to_dict())
+    assert pickle.loads(pickle.dumps(a)).alpha == a.alpha
+    # The Python synth is the command line's (the CSV holds x in um, to its digits).
+    ts, xs = ss.synth(ss.Parameters("reference", alpha=0.4), duration=1000, seed=4)
+    np.testing.assert_allclose(xs, x * 1e-6, rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(ts, t, rtol=1e-12, atol=1e-12)
+
+
+def _read_csv(path):
+    rows = [line.split(",") for line in open(path) if line.strip() and not line.startswith("#")]
+    return np.array([[float(v) for v in row] for row in rows[1:]]).T
+
+
+def test_bad_records():
+    with pytest.raises(ValueError, match="gap"):
+        ss.analyze([0, 1, 2, 4, 5], [0.0, 1, 2, 3, 4])
+    with pytest.raises(ValueError, match="units"):
+        ss.analyze(None, [0.0, 1.0], dt=1, units="inch")
+    with pytest.raises(ValueError, match="compare"):
+        ss.analyze(None, np.arange(1000.0), dt=1, fit="alpha")
+
+
+def test_help_names_units():
+    for function in (ss.run, ss.theory, ss.analyze, ss.read, ss.synth, ss.omegas):
+        assert "[" in function.__doc__ and "]" in function.__doc__, function.__name__
+    assert "rad/s" in ss.run.__doc__ and "m^2 s" in ss.theory.__doc__
+
+
+def test_runs_outside_the_first_order_theory_warn_as_the_command_line_does():
+    p = ss.Parameters("reference", alpha=5)
+    assert p.landmarks["forces_can_stall"]
+    with pytest.warns(ss.ModelWarning, match="stall"):
+        r = ss.run(p, omega_min=100, omega_max=1e3, realizations=8, threads=2)
+    assert r.complete

@@ -1,0 +1,213 @@
+#include "cli/sweep.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "io/tables.hpp"
+
+namespace slidespec::cli {
+
+namespace {
+
+bool integer_key(const std::string& key) { return key == "N" || key == "levels" || key.rfind("N_", 0) == 0; }
+
+double parse_value(const std::string& text, const std::string& word) {
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || !std::isfinite(value))
+    throw InputError("sweep: '" + text + "' in '" + word + "' is not a number");
+  return value;
+}
+
+/// A grid value as text: 12 significant digits drop the rounding of FIRST + k STEP
+/// (0.30000000000000004 is 0.3), then the shortest form.
+std::string grid_value(double value, bool integer) {
+  if (integer) return std::to_string(std::llround(value));
+  char text[32];
+  std::snprintf(text, sizeof text, "%.12g", value);
+  return io::format_number(std::stod(text));
+}
+
+std::vector<std::string> range_values(const std::string& key, const std::string& range, const std::string& spacing,
+                                      const std::string& count_text, const std::string& word) {
+  const bool integer = integer_key(key);
+  std::vector<double> values;
+  if (const auto dots = range.find(".."); dots != std::string::npos) {
+    if (spacing.empty())
+      throw InputError("sweep: '" + word + "': say how many values, e.g. " + key + "=" + range + " log 5");
+    const double first = parse_value(range.substr(0, dots), word), last = parse_value(range.substr(dots + 2), word);
+    const double count = parse_value(count_text, word);
+    if (count < 2 || count != std::floor(count) || count > 1000)
+      throw InputError("sweep: '" + word + "': the number of values must be a whole number from 2 to 1000");
+    if (spacing == "log" && !(first > 0 && last > 0))
+      throw InputError("sweep: '" + word + "': a log range needs positive ends");
+    for (int k = 0; k < static_cast<int>(count); ++k) {
+      const double t = k / (count - 1);
+      values.push_back(spacing == "log" ? first * std::pow(last / first, t) : first + (last - first) * t);
+    }
+  } else {
+    const auto colon = range.find(':'), second = range.find(':', colon + 1);
+    const double first = parse_value(range.substr(0, colon), word);
+    const double last = parse_value(range.substr(colon + 1, second - colon - 1), word);
+    const double step = parse_value(range.substr(second + 1), word);
+    if (!(step > 0) || last < first)
+      throw InputError("sweep: '" + word + "': FIRST:LAST:STEP needs STEP > 0 and LAST >= FIRST");
+    const double count = std::floor((last - first) / step + 1e-9) + 1;
+    if (count > 1000) throw InputError("sweep: '" + word + "' gives more than 1000 values");
+    for (int k = 0; k < static_cast<int>(count); ++k) values.push_back(first + k * step);
+  }
+  std::vector<std::string> texts;
+  for (double value : values) {
+    std::string text = grid_value(value, integer);
+    if (std::find(texts.begin(), texts.end(), text) == texts.end()) texts.push_back(text);
+  }
+  return texts;
+}
+
+}  // namespace
+
+std::vector<SweepAxis> parse_sweep(const std::vector<std::string>& words) {
+  std::vector<SweepAxis> axes;
+  for (std::size_t k = 0; k < words.size(); ++k) {
+    const std::string& word = words[k];
+    const auto equals = word.find('=');
+    if (equals == std::string::npos || equals == 0 || equals + 1 == word.size())
+      throw InputError("sweep: expected KEY=V1,V2,..., KEY=FIRST:LAST:STEP or KEY=FIRST..LAST log|lin K, got '" +
+                       word + "'");
+    SweepAxis axis{word.substr(0, equals), {}};
+    for (const SweepAxis& other : axes)
+      if (other.key == axis.key) throw InputError("sweep: key " + axis.key + " given twice");
+    const std::string list = word.substr(equals + 1);
+    const bool dotted = list.find("..") != std::string::npos;
+    if (dotted || std::count(list.begin(), list.end(), ':') == 2) {
+      std::string spacing, count;
+      if (dotted && k + 2 < words.size() && (words[k + 1] == "log" || words[k + 1] == "lin")) {
+        spacing = words[k + 1];
+        count = words[k + 2];
+        k += 2;
+      }
+      axis.values = range_values(axis.key, list, spacing, count, word);
+    } else {
+      std::stringstream values(list);
+      for (std::string value; std::getline(values, value, ',');) {
+        if (value.empty()) throw InputError("sweep: an empty value in '" + word + "'");
+        axis.values.push_back(value);
+      }
+      if (list.back() == ',') throw InputError("sweep: an empty value in '" + word + "'");
+    }
+    axes.push_back(axis);
+  }
+  if (axes.empty()) throw InputError("sweep: no KEY=VALUES given");
+  std::size_t runs = 1;
+  for (const SweepAxis& axis : axes) runs *= axis.values.size();
+  if (runs > 10000) throw InputError("sweep: the grid has " + std::to_string(runs) + " runs (at most 10000)");
+  return axes;
+}
+
+std::vector<std::vector<std::pair<std::string, std::string>>> sweep_grid(const std::vector<SweepAxis>& axes) {
+  std::vector<std::vector<std::pair<std::string, std::string>>> grid = {{}};
+  for (const SweepAxis& axis : axes) {
+    std::vector<std::vector<std::pair<std::string, std::string>>> next;
+    for (const auto& partial : grid)
+      for (const std::string& value : axis.values) {
+        next.push_back(partial);
+        next.back().emplace_back(axis.key, value);
+      }
+    grid = std::move(next);
+  }
+  return grid;
+}
+
+std::vector<double> sub_band_work(const Parameters& p, const RunRequest& request) {
+  double blocks = 1;
+  for (int l = 1; l <= p.levels; ++l) blocks += static_cast<double>(p.blocks(l));
+  std::vector<double> work;
+  for (const SubBand& band : plan_sub_bands(p, request)) work.push_back(band.duration / band.dt * blocks);
+  return work;
+}
+
+double planned_work(const Parameters& p, const RunRequest& request) {
+  double work = 0;
+  for (double w : sub_band_work(p, request)) work += w;
+  return std::max(work, 1.0);
+}
+
+double weighted_fraction(double fraction, const std::vector<double>& band_work) {
+  double total = 0;
+  for (double w : band_work) total += w;
+  if (band_work.empty() || !(total > 0)) return fraction;
+  const double position = std::clamp(fraction, 0.0, 1.0) * static_cast<double>(band_work.size());
+  const std::size_t band = std::min(band_work.size() - 1, static_cast<std::size_t>(position));
+  double before = 0;
+  for (std::size_t b = 0; b < band; ++b) before += band_work[b];
+  return (before + (position - static_cast<double>(band)) * band_work[band]) / total;
+}
+
+std::string sweep_table(const std::vector<SweepAxis>& axes, const std::vector<SweepRun>& runs) {
+  std::ostringstream out;
+  out << "# slidespec " << SLIDESPEC_VERSION << " sweep: " << runs.size() << " runs\n";
+  for (const SweepAxis& axis : axes) {
+    out << "# sweep_" << axis.key << " =";
+    for (const std::string& value : axis.values) out << " " << value;
+    out << "\n";
+  }
+  for (std::size_t r = 0; r < runs.size(); ++r)
+    out << "# run_" << r << " = " << runs[r].label << "  # " << runs[r].table
+        << (runs[r].result.complete ? "" : ", incomplete") << "\n";
+  out << "# columns: run (index of the run_ lines); the swept keys; omega [rad/s]; C_x [m^2 s] estimate;"
+         " stderr [m^2 s]; theory [m^2 s]; n_avg; bandwidth [rad/s] (as in each run's table)\n# run";
+  for (const SweepAxis& axis : axes) out << "\t" << axis.key;
+  out << "\tomega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\n";
+  for (std::size_t r = 0; r < runs.size(); ++r)
+    for (const RunPoint& point : runs[r].result.points) {
+      out << r;
+      for (const auto& [key, value] : runs[r].values) out << "\t" << value;
+      out << "\t" << io::format_number(point.omega) << "\t" << io::format_number(point.C_x) << "\t"
+          << io::format_number(point.standard_error) << "\t" << io::format_number(point.theory) << "\t"
+          << io::format_number(point.n_avg) << "\t" << io::format_number(point.bandwidth) << "\n";
+    }
+  return out.str();
+}
+
+std::string sweep_json(const std::vector<SweepAxis>& axes, const std::vector<SweepRun>& runs) {
+  nlohmann::ordered_json doc;
+  doc["slidespec_version"] = SLIDESPEC_VERSION;
+  doc["keys"] = nlohmann::ordered_json::array();
+  for (const SweepAxis& axis : axes) doc["keys"].push_back(axis.key);
+  doc["runs"] = nlohmann::ordered_json::array();
+  for (const SweepRun& run : runs) {
+    nlohmann::ordered_json entry;
+    for (const auto& [key, value] : run.values) {
+      std::size_t used = 0;
+      double number = 0;
+      try {
+        number = std::stod(value, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == value.size()) entry["values"][key] = number;
+      else entry["values"][key] = value;
+    }
+    entry["label"] = run.label;
+    entry["table"] = run.table;
+    entry["complete"] = run.result.complete;
+    entry["measured_mean_speed"] = {{"value", run.result.mean_speed}, {"standard_error", run.result.mean_speed_error}};
+    entry["reached_precision"] = run.result.reached_precision;
+    entry["points"] = nlohmann::ordered_json::array();
+    for (const RunPoint& point : run.result.points)
+      entry["points"].push_back({{"omega", point.omega}, {"C_x", point.C_x}, {"stderr", point.standard_error},
+                                 {"theory", point.theory}, {"n_avg", point.n_avg}, {"bandwidth", point.bandwidth}});
+    doc["runs"].push_back(entry);
+  }
+  return doc.dump(2) + "\n";
+}
+
+}  // namespace slidespec::cli

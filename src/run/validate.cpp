@@ -1,0 +1,109 @@
+// Run requests checked before any work: the same refusals for the command line and the
+// library (and so the Python bindings).
+#include <cmath>
+#include <sstream>
+
+#include "run/session.hpp"
+
+namespace slidespec {
+
+using namespace run_detail;
+
+namespace {
+
+// The finest precision worth planning: the lowest point of a sub-band averages about a
+// dozen periodograms per realization, so kMaxRealizationsPerBand realizations reach about
+// 1/sqrt(12 * 65536) ~ 1e-3 and no finer.
+constexpr double kFinestPrecision = 1e-3;
+constexpr int kMostThreads = 4096;
+// Step counts stay exact in a double and far from the int64 range.
+constexpr double kMostSteps = 1e15;
+// A time step below this fraction of the renewal time a/v moves the block by less than
+// the rounding of its position: the stepped process would no longer be the model's.
+constexpr double kFinestStepOfRenewalTime = 1e-12;
+
+std::string text(double x) {
+  std::ostringstream out;
+  out.precision(3);
+  out << x;
+  return out.str();
+}
+
+double block_weight(const Parameters& p) {
+  double blocks = 0;
+  for (int level = 1; level <= p.levels; ++level) blocks += static_cast<double>(p.blocks(level));
+  return std::max(1.0, blocks / 100);
+}
+
+}  // namespace
+
+namespace run_detail {
+
+void check_request_fields(const RunRequest& r) {
+  if (!std::isfinite(r.omega_min) || !(r.omega_min > 0))
+    throw InputError("--omega-min: must be a finite positive frequency (got " + text(r.omega_min) + ")");
+  if (!std::isfinite(r.omega_max) || !(r.omega_max > r.omega_min))
+    throw InputError("--omega-max: must be finite and above --omega-min (got " + text(r.omega_max) + ")");
+  if (!(r.precision > 0) || !(r.precision < 1))
+    throw InputError("--precision: must be between 0 and 1 (a relative standard error)");
+  if (r.duration == 0 && r.realizations == 0 && r.precision < kFinestPrecision)
+    throw InputError("--precision: " + text(r.precision) + " is finer than the " + text(kFinestPrecision) +
+                     " a sub-band can reach within its " + std::to_string(kMaxRealizationsPerBand) +
+                     " realizations; use --precision " + text(kFinestPrecision) + " or more");
+  if (r.duration < 0 || !std::isfinite(r.duration))
+    throw InputError("--duration: must be a finite positive number of seconds (got " + text(r.duration) + ")");
+  if (r.threads < 0 || r.threads > kMostThreads)
+    throw InputError("--threads: must be 0 (all cores) to " + std::to_string(kMostThreads) + " (got " +
+                     std::to_string(r.threads) + ")");
+  if (!(r.work_budget >= 0) || !std::isfinite(r.work_budget))
+    throw InputError("--work-budget: must be a finite positive number of realization-steps");
+  if (r.realizations > (std::uint64_t{1} << 52) || r.first_realization > (std::uint64_t{1} << 52))
+    throw InputError("--realizations: " + std::to_string(r.realizations) + " is not a plannable count");
+}
+
+void check_plan(const Parameters& p, const std::vector<SubBand>& plan) {
+  const double renewal_time = 1 / p.renewal_rate();
+  for (const SubBand& band : plan) {
+    const std::string where = "sub-band " + text(band.omega_low) + ".." + text(band.omega_high) + " rad/s";
+    if (!std::isnormal(band.dt) || !(band.dt >= kFinestStepOfRenewalTime * renewal_time))
+      throw InputError("--omega-max: " + where + " needs a time step of " + text(band.dt) + " s, below " +
+                       text(kFinestStepOfRenewalTime) + " of the renewal time a/v = " + text(renewal_time) +
+                       " s (the block's position would not resolve it)");
+    const double steps = band.duration / band.dt;
+    if (!std::isfinite(steps) || steps > kMostSteps)
+      throw InputError((band.omega_low == plan.front().omega_low ? "--omega-min/--duration: " : "--omega-max: ") +
+                       where + " plans " + text(steps) + " time steps per realization (at most " +
+                       text(kMostSteps) + ")");
+  }
+}
+
+}  // namespace run_detail
+
+double planned_first_round_work(const Parameters& p, const RunRequest& r) {
+  const std::vector<SubBand> plan = plan_sub_bands(p, r);
+  check_plan(p, plan);
+  const double realizations = static_cast<double>(r.realizations > 0 ? r.realizations : kInitialRealizations);
+  double steps = 0;
+  for (const SubBand& band : plan) steps += std::ceil(band.duration / band.dt);
+  return steps * realizations * block_weight(p);
+}
+
+void validate_request(const Parameters& p, const RunRequest& r) {
+  check_request_fields(r);
+  const double work = planned_first_round_work(p, r);
+  const double budget = r.work_budget > 0 ? r.work_budget : kDefaultWorkBudget;
+  if (work > budget) {
+    // Name the option that drives the work: the realization count, else the band's bottom.
+    const std::string option = r.realizations > 0 ? "--realizations"
+                               : r.duration > 0   ? "--duration"
+                                                  : "--omega-min";
+    const double weight = block_weight(p);
+    const std::string blocks =
+        weight > 1 ? " (its " + text(100 * weight) + " blocks count " + text(weight) + " per step)" : "";
+    throw InputError(option + ": the run plans " + text(work) + " realization-steps" + blocks +
+                     " before its first result, over the work budget of " + text(budget) +
+                     " (about an hour on two cores); change " + option + " or raise --work-budget");
+  }
+}
+
+}  // namespace slidespec

@@ -1,0 +1,190 @@
+#!/usr/bin/env bash
+# Table-driven refusals: every line below is a bad input. Each must exit 2 with one line on
+# stderr naming the problem, before any work (within seconds), leaving the working
+# directory exactly as it was (every file's bytes, no new file, no temporary).
+source "$(dirname "$0")/common.sh"
+
+# Inputs a user has lying around: a parameter file, a measured record, a table, a state.
+cd "$work" || exit 1
+echo '{"alpha": 0.5}' > p.json
+"$bin" synth --duration 5 --sample-interval 0.01 --out rec > /dev/null 2>&1 || fail "synth fixture"
+mv rec.csv rec.tsv
+"$bin" theory --out table > /dev/null 2>&1 || fail "theory fixture"
+"$bin" run --omega-min 100 --omega-max 1000 --realizations-range 0:8 --save-state part.state --out part \
+  --no-plot --quiet || fail "state fixture"
+rm -f part.tsv part.json
+mkdir adir
+cp p.json q.tsv
+cp p.json sw.png
+cp part.state part2.tsv
+long=$(printf 'n%.0s' $(seq 1 300))
+odd=$(printf 'odd\xff')
+
+snapshot() { find . -print0 | sort -z | xargs -0 stat -c '%n %s %a' ; find . -type f -print0 | sort -z | xargs -0 sha256sum; }
+
+tried=0
+# NAME | WORD the message must contain | ARGS (shell words)
+while IFS='|' read -r name word args; do
+  [ -z "$name" ] || [ "${name:0:1}" = "#" ] && continue
+  tried=$((tried + 1))
+  before=$(snapshot)
+  eval "set -- $args"
+  timeout 20 "$bin" "$@" > stdout.log 2> stderr.log
+  status=$?
+  message=$(cat stderr.log)
+  rm -f stdout.log stderr.log
+  [ $status -eq 124 ] && { fail "$name: still running after 20 s (a hang or work where a refusal belongs)"; continue; }
+  [ $status -eq 2 ] || fail "$name: exit status $status, expected 2: $message"
+  [ "$(printf '%s\n' "$message" | wc -l)" -eq 1 ] && [ -n "$message" ] || fail "$name: not a one-line message: $message"
+  printf '%s' "$message" | grep -qF -- "$word" || fail "$name: message does not name '$word': $message"
+  [ "$before" = "$(snapshot)" ] || fail "$name: the directory changed"
+done <<TABLE
+# outputs that would replace an input
+analyze-over-record|rec.tsv|analyze rec.tsv --out rec --no-plot
+run-over-params|p.json|run --params p.json --out p --no-plot
+theory-over-params|q.tsv|theory --params q.tsv --out q
+sweep-over-params|sw.png|sweep alpha=0.5 --params sw.png --out sw
+save-state-over-params|p.json|run --params p.json --save-state p.json --out x --no-plot
+save-state-over-part-record|rec.tsv|run --resume part --out x --save-state rec.tsv --realizations 8 --params rec.tsv
+plot-over-table|table.tsv|plot table.tsv -o table.tsv
+plot-over-table-dotted|table.tsv|plot table.tsv -o ./table.tsv
+merge-over-part|part2.tsv|merge part2.tsv --out part2
+resume-over-record|rec.tsv|analyze rec.tsv --out rec --no-plot --points 4
+analyze-over-record-abs|rec.tsv|analyze $work/rec.tsv --out ./rec --no-plot
+run-out-state-over-state|part.state|run --out part --params p.json --realizations 8 --resume part
+# directories, missing files, unreadable names
+params-directory|directory|run --params adir
+record-directory|directory|analyze adir
+plot-directory|directory|plot adir -o x.png
+merge-directory|directory|merge adir
+out-directory|directory|run --out adir
+theory-out-directory|directory|theory --out adir
+params-missing|does not exist|theory --params none.json
+record-missing|does not exist|analyze none.tsv
+merge-missing|does not exist|merge none.state
+resume-missing|does not exist|run --resume none
+out-missing-dir|does not exist|run --out nowhere/x --no-plot
+synth-missing-dir|does not exist|synth --out nowhere/x
+too-long-name|longer|theory --out $long
+too-long-run-name|longer|run --out $long --no-plot
+non-utf8-out|UTF-8|theory --out $odd
+non-utf8-run-out|UTF-8|run --out $odd --no-plot
+non-utf8-params|UTF-8|theory --params $odd.json
+non-utf8-record|UTF-8|analyze $odd.tsv
+# state files that are not states
+merge-table|not a slidespec run state|merge table.tsv
+merge-params|not a slidespec run state|merge p.json
+# parameters out of range or not representable
+k0-huge|k0|theory --set k0=1e308
+k0-tiny|k0|theory --set k0=1e-308
+v-huge|parameter v|theory --set v=1e308
+M-huge|parameter M|theory --set M=1e308
+M-tiny|parameter M|theory --set M=1e-200
+a-huge|parameter a|run --set a=1e300 --no-plot
+a-tiny|parameter a|run --set a=1e-300 --no-plot
+m-huge|parameter m|theory --set m=1e200
+eta0-huge|eta0|theory --set eta0=1e200
+k1-huge|k1|theory --set k1=1e200
+alpha-huge|alpha|theory --set alpha=1e200
+F-drive-huge|F_drive|theory --set F_drive=1e300
+F-kin-huge|F_kin|theory --set F_kin=1e300 --set F_drive=2e300
+eta1-huge|eta1|theory --set eta1=1e300
+eta1-tiny|eta1|theory --set eta1=1e-300
+v-zero|parameter v|theory --set v=0
+v-negative|parameter v|theory --set v=-1
+v-nan|parameter v|theory --set v=nan
+M-inf|parameter M|theory --set M=inf
+M-text|parameter M|theory --set M=heavy
+N-negative|parameter N|theory --set N=-1
+N-fraction|parameter N|theory --set N=2.5
+N-huge|parameter N|theory --set N=1e12
+levels-nine|levels|theory --set levels=9
+levels-zero|levels|theory --set levels=0
+m2-huge|m_2|theory --set levels=2 --set m_2=1e200
+a2-tiny|a_2|theory --set levels=2 --set a_2=1e-200
+alpha-negative|alpha|theory --set alpha=-0.5
+eta0-negative|eta0|theory --set eta0=-1
+F-equal|F_drive|theory --set F_kin=10
+renewal-kind|renewal|theory --set renewal=sometimes
+chain-kind|chain|theory --set chain=circle
+empty-value|parameter M|theory --set M=
+no-equals|KEY=VALUE|theory --set M
+unknown-case|unknown case|run --case slow --no-plot
+unknown-key|unknown parameter|run --set speed=1 --no-plot
+sweep-bad-value|parameter alpha|sweep alpha=0.5,huge --no-plot
+sweep-huge-value|parameter k0|sweep k0=1e4,1e308 --no-plot
+sweep-empty-value|empty value|sweep alpha=0.5,,1 --no-plot
+sweep-no-values|KEY=V1|sweep alpha --no-plot
+# requests: ranges, counts, work
+omega-min-zero|omega|run --omega-min 0 --no-plot
+omega-min-negative|omega|run --omega-min -1 --no-plot
+omega-max-below-min|omega|run --omega-min 10 --omega-max 1 --no-plot
+omega-max-inf|omega|run --omega-max inf --no-plot
+omega-min-nan|omega|run --omega-min nan --no-plot
+omega-min-tiny|--omega-min|run --omega-min 1e-10 --no-plot
+omega-max-huge|--omega-max|run --omega-max 1e300 --no-plot
+omega-span-huge|points|theory --omega-min 1e-300 --omega-max 1e300 --points 1000
+theory-omega-tiny-max|omega|theory --omega-min 1 --omega-max 1
+points-zero|points|run --points 0 --no-plot
+points-negative|--points|run --points -3 --no-plot
+points-huge|points|run --points 100000000 --no-plot
+theory-points-huge|points|theory --points 1000000000
+theory-points-negative|--points|theory --points -8
+precision-zero|precision|run --precision 0 --no-plot
+precision-one|precision|run --precision 1 --no-plot
+precision-negative|precision|run --precision -0.1 --no-plot
+precision-tiny|precision|run --precision 1e-12 --no-plot
+precision-nan|precision|run --precision nan --no-plot
+duration-huge|--omega-min/--duration|run --duration 1e308 --no-plot
+duration-long|--duration|run --duration 1e9 --no-plot
+duration-negative|duration|run --duration -5 --no-plot
+duration-inf|duration|run --duration inf --no-plot
+realizations-negative|--realizations|run --realizations -1 --no-plot
+realizations-huge|--realizations|run --realizations 1000000000000 --no-plot
+realizations-overflow|--realizations|run --realizations 99999999999999999999999 --no-plot
+realizations-fraction|--realizations|run --realizations 2.5 --no-plot
+realizations-text|--realizations|run --realizations many --no-plot
+sweep-realizations-negative|--realizations|sweep alpha=1 --realizations -1 --no-plot
+seed-negative|--seed|run --seed -1 --no-plot
+seed-fraction|--seed|run --seed 1.5 --no-plot
+seed-text|--seed|run --seed abc --no-plot
+synth-seed-negative|--seed|synth --seed -1
+paper-seed-negative|--seed|paper fig2 --seed -1
+threads-negative|--threads|run --threads -3 --no-plot
+threads-huge|--threads|run --threads 100000 --no-plot
+sweep-threads-negative|--threads|sweep alpha=1 --threads -1 --no-plot
+paper-threads-negative|--threads|paper fig2 --threads -2
+work-budget-negative|--work-budget|run --work-budget -1 --no-plot
+work-budget-small|--work-budget|run --work-budget 1000 --no-plot
+range-negative|realizations-range|run --realizations-range -8:8 --no-plot
+range-no-colon|realizations-range|run --realizations-range 8 --no-plot
+range-zero-count|realizations-range|run --realizations-range 0:0 --no-plot
+range-unaligned|multiple of 8|run --realizations-range 3:8 --no-plot
+range-huge|--realizations|run --realizations-range 0:99999999999999 --no-plot
+checkpoint-negative|checkpoint-every|run --checkpoint-every -1 --no-plot
+simd-unknown|simd|run --simd neon --no-plot
+resume-other-seed|seed|run --resume part --seed 9 --no-plot
+paper-unknown|fig9|paper fig9
+paper-precision|precision|paper fig2 --precision 0
+analyze-points-huge|points|analyze rec.tsv --points 100000000 --no-plot --out x
+analyze-points-negative|--points|analyze rec.tsv --points -1 --no-plot --out x
+synth-duration-huge|--duration|synth --duration 1e308
+synth-interval-tiny|--sample-interval|synth --sample-interval 1e-300
+synth-interval-zero|--sample-interval|synth --sample-interval 0
+synth-k0-huge|k0|synth --set k0=1e308
+synth-out-directory|directory|synth --out adir
+analyze-dt-negative|--dt|analyze rec.tsv --dt -1 --no-plot --out x
+analyze-units|--units|analyze rec.tsv --units km --no-plot --out x
+analyze-column|nope|analyze rec.tsv --column nope --no-plot --out x
+analyze-resolution|--resolution|analyze rec.tsv --resolution -1 --no-plot --out x
+tree-too-big|blocks|run --case hierarchical --set N_2=100000 --no-plot
+merge-nothing|parts|merge
+plot-nothing|tables|plot -o x.png
+unknown-command|wobble|wobble
+unknown-option|--bogus|run --bogus
+TABLE
+
+echo "bad inputs: $tried tried, $failures failed"
+[ "$tried" -ge 100 ] || fail "the table holds fewer than 100 bad inputs"
+[ $failures -eq 0 ] && echo "bad inputs: all refused cleanly"
+exit $((failures > 0))
