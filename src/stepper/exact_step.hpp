@@ -31,10 +31,10 @@ struct ExactStep {
   /// Renewals inside a step: the exact map over any time dt n / 2^fraction_bits, 0 <= n <=
   /// 2^fraction_bits, as at most `fraction_digits` table maps (one per base-2^digit_bits
   /// digit of n). Table (digit d, value k) maps y = (xi increment, z) and g over
-  /// dt k 2^-(digit_bits (d + 1)): y' = P y + Q g, stored row-major as [P | Q], rows and
+  /// dt k 2^-(digit_bits (d + 1)): y' = P y + Q g, stored column-major as [P | Q], rows and
   /// columns of P over the (dimension + 1) components of y.
   static constexpr int digit_bits = 8, fraction_digits = 3, fraction_bits = digit_bits * fraction_digits;
-  std::vector<double> partial;           ///< [digit][k][row][column]
+  std::vector<double> partial;           ///< [digit][k][column][row]
   int velocity_component = 0;            ///< component of z that is the block's velocity fluctuation
 
   /// y' = map over dt n 2^-fraction_bits of (y, g), in place; y has dimension + 1 components

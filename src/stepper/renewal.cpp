@@ -15,6 +15,13 @@ namespace slidespec::stepper {
 namespace {
 constexpr double two_to_minus_53 = 1.0 / 9007199254740992.0;
 constexpr std::int64_t two_to_52 = std::int64_t{1} << 52;
+
+// std::llround for 0 <= x < 2^52 (ties away from zero), without the library call:
+// the truncation and the fraction x - t are exact there.
+std::int64_t round_half_away(double x) {
+  const auto t = static_cast<std::int64_t>(x);
+  return t + (x - static_cast<double>(t) >= 0.5 ? 1 : 0);
+}
 }  // namespace
 
 RenewalDraw draw_renewal(std::uint64_t seed, std::uint64_t stream, std::uint64_t realization,
@@ -148,16 +155,29 @@ void RenewalState::renew_next(int lane) {
 void RenewalState::step_with_renewals(int lane, const ExactStep& step, double steady_start,
                                       double steady_end, double advance, double xi_start, double* z,
                                       double& increment) {
+  switch (step.dimension + 1) {
+    case 4: return step_shaped<4>(lane, step, steady_start, steady_end, advance, xi_start, z, increment);
+    case 6: return step_shaped<6>(lane, step, steady_start, steady_end, advance, xi_start, z, increment);
+    case 8: return step_shaped<8>(lane, step, steady_start, steady_end, advance, xi_start, z, increment);
+    default: throw std::logic_error("renewal step: shape not compiled");
+  }
+}
+
+// The state's size known at compile time: the copies of y, done several times per
+// renewal, are a few moves instead of a max_state-wide copy.
+template <int State>
+void RenewalState::step_shaped(int lane, const ExactStep& step, double steady_start, double steady_end,
+                               double advance, double xi_start, double* z, double& increment) {
   constexpr std::int64_t whole = std::int64_t{1} << ExactStep::fraction_bits;
   const double tick = 1.0 / static_cast<double>(whole);  // time unit: dt 2^-fraction_bits
-  const int state = step.dimension + 1;
+  constexpr int state = State;
   const int velocity = 1 + step.velocity_component;
-  constexpr int room = ExactStep::max_state;
-  double g[8] = {}, y_now[room] = {}, y[room] = {}, y_end[room] = {};
+  constexpr int room = ExactStep::max_state;  // advance_partial may use all of it as scratch
+  double g[8] = {}, y_now[room], y[room], y_end[room];
   auto forces = [&] {
     for (int k = 0; k < inputs_; ++k) g[k] = input_forces_[static_cast<size_t>(k) * lanes_ + lane];
   };
-  auto copy = [](const double* from, double* to) { std::memcpy(to, from, sizeof(double) * room); };
+  auto copy = [](const double* from, double* to) { std::memcpy(to, from, sizeof(double) * state); };
   auto x_at = [&](std::int64_t n, const double* y_n) {
     return steady_start + advance * (static_cast<double>(n) * tick) + (xi_start + y_n[0]);
   };
@@ -187,10 +207,12 @@ void RenewalState::step_with_renewals(int lane, const ExactStep& step, double st
       const double slope = (6 * u2 - 6 * u) * x_now + (3 * u2 - 4 * u + 1) * m0 + (6 * u - 6 * u2) * x_end +
                            (3 * u2 - 2 * u) * m1;
       if (!(slope > 0)) break;
-      u -= (cubic - mark) / slope;
+      const double correction = (cubic - mark) / slope;
+      u -= correction;
+      if (correction == 0) break;  // a fixed point: further iterations would repeat it
     }
     u = std::min(1.0, std::max(0.0, u));
-    std::int64_t cross = now + std::llround(u * static_cast<double>(whole - now));
+    std::int64_t cross = now + round_half_away(u * static_cast<double>(whole - now));
     copy(y_now, y);
     step.advance_partial(cross - now, y, g);
     if (rate(y) > 0) {

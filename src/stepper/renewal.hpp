@@ -61,6 +61,9 @@ class RenewalState {
   double jump_energy(int lane) const { return jump_energy_[lane]; }
 
  private:
+  template <int State>
+  void step_shaped(int lane, const ExactStep& step, double steady_start, double steady_end, double advance,
+                   double xi_start, double* z, double& increment);
   void renew_next(int lane);  // the contact with the nearest mark, then the tree
   void update_tree(int lane, int contact);
   void refresh_inputs(int lane);
