@@ -85,7 +85,7 @@ struct Parameters {
 struct Landmarks {
   double renewal_rate;       ///< v/a [1/s] (the fastest touching level's)
   double omega_c;            ///< sqrt(N k0 / M) [rad/s]
-  double diffusion;          ///< D = alpha^2 F_kin^2 a v / (12 N (F_drive-F_kin)^2) [m^2/s]
+  double diffusion;          ///< D = alpha^2 F_kin^2 a v / (12 N (F_drive-F_kin)^2) [m^2/s]; half for periodic renewal
   double eq1_prefactor;      ///< C_x ~ prefactor / omega^4 for v/a << omega << omega_c [m^2 rad^4/s^3]
   double coupling_eps;       ///< eps = alpha F_kin / ((F_drive-F_kin) sqrt(6 N)) [-]
   bool forces_can_stall;     ///< alpha F_kin >= 2 (F_drive - F_kin)

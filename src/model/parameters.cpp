@@ -61,7 +61,10 @@ Landmarks landmarks(const Parameters& p) {
   Landmarks l{};
   l.renewal_rate = p.renewal_rate();
   l.omega_c = std::sqrt(p.N * p.k0 / p.M);
-  l.diffusion = p.alpha * p.alpha * p.F_kin * p.F_kin * p.a * p.v /
+  // A force held exactly a (periodic) has half the zero-frequency power of one held an
+  // exponential distance of mean a: int (1 - |s|/a)_+ ds = a against int exp(-|s|/a) ds = 2a.
+  const double periodic_share = p.renewal == Renewal::periodic ? 0.5 : 1.0;
+  l.diffusion = periodic_share * p.alpha * p.alpha * p.F_kin * p.F_kin * p.a * p.v /
                 (12.0 * p.N * drive_excess * drive_excess);
   l.eq1_prefactor = p.alpha * p.alpha * p.F_kin * p.F_kin * p.v * p.v * p.v /
                     (12.0 * M_PI * p.N * p.a * drive_excess * drive_excess);
@@ -82,6 +85,7 @@ Landmarks landmarks(const Parameters& p) {
       resistance += contacts * p.level(level).alpha * p.friction_per_miniblock() / 2;
     }
     l.diffusion = diffusion * p.v / (drive_excess * drive_excess);
+    l.diffusion *= periodic_share;
     l.eq1_prefactor = eq1 * p.v * p.v * p.v / (M_PI * drive_excess * drive_excess);
     l.coupling_eps = std::sqrt(2 * force_variance) / drive_excess;
     l.forces_can_stall = resistance >= drive_excess;

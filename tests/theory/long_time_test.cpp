@@ -27,8 +27,7 @@ TEST(LongTimeMotion, SecondOrderIsTheExactResultsSeries) {
       EXPECT_NEAR(second.diffusion / first.diffusion, 1 + e * D_coefficient, 1e-12);
       EXPECT_NEAR(second.mean_speed / p.v, 1 / (1 + e + e * e * (3 - 1.2 / N)), 1e-12);
       EXPECT_EQ(first.mean_speed, p.v);
-      const double poisson_D1 = landmarks(p).diffusion;
-      EXPECT_NEAR(first.diffusion / poisson_D1, std::string(renewal) == "poisson" ? 1.0 : 0.5, 1e-12);
+      EXPECT_NEAR(first.diffusion / landmarks(p).diffusion, 1.0, 1e-12);
 
       double departure_D[2], departure_V[2];
       for (int k = 0; k < 2; ++k) {
