@@ -352,6 +352,11 @@ int command_run(const ModelOptions& model, RunOptions options, const std::functi
   const Parameters p = model.build();
   RunSession session(p, options.request, model.label(p));  // validates before any work
   io::check_output_prefix(options.out);
+  // A finished run removes its state, so one left behind is an interrupted run that this
+  // run would orphan (and a later --resume would bring back over the new results).
+  if (std::error_code ignored; std::filesystem::exists(options.out + ".state", ignored))
+    throw InputError("--out: " + options.out + ".state holds an interrupted run; continue it with --resume " +
+                     options.out + ", or remove it to start afresh");
   if (!options.save_state.empty()) io::check_output_prefix(options.save_state);
   if (!options.quiet && writes_outputs()) warn_if_outside_first_order(p);
   catch_stop_signals();

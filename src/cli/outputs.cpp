@@ -100,6 +100,7 @@ void files_of(const CLI::App& command, std::vector<File>& inputs, std::vector<Fi
   for (const std::string& path : given(command, "--params")) inputs.push_back({path, "--params"});
   auto add_outputs = [&](const std::vector<File>& files) { outputs.insert(outputs.end(), files.begin(), files.end()); };
   if (name == "theory") {
+    for (const std::string& path : given(command, "--omega-file")) inputs.push_back({path, "--omega-file"});
     const std::string out = one(command, "--out", "");
     if (!out.empty()) add_outputs(with_extensions(out, "--out", {".tsv"}));
   } else if (name == "run") {

@@ -16,6 +16,7 @@ namespace {
 // 1/sqrt(12 * 65536) ~ 1e-3 and no finer.
 constexpr double kFinestPrecision = 1e-3;
 constexpr int kMostThreads = 4096;
+constexpr int kMostRunPointsPerDecade = 100;
 // Step counts stay exact in a double and far from the int64 range.
 constexpr double kMostSteps = 1e15;
 // A time step below this fraction of the renewal time a/v moves the block by less than
@@ -40,6 +41,12 @@ double block_weight(const Parameters& p) {
 namespace run_detail {
 
 void check_request_fields(const RunRequest& r) {
+  // A sub-band's 512-sample segments resolve 1/512 of their band: finer points than this
+  // fall between FFT bins, get none, and could never reach a precision.
+  if (r.points_per_decade < 1 || r.points_per_decade > kMostRunPointsPerDecade)
+    throw InputError("--points: a run has 1 to " + std::to_string(kMostRunPointsPerDecade) +
+                     " points per decade (got " + std::to_string(r.points_per_decade) +
+                     "; finer points fall between the FFT bins)");
   if (!std::isfinite(r.omega_min) || !(r.omega_min > 0))
     throw InputError("--omega-min: must be a finite positive frequency (got " + text(r.omega_min) + ")");
   if (!std::isfinite(r.omega_max) || !(r.omega_max > r.omega_min))
@@ -90,6 +97,9 @@ double planned_first_round_work(const Parameters& p, const RunRequest& r) {
 
 void validate_request(const Parameters& p, const RunRequest& r) {
   check_request_fields(r);
+  if (!(expected_jump_energy(p, p.a) > 0))
+    throw InputError("alpha: 0 gives no random force, so C_x is zero at every omega and there is "
+                     "nothing to simulate");
   const double work = planned_first_round_work(p, r);
   const double budget = r.work_budget > 0 ? r.work_budget : kDefaultWorkBudget;
   if (work > budget) {

@@ -17,6 +17,8 @@ mkdir adir
 cp p.json q.tsv
 cp p.json sw.png
 cp part.state part2.tsv
+cp part.state stale.state
+printf '1\n10\n' > om.tsv
 long=$(printf 'n%.0s' $(seq 1 300))
 odd=$(printf 'odd\xff')
 
@@ -44,6 +46,10 @@ analyze-over-record|rec.tsv|analyze rec.tsv --out rec --no-plot
 run-over-params|p.json|run --params p.json --out p --no-plot
 theory-over-params|q.tsv|theory --params q.tsv --out q
 sweep-over-params|sw.png|sweep alpha=0.5 --params sw.png --out sw
+theory-over-omega-file|om.tsv|theory --omega-file om.tsv --out om
+run-over-stale-state|--resume stale|run --omega-min 1 --omega-max 10 --out stale
+run-points-between-bins|--points|run --omega-min 1 --omega-max 10 --points 200
+run-no-random-force|alpha|run --omega-min 1 --omega-max 10 --set alpha=0
 save-state-over-params|p.json|run --params p.json --save-state p.json --out x --no-plot
 save-state-over-part-record|rec.tsv|run --resume part --out x --save-state rec.tsv --realizations 8 --params rec.tsv
 plot-over-table|table.tsv|plot table.tsv -o table.tsv

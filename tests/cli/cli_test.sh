@@ -23,7 +23,7 @@ expect_refused level-below-lowest "parameter N_3" theory $out --set levels=2 --s
 expect_refused touching-level "parameter touching" theory $out --case hierarchical --set touching=3
 expect_refused second-order-periodic "renewal=poisson" theory $out --order 2 --set renewal=periodic
 expect_refused bad-order "order" theory $out --order 3
-expect_refused stepper-levels "levels" run $out --set levels=4 --work-budget 1e15 --no-plot --quiet
+expect_refused stepper-levels "levels" run --out $work/levels4 --set levels=4 --work-budget 1e15 --no-plot --quiet
 
 # A good run writes the table atomically and leaves no temporary file behind.
 "$bin" theory --out "$work/ref" > /dev/null 2>&1 || fail "theory --out failed"
