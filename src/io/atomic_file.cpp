@@ -119,12 +119,13 @@ void OutputSet::commit() {
     ::unlink(backups[k].c_str());  // left by a dead process of the same id, if anything
     if (::link(pending_[k].path.c_str(), backups[k].c_str()) != 0) {
       const std::string why = std::strerror(errno);
+      const std::string kept = pending_[k].path;
       backups[k].clear();
       remove_backups();
       for (const Pending& p : pending_)
         if (!p.temp.empty()) ::unlink(p.temp.c_str());
       pending_.clear();
-      throw std::runtime_error("cannot keep the old " + pending_[k].path + " while replacing it: " + why);
+      throw std::runtime_error("cannot keep the old " + kept + " while replacing it: " + why);
     }
   }
   for (std::size_t k = 0; k < pending_.size(); ++k) {
