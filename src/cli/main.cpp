@@ -109,14 +109,8 @@ std::vector<double> theory_omegas(const TheoryOptions& options) {
     std::replace(line.begin(), line.end(), ',', ' ');
     std::istringstream words(line);
     for (std::string word; words >> word;) {
-      std::size_t used = 0;
-      double omega = 0;
-      try {
-        omega = std::stod(word, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != word.size() || !(omega > 0) || !std::isfinite(omega))
+      const double omega = io::parse_number(word).value_or(0);
+      if (!(omega > 0))
         throw InputError(source + (from_file ? ": line " + std::to_string(line_number) : std::string()) + ": '" +
                          word + "' is not a positive omega in rad/s");
       omegas.push_back(omega);

@@ -15,16 +15,10 @@ namespace {
 bool integer_key(const std::string& key) { return key == "N" || key == "levels" || key.rfind("N_", 0) == 0; }
 
 double parse_value(const std::string& text, const std::string& word) {
-  std::size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != text.size() || !std::isfinite(value))
+  const std::optional<double> value = io::parse_number(text);
+  if (!value)
     throw InputError("sweep: '" + text + "' in '" + word + "' is not a number");
-  return value;
+  return *value;
 }
 
 /// A grid value as text: 12 significant digits drop the rounding of FIRST + k STEP
@@ -186,14 +180,7 @@ std::string sweep_json(const std::vector<SweepAxis>& axes, const std::vector<Swe
   for (const SweepRun& run : runs) {
     nlohmann::ordered_json entry;
     for (const auto& [key, value] : run.values) {
-      std::size_t used = 0;
-      double number = 0;
-      try {
-        number = std::stod(value, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used == value.size()) entry["values"][key] = number;
+      if (const auto number = io::parse_number(value)) entry["values"][key] = *number;
       else entry["values"][key] = value;
     }
     entry["label"] = run.label;

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -19,6 +20,14 @@ std::string format_number(double x) {
   char text[32];
   const auto end = std::to_chars(text, text + sizeof text, x).ptr;
   return std::string(text, end);
+}
+
+std::optional<double> parse_number(const std::string& text) {
+  double value = 0;
+  const char* end = text.data() + text.size();
+  const auto [stop, error] = std::from_chars(text.data(), end, value);
+  if (text.empty() || error != std::errc() || stop != end || !std::isfinite(value)) return std::nullopt;
+  return value;
 }
 
 std::string run_label(const std::string& case_name, const Parameters& p) {

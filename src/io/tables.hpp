@@ -2,6 +2,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "slidespec/parameters.hpp"
@@ -11,6 +12,8 @@ namespace slidespec::io {
 
 /// The shortest text that reads back as the same double ("1e-05", "0.5", "548.2").
 std::string format_number(double x);
+/// The finite double `text` spells, all of it ("0.5", "1e-05"), or nothing.
+std::optional<double> parse_number(const std::string& text);
 
 /// "reference + N=5, alpha=3": the case and the parameters that differ from it (eta1 is
 /// derived, so left out); the case alone when none differ.
