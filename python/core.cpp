@@ -158,7 +158,9 @@ std::unique_ptr<Run> new_run(const std::string& case_name, const Overrides& over
   r.duration = request["duration"].cast<double>();
   r.realizations = request["realizations"].cast<std::uint64_t>();
   r.seed = request["seed"].cast<std::uint64_t>();
-  return std::make_unique<Run>(RunSession(build(case_name, overrides), r, case_name));
+  const Parameters params = build(case_name, overrides);
+  // Labelled as the command line labels it ("reference + N=12, alpha=0.4").
+  return std::make_unique<Run>(RunSession(params, r, io::run_label(case_name, params)));
 }
 
 /// A record's spectrum (analyze_record), kept for the fits that read it.

@@ -60,7 +60,7 @@ def test_run_is_bitwise_the_command_line(cli_run, py_run):
     for column in COLUMNS:
         assert same_bits(getattr(py_run, column), [p[column] for p in expected["points"]]), column
     for key in ("complete", "reached_precision", "measured_mean_speed", "simulated_time", "sub_bands",
-                "parameters", "request", "landmarks", "realization_steps"):
+                "parameters", "request", "landmarks", "realization_steps", "label"):
         assert got[key] == expected[key], key
     assert py_run.complete and py_run.mean_speed == expected["measured_mean_speed"]["value"]
 
