@@ -450,15 +450,15 @@ def _warn_outside_first_order(p):
                       "hold here", ModelWarning, stacklevel=3)
 
 
-def run(params, *, omega_min=0.1, omega_max=1e5, points=8, precision=0.05, duration=None,
+def run(params, *, omega_min=0.1, omega_max=1e5, points=8, precision=None, duration=None,
         realizations=None, seed=1, threads=0, simd="auto", progress=False):
     """Simulates the spectrum C_x(omega) with error bars, beside the exact theory: `slidespec run`.
 
     params: Parameters or a case name.
     omega_min, omega_max: the band [rad/s]; points: output points per decade (log-spaced).
-    precision: target standard error / C_x at every point (0 < precision < 1); realizations
-      are added until every point reaches it or a sub-band's work budget is spent.
-    duration: instead, a fixed simulated time per realization of the lowest sub-band [s].
+    precision: target standard error / C_x at every point (0 < precision < 1, default 0.05);
+      realizations are added until every point reaches it or a sub-band's work budget is spent.
+    duration: instead (not with precision), a fixed simulated time per realization of the lowest sub-band [s].
     realizations: a fixed number of realizations per sub-band.
     seed: the random seed; threads: worker threads (0 = all cores); simd:
       "auto"|"scalar"|"sse2"|"avx2"|"avx512". The same parameters, band, precision and seed
@@ -473,9 +473,11 @@ def run(params, *, omega_min=0.1, omega_max=1e5, points=8, precision=0.05, durat
     Warns ModelWarning outside the first-order theory's validity (eps > 0.3, stalling
     forces) and PrecisionWarning when the budget ran out before the precision.
     """
+    if precision is not None and duration is not None:
+        raise ValueError("precision excludes duration: a fixed duration sets the work, not a target")
     p = _as_parameters(params)
     request = {"omega_min": float(omega_min), "omega_max": float(omega_max),
-               "points_per_decade": int(points), "precision": float(precision),
+               "points_per_decade": int(points), "precision": float(0.05 if precision is None else precision),
                "duration": float(duration or 0), "realizations": int(realizations or 0),
                "seed": int(seed)}
     if request["realizations"] < 0:

@@ -286,6 +286,11 @@ def _read_csv(path):
     return np.array([[float(v) for v in row] for row in rows[1:]]).T
 
 
+def test_precision_excludes_duration_as_on_the_command_line():
+    with pytest.raises(ValueError, match="precision excludes duration"):
+        ss.run("reference", omega_min=1, omega_max=10, precision=0.1, duration=10)
+
+
 def test_bad_records():
     with pytest.raises(ValueError, match="gap"):
         ss.analyze([0, 1, 2, 4, 5], [0.0, 1, 2, 3, 4])
