@@ -16,6 +16,10 @@ struct PathTable {
   /// The stepper's kernel for a state of `dimension` components and `inputs` input
   /// classes, or nullptr if it was not compiled for that shape.
   stepper::GroupKernel (*group_kernel)(int dimension, int inputs);
+  /// The renewal draws of `lanes` lanes (a multiple of width) for given counter words:
+  /// the generator's four words and -log of the uniform made of the last two.
+  void (*draw_lanes)(const std::uint32_t (&key)[2], const std::uint64_t* const (&counter)[4], int lanes,
+                     std::uint64_t* const (&words)[4], double* exponential);
   estimator_detail::StreamKernels stream;
 };
 

@@ -28,19 +28,14 @@ struct ExactStep {
   std::vector<double> initial_response;  ///< dimension x inputs: z in equilibrium with g
   std::vector<int> offset_component;     ///< components of z that are miniblock offsets
 
-  /// Renewals inside a step: the exact map over any time dt n / 2^fraction_bits, 0 <= n <=
-  /// 2^fraction_bits, as at most `fraction_digits` table maps (one per base-2^digit_bits
-  /// digit of n). Table (digit d, value k) maps y = (xi increment, z) and g over
-  /// dt k 2^-(digit_bits (d + 1)): y' = P y + Q g, stored column-major as [P | Q], rows and
-  /// columns of P over the (dimension + 1) components of y.
-  static constexpr int digit_bits = 8, fraction_digits = 3, fraction_bits = digit_bits * fraction_digits;
-  std::vector<double> partial;           ///< [digit][k][column][row]
+  /// Renewals inside a step, by superposition: a force jump of Delta g_k at a time s before
+  /// the step's end adds response(s) Delta g_k to y = (xi increment, z) at the end. Tabulated
+  /// at s = dt j / response_nodes, j = 0..response_nodes, with its rate d/ds (so a crossing
+  /// between nodes is served by one Taylor term from the nearest): [class][j][component].
+  static constexpr int response_nodes = 256;
+  std::vector<double> response;          ///< int_0^s e^{A u} du B, (dimension + 1) per node
+  std::vector<double> response_rate;     ///< e^{A s} B [1/s]
   int velocity_component = 0;            ///< component of z that is the block's velocity fluctuation
-
-  /// y' = map over dt n 2^-fraction_bits of (y, g), in place; y has dimension + 1 components
-  /// in an array of max_state (the rest is scratch).
-  static constexpr int max_state = 16;
-  void advance_partial(std::int64_t n, double* y, const double* g) const;
 };
 
 /// Builds the exact step for dt > 0 (matrix exponentials in long double).

@@ -24,7 +24,7 @@ struct KernelArgs {
   double* z;                  // the exact step's state, component-major
   double* xi;                 // [stride]
   double* offset_sum;         // [stride]: sum over steps of the miniblocks' mean offset
-  RenewalState* renewal;      // lanes laid out like z
+  RenewalLanes* renewal;      // lanes laid out like z
   double* increments;         // [steps][stride]
 };
 

@@ -1,6 +1,7 @@
 // Renewal of the random forces: marks on the sliding distance, counter-based random numbers.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -12,79 +13,89 @@ struct Contact;  // kept out of the kernel's translation units: they must not se
 
 namespace slidespec::stepper {
 
-struct ExactStep;
+/// The random stream (docs/numerics.md, "Random numbers"): Philox4x32-10 keyed by the seed,
+/// counter (event, event >> 32 | tag << 16 | stream << 24, realization, realization >> 32).
+/// Every number is a pure function of these indices, so no generator state is carried or
+/// split between lanes, batches, threads or processes.
+namespace draw {
+constexpr std::uint32_t renewal_tag = 0;      ///< + class: the event-th renewal of a class
+constexpr std::uint32_t contact_tag = 16;     ///< + class: contact `event`'s first force and phase
+constexpr std::uint32_t first_mark_tag = 32;  ///< + class: the first mark of a merged process
+constexpr int max_stream = 255;
+using Words = std::array<std::uint32_t, 4>;
+/// The four words of one draw (the scalar reference; the kernels compute the same in lanes).
+Words words(std::uint64_t seed, std::uint64_t stream, std::uint64_t realization, std::uint32_t tag,
+            std::uint64_t event);
+/// A force in units of its class's alpha f_kin 2^-33: an odd integer in (-2^32, 2^32),
+/// so the force is uniform on (-alpha f_kin / 2, alpha f_kin / 2) to 2^-33, and sums of up
+/// to 2^20 of them are exact in a double.
+inline double force_units(std::uint32_t word) { return 2.0 * word - 4294967295.0; }
+/// A uniform number in (0, 1], a multiple of 2^-52, from the draw's last two words.
+double open_uniform(std::uint32_t word2, std::uint32_t word3);
+}  // namespace draw
 
-// Exact sums of up to 2^74 forces in units of 2^-53 alpha f_kin.
-__extension__ using WideSum = __int128;
-
-/// Uniform [0, 1) doubles for (realization, contact, renewal count), keyed by (seed, stream):
-/// Philox4x64-10, so every number is a pure function of its indices and no stream state
-/// has to be carried or split between lanes, batches or threads.
-struct RenewalDraw {
-  double force_uniform;    ///< r in f = alpha f_kin (r - 0.5); exact multiple of 2^-53
-  std::int64_t force_units;///< r * 2^53 - 2^52: the force in units of alpha f_kin 2^-53
-  double spacing_uniform;  ///< for the distance to the next mark
+/// What the kernels read and write of a batch's renewal state: structure of arrays, lane
+/// index fastest. Contacts are grouped by input class (a touching level); for periodic
+/// renewal each class's contacts are kept in the order of their phases, so the next to
+/// renew is the one after the last, cyclically, and no search is needed.
+struct RenewalLanes {
+  int lanes = 0;                  ///< stride of every per-lane array
+  int inputs = 0;                 ///< input classes K
+  bool periodic = false;
+  std::uint32_t key[2] = {};      ///< the seed
+  std::uint64_t stream_bits = 0;  ///< stream << 24, or-ed into the second counter word
+  // Per class:
+  double force_unit[3] = {};      ///< alpha f_kin 2^-33 [N]
+  double contacts[3] = {};        ///< N_k
+  double first_contact[3] = {};   ///< row of the class's first contact in `forces`
+  double spacing[3] = {};         ///< mean distance between renewals of the class: a/N_k
+                                  ///< (one merged Poisson process), or a for periodic [m]
+  // Per lane (realization words), per class and lane, per contact and lane:
+  const std::uint64_t* realization_low = nullptr;
+  const std::uint64_t* realization_high = nullptr;
+  const std::uint64_t* lane_index = nullptr;  ///< 0, 1, 2, ...: the column of each lane
+  double* force_sum = nullptr;    ///< [class][lane] sum of the class's forces, in units
+  double* next_mark = nullptr;    ///< [class][lane] the class's next mark [m]
+  double* events = nullptr;       ///< [class][lane] renewals so far (an exact integer)
+  double* position = nullptr;     ///< [class][lane] periodic: the place in the cycle of the next
+  double* cycles = nullptr;       ///< [class][lane] periodic: completed cycles
+  double* forces = nullptr;       ///< [contact][lane] in units
+  const double* phases = nullptr; ///< [contact][lane] periodic: where in [0, a) it renews [m]
+  double* renewals = nullptr;     ///< [lane]
+  double* jump_energy = nullptr;  ///< [lane] sum of (f_new - f_old)^2 [N^2]
 };
-RenewalDraw draw_renewal(std::uint64_t seed, std::uint64_t stream, std::uint64_t realization,
-                         std::uint64_t contact, std::uint64_t renewal_count);
 
-/// The renewal state of a batch of lanes, laid out contact-major (structure of arrays:
-/// contact i of every lane is contiguous). The sums of the forces per input class are
-/// kept exactly, as integers, so they never drift however many renewals happen; that
-/// needs one force amplitude per class (a level), while renewal distances are per contact.
+/// The renewal state of a batch of lanes: the storage behind RenewalLanes, and the
+/// stationary start. For Poisson renewal the marks of the N_k contacts of a class together
+/// are one Poisson process of mean spacing a/N_k, the renewing contact uniform among them
+/// (exact: a superposition of independent Poisson processes, thinned by a fair choice).
 class RenewalState {
  public:
   /// `class_of_contact[j]` in 1..inputs for `contacts[j]`; `lanes` lanes of which lane k is
-  /// realization first + k. Throws std::invalid_argument if a class mixes amplitudes.
+  /// realization first + k. Throws std::invalid_argument if a class mixes amplitudes or
+  /// renewal distances, or has more than 2^20 contacts.
   RenewalState(const std::vector<model::Contact>& contacts, const std::vector<int>& class_of_contact,
                Renewal renewal, std::uint64_t seed, std::uint64_t stream,
                std::uint64_t first_realization, int lanes);
+  RenewalState(RenewalState&&) noexcept;
+  RenewalState& operator=(RenewalState&&) noexcept;
 
-  /// One step of `lane` in which the block passes its next mark: every renewal is applied
-  /// at its own time inside the step, in the order of the marks, and the step's end state
-  /// replaces the plain step's. `z` holds z_n on entry and z_{n+1} on return;
-  /// `increment` the plain step's xi increment on entry and the true one on return.
-  /// x(t) = steady_start + advance t/dt + xi_start + (xi(t) - xi_n); the step ends at
-  /// steady_end (the kernel's own product, so both test the same x against the marks).
-  void step_with_renewals(int lane, const ExactStep& step, double steady_start, double steady_end,
-                          double advance, double xi_start, double* z, double& increment);
-
-  int lanes() const { return lanes_; }
-  int inputs() const { return inputs_; }
-  /// Sum of the random forces of input class k in each lane [N]: inputs()*lanes(), class-major.
-  const double* input_forces() const { return input_forces_.data(); }
-  /// The nearest mark ahead of each lane [m].
-  const double* next_marks() const { return next_mark_.data(); }
-  std::uint64_t renewals(int lane) const { return renewals_[lane]; }
+  RenewalLanes& lanes_view() { return view_; }
+  int lanes() const { return view_.lanes; }
+  int inputs() const { return view_.inputs; }
+  /// Sum of the random forces of input class k in `lane` [N], as the kernels compute it.
+  double input_force(int k, int lane) const;
+  std::uint64_t renewals(int lane) const { return static_cast<std::uint64_t>(renewals_[lane]); }
   /// Sum over the lane's renewals of (f_new - f_old)^2 [N^2]: the realized strength of
   /// the random forcing, whose expectation the model fixes (a control variate for run).
   double jump_energy(int lane) const { return jump_energy_[lane]; }
 
  private:
-  template <int State>
-  void step_shaped(int lane, const ExactStep& step, double steady_start, double steady_end, double advance,
-                   double xi_start, double* z, double& increment);
-  void renew_next(int lane);  // the contact with the nearest mark, then the tree
-  void update_tree(int lane, int contact);
-  void refresh_inputs(int lane);
-  void publish_inputs(int lane);  // input_forces_ from the exact integer sums
-
-  std::vector<double> force_unit_;        // per input class: alpha f_kin 2^-53 [N]
-  std::vector<double> renewal_distance_;  // per contact [m]
-  bool poisson_;
-  std::uint64_t seed_, stream_, first_;
-  int lanes_, contacts_, inputs_, leaves_;
-  std::vector<int> class_of_contact_;
-  std::vector<std::int64_t> force_units_;   // contact-major
-  std::vector<double> mark_;                // contact-major
-  std::vector<std::uint64_t> count_;        // contact-major
-  std::vector<WideSum> input_units_;         // class-major
-  std::vector<double> input_forces_;        // class-major
-  std::vector<double> next_mark_;
-  std::vector<std::uint64_t> renewals_;
-  std::vector<double> jump_energy_;
-  std::vector<int> tree_;                   // per lane: tournament tree of the earliest mark
-  std::vector<double> tree_mark_;           // per lane: the mark of each tree node's contact
+  void bind();  // points view_ at the vectors
+  RenewalLanes view_;
+  std::vector<std::uint64_t> realization_low_, realization_high_, lane_index_;
+  std::vector<double> force_sum_, next_mark_, events_, position_, cycles_, forces_, phases_;
+  std::vector<double> renewals_, jump_energy_;
 };
 
 }  // namespace slidespec::stepper

@@ -42,8 +42,7 @@ struct Stepper::Impl {
       for (int r = 0; r < step.dimension; ++r) {
         double value = 0.0;
         for (int k = 0; k < step.inputs; ++k)
-          value += step.initial_response[r * step.inputs + k] *
-                   renewal.input_forces()[static_cast<size_t>(k) * padded + lane];
+          value += step.initial_response[r * step.inputs + k] * renewal.input_force(k, lane);
         z[static_cast<size_t>(r) * padded + lane] = value;
       }
     // A chunk of increments of about 256 KiB: big enough to amortize the kernel call,
@@ -88,7 +87,7 @@ void Stepper::advance(std::int64_t steps, const IncrementSink& sink) {
   args.z = s.z.data();
   args.xi = s.xi.data();
   args.offset_sum = s.offset_sum.data();
-  args.renewal = &s.renewal;
+  args.renewal = &s.renewal.lanes_view();
   args.increments = s.increments.data();
   while (steps > 0) {
     const std::int64_t chunk = std::min(steps, s.chunk_steps);
