@@ -9,8 +9,17 @@
 #include <stdexcept>
 
 #include "model/linear_structure.hpp"
+#include "simd/path_table.hpp"
 
 namespace slidespec::stepper {
+
+namespace {
+struct ScalarDraw {
+  double force;               // units
+  std::uint64_t contact_word; // chooses the contact: floor(word N / 2^32)
+  double spacing;             // -log u: the distance to the next mark in mean spacings
+};
+}  // namespace
 
 namespace draw {
 
@@ -80,6 +89,9 @@ RenewalState::RenewalState(const std::vector<model::Contact>& contacts,
   events_.assign(cells, 0.0);
   position_.assign(cells, 0.0);
   cycles_.assign(cells, 0.0);
+  upcoming_force_.assign(cells, 0.0);
+  upcoming_contact_.assign(cells, 0.0);
+  upcoming_spacing_.assign(cells, 0.0);
   forces_.assign(rows * lanes, 0.0);
   phases_.assign(v.periodic ? rows * lanes : 0, 0.0);
   renewals_.assign(lanes, 0.0);
@@ -90,6 +102,17 @@ RenewalState::RenewalState(const std::vector<model::Contact>& contacts,
   std::vector<std::pair<double, double>> phase_force;
   for (int lane = 0; lane < lanes; ++lane) {
     const std::uint64_t realization = first_realization + static_cast<std::uint64_t>(lane);
+    // The kernels' own draw (the scalar path's), so the start uses the same logarithm.
+    auto scalar_draw = [&](std::uint32_t tag, std::uint64_t event) {
+      const std::uint64_t counter[4] = {event & 0xffffffffu, (event >> 32) | tag << 16 | stream << 24,
+                                        realization & 0xffffffffu, realization >> 32};
+      std::uint64_t out[4];
+      double exponential;
+      const std::uint64_t* const in[4] = {&counter[0], &counter[1], &counter[2], &counter[3]};
+      std::uint64_t* const words[4] = {&out[0], &out[1], &out[2], &out[3]};
+      simd::path_table(SimdPath::scalar).draw_lanes(v.key, in, 1, words, &exponential);
+      return ScalarDraw{draw::force_units(static_cast<std::uint32_t>(out[0])), out[1], exponential};
+    };
     realization_low_[lane] = realization & 0xffffffffu;
     realization_high_[lane] = realization >> 32;
     lane_index_[lane] = static_cast<std::uint64_t>(lane);
@@ -119,9 +142,12 @@ RenewalState::RenewalState(const std::vector<model::Contact>& contacts,
       if (v.periodic) {
         next_mark_[cell] = phase_force[0].first;
       } else {
-        const draw::Words w = draw::words(seed, stream, realization, draw::first_mark_tag + tag, 0);
-        next_mark_[cell] = -v.spacing[k] * std::log(draw::open_uniform(w[2], w[3]));
+        next_mark_[cell] = v.spacing[k] * scalar_draw(draw::first_mark_tag + tag, 0).spacing;
       }
+      const ScalarDraw upcoming = scalar_draw(draw::renewal_tag + tag, 0);
+      upcoming_force_[cell] = upcoming.force;
+      upcoming_contact_[cell] = std::floor(static_cast<double>(upcoming.contact_word) * v.contacts[k] * 0x1p-32);
+      upcoming_spacing_[cell] = upcoming.spacing;
     }
   }
   bind();
@@ -139,6 +165,9 @@ RenewalState& RenewalState::operator=(RenewalState&& other) noexcept {
   events_ = std::move(other.events_);
   position_ = std::move(other.position_);
   cycles_ = std::move(other.cycles_);
+  upcoming_force_ = std::move(other.upcoming_force_);
+  upcoming_contact_ = std::move(other.upcoming_contact_);
+  upcoming_spacing_ = std::move(other.upcoming_spacing_);
   forces_ = std::move(other.forces_);
   phases_ = std::move(other.phases_);
   renewals_ = std::move(other.renewals_);
@@ -157,6 +186,9 @@ void RenewalState::bind() {
   v.events = events_.data();
   v.position = position_.data();
   v.cycles = cycles_.data();
+  v.upcoming_force = upcoming_force_.data();
+  v.upcoming_contact = upcoming_contact_.data();
+  v.upcoming_spacing = upcoming_spacing_.data();
   v.forces = forces_.data();
   v.phases = phases_.data();
   v.renewals = renewals_.data();

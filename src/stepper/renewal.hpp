@@ -59,6 +59,11 @@ struct RenewalLanes {
   double* events = nullptr;       ///< [class][lane] renewals so far (an exact integer)
   double* position = nullptr;     ///< [class][lane] periodic: the place in the cycle of the next
   double* cycles = nullptr;       ///< [class][lane] periodic: completed cycles
+  // The class's next renewal, drawn one renewal ahead so that the generator's latency is
+  // off the path from one renewal to the next ([class][lane]):
+  double* upcoming_force = nullptr;    ///< the force it brings, in units
+  double* upcoming_contact = nullptr;  ///< poisson: which of the class's contacts (0..N_k-1)
+  double* upcoming_spacing = nullptr;  ///< poisson: the distance to the mark after it, in spacings
   double* forces = nullptr;       ///< [contact][lane] in units
   const double* phases = nullptr; ///< [contact][lane] periodic: where in [0, a) it renews [m]
   double* renewals = nullptr;     ///< [lane]
@@ -95,6 +100,7 @@ class RenewalState {
   RenewalLanes view_;
   std::vector<std::uint64_t> realization_low_, realization_high_, lane_index_;
   std::vector<double> force_sum_, next_mark_, events_, position_, cycles_, forces_, phases_;
+  std::vector<double> upcoming_force_, upcoming_contact_, upcoming_spacing_;
   std::vector<double> renewals_, jump_energy_;
 };
 
