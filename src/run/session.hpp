@@ -16,7 +16,7 @@ namespace run_detail {
 
 // Realizations per stepper batch. Fixed, so the work a batch does is the same whatever the
 // SIMD width or thread count (and a multiple of every lane width).
-constexpr int kBatchRealizations = 16;
+constexpr int kBatchRealizations = 8;
 
 // The first round of a precision-driven run: fixed, not scaled by the thread count, so
 // that every later round (chosen from the results so far) is the same on any machine;

@@ -14,6 +14,17 @@
 
 namespace slidespec {
 
+namespace {
+// Checked before the renewal state is built, which holds at most three input classes.
+stepper::GroupKernel compiled_kernel(SimdPath path, const stepper::ExactStep& step, const Parameters& p) {
+  const stepper::GroupKernel kernel = simd::path_table(path).group_kernel(step.dimension, step.inputs);
+  if (kernel == nullptr)
+    throw InputError("parameters levels, touching: the stepper is compiled for up to 3 levels (got " +
+                     std::to_string(p.levels) + ")");
+  return kernel;
+}
+}  // namespace
+
 struct Stepper::Impl {
   Impl(const Parameters& p, const StepperConfig& c, std::uint64_t first_realization, int n)
       : params(p),
@@ -25,14 +36,11 @@ struct Stepper::Impl {
         padded((n + width - 1) / width * width),
         lumped(model::lumped_tree_structure(p)),
         step(stepper::exact_step(lumped, c.dt)),
-        kernel(simd::path_table(path).group_kernel(step.dimension, step.inputs)),
+        kernel(compiled_kernel(path, step, p)),
         renewal(model::tree_structure(p).contacts, lumped.class_of_contact, p.renewal, c.seed, c.stream,
                 first_realization, padded) {
     if (!(c.dt > 0) || !std::isfinite(c.dt)) throw InputError("time step dt must be > 0");
     if (n < 1) throw InputError("a batch needs at least one realization");
-    if (kernel == nullptr)
-      throw InputError("parameters levels, touching: the stepper is compiled for up to 3 levels (got " +
-                       std::to_string(p.levels) + ")");
     z.assign(static_cast<size_t>(step.dimension) * padded, 0.0);
     xi.assign(padded, 0.0);
     offset_sum.assign(padded, 0.0);

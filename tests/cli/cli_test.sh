@@ -69,7 +69,7 @@ diff <(grep -v '^#' "$work/short.tsv") <(grep -v '^#' "$work/scalar.tsv") > /dev
   || fail "scalar 1-thread run differs from the default run"
 
 # An interrupt writes what has accumulated, marked incomplete, and exits 128 + SIGINT.
-start_in_background run --omega-min 0.1 --omega-max 1e5 --precision 0.01 --out "$work/cut" --no-plot --quiet
+start_in_background run --omega-min 0.1 --omega-max 1e5 --precision 0.003 --out "$work/cut" --no-plot --quiet
 sleep 2
 kill -INT $pid
 wait $pid
@@ -78,7 +78,7 @@ status=$?
 grep -q "^# complete = false" "$work/cut.tsv" 2>/dev/null || fail "interrupted run did not write an incomplete table"
 
 # ... and saves the run, which --resume continues to the numbers of an uninterrupted run.
-band="--case many-contacts --omega-min 1 --omega-max 1000 --precision 0.01 --seed 5 --no-plot --quiet"
+band="--case many-contacts --omega-min 1 --omega-max 1000 --precision 0.005 --seed 5 --no-plot --quiet"
 "$bin" run $band --out "$work/whole" || fail "uninterrupted run failed"
 start_in_background run $band --checkpoint-every 0.2 --out "$work/cut2"
 sleep 0.7
