@@ -23,9 +23,6 @@ namespace {
 // The highest omega a time step serves: omega dt <= 0.3 keeps the aliases of even the
 // Brownian omega^-2 part of C_x below 0.5% (docs/numerics.md).
 constexpr double kOmegaDtMax = 0.3;
-// lambda dt <= 0.1: about one renewal per miniblock in ten steps, each redone with the
-// renewal at its own time (docs/numerics.md), so no step holds many of one miniblock's.
-constexpr double kRenewalDtMax = 0.1;
 // Each realization of a sub-band spans this many of the segments serving its lowest point.
 constexpr double kSegmentsPerRealization = 6;
 // Precision-driven runs stop growing at kMaxRealizationsPerBand (session.hpp) or 2e9
@@ -202,7 +199,7 @@ double worst_relative_error(const std::vector<SpectrumPoint>& points, std::size_
 
 }  // namespace
 
-std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& request) {
+std::vector<SubBand> plan_sub_bands(const RunRequest& request) {
   const std::vector<double> omegas =
       log_spaced_omegas(request.omega_min, request.omega_max, request.points_per_decade);
   check_request_fields(request);
@@ -222,7 +219,9 @@ std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& reque
     SubBand band;
     band.omega_low = omegas[first];
     band.omega_high = omegas[last];
-    band.dt = std::min(kOmegaDtMax / band.omega_high, kRenewalDtMax / p.renewal_rate());
+    // Not limited by the renewal rate: renewals inside a step are exact however many
+    // (docs/numerics.md §2), and longer steps fill more lanes per renewal pass.
+    band.dt = kOmegaDtMax / band.omega_high;
     const double segment = SpectrumEstimator(estimator_config(band, request.points_per_decade), 1)
                                .segment_duration(band.omega_low);
     band.duration = request.duration > 0
@@ -240,7 +239,7 @@ std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& reque
 // The session: sub-bands in order, each in rounds, each round in chunks of batches.
 
 RunSession::Impl::Impl(const Parameters& p, const RunRequest& r, std::string name)
-  : params(p), request(r), case_name(std::move(name)), plan(plan_sub_bands(p, r)) {
+  : params(p), request(r), case_name(std::move(name)), plan(plan_sub_bands(r)) {
   if (r.first_realization % kBatchRealizations != 0)
     throw InputError("--realizations-range: FIRST must be a multiple of " + std::to_string(kBatchRealizations) +
                      " (parts share the batches of the whole run)");
