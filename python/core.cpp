@@ -119,18 +119,20 @@ class Run {
   /// The points' doubles as computed, to check that the JSON form carries them exactly.
   py::dict raw_points() const {
     const RunResult result = session_.result();
-    std::vector<double> omega, C_x, stderr_, theory;
+    std::vector<double> omega, C_x, stderr_, theory, theory2;
     for (const RunPoint& p : result.points) {
       omega.push_back(p.omega);
       C_x.push_back(p.C_x);
       stderr_.push_back(p.standard_error);
       theory.push_back(p.theory);
+      theory2.push_back(p.theory2);
     }
     py::dict out;
     out["omega"] = to_array(omega);
     out["C_x"] = to_array(C_x);
     out["stderr"] = to_array(stderr_);
     out["theory"] = to_array(theory);
+    out["theory2"] = to_array(theory2);
     return out;
   }
 

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -66,6 +67,9 @@ struct RunPoint {
   double n_avg;            ///< periodogram values averaged
   double bandwidth;        ///< resolution bandwidth [rad/s]
   BinRange bins;           ///< the FFT bins the estimate averages
+  /// The second-order theory (docs/model.md §7) averaged as `theory` is [m^2 s]; NaN where
+  /// it does not apply (RunResult::theory2_note says why).
+  double theory2 = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct RunResult {
@@ -78,6 +82,9 @@ struct RunResult {
   double miniblock_steps = 0;       ///< blocks below the big block (all levels) x realization-steps
   double wall_seconds = 0;
   double reached_precision = 0;     ///< largest standard_error / C_x over the points
+  /// Empty when every point has `theory2`; otherwise why the second-order theory does not
+  /// apply (periodic renewal, several touching levels, eps beyond 0.3).
+  std::string theory2_note;
   SimdPath simd_path = SimdPath::scalar;
   int threads = 1;
   bool complete = false;            ///< false when interrupted or out of budget

@@ -301,7 +301,9 @@ class Result(_Table):
       omega [rad/s]; C_x [m^2 s] the estimate (mean of C_x over the point's FFT bins);
       stderr [m^2 s] its standard error; theory [m^2 s] the exact first-order theory seen
       through the estimator; theory_at_omega [m^2 s]; n_avg periodogram values averaged;
-      bandwidth [rad/s]; and any column the library or the file adds (see `columns`).
+      bandwidth [rad/s]; theory2 [m^2 s] the second-order theory averaged as theory is (NaN
+      where it does not apply: see the field theory2_note); and any column the library or
+      the file adds (see `columns`).
     Fields: complete (False when interrupted), reached_precision (largest stderr/C_x),
       mean_speed and mean_speed_error [m/s], simulated_time [s], wall_seconds [s],
       parameters {key: value}, case, request, sub_bands, and every other key of the JSON.
@@ -328,6 +330,12 @@ class Result(_Table):
     def theory(self):
         """Exact first-order theory averaged as the estimate averages it [m^2 s]."""
         return self._columns["theory"]
+
+    @property
+    def theory2(self):
+        """Second-order theory (docs/model.md §7) averaged as the estimate averages it
+        [m^2 s]; NaN where it does not apply (theory2_note says why)."""
+        return self._columns["theory2"]
 
     @property
     def complete(self):

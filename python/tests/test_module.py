@@ -18,7 +18,7 @@ import slidespec as ss
 from slidespec import _core
 
 CLI = os.environ.get("SLIDESPEC", "slidespec")
-COLUMNS = ["omega", "C_x", "stderr", "theory", "theory_at_omega", "n_avg", "bandwidth"]
+COLUMNS = ["omega", "C_x", "stderr", "theory", "theory_at_omega", "n_avg", "bandwidth", "theory2"]
 
 
 def cli(*args, check=True):
@@ -74,14 +74,14 @@ def test_the_json_form_carries_every_bit():
     assert handle.join()
     raw = handle.raw_points()
     points = json.loads(handle.result_json())["points"]
-    for column in ("omega", "C_x", "stderr", "theory"):
+    for column in ("omega", "C_x", "stderr", "theory", "theory2"):
         assert same_bits(raw[column], [p[column] for p in points]), column
 
 
 def test_read_gives_the_same_result(cli_run, py_run):
     exact = ss.read(f"{cli_run}.json")
     table = ss.read(f"{cli_run}.tsv")
-    for column in ("omega", "C_x", "stderr", "theory"):
+    for column in ("omega", "C_x", "stderr", "theory", "theory2"):
         assert same_bits(getattr(exact, column), getattr(py_run, column))
         # The table prints 10 significant digits: not every bit.
         np.testing.assert_allclose(getattr(table, column), getattr(py_run, column), rtol=6e-10, atol=0)

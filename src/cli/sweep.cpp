@@ -191,7 +191,9 @@ std::string sweep_json(const std::vector<SweepAxis>& axes, const std::vector<Swe
     entry["points"] = nlohmann::ordered_json::array();
     for (const RunPoint& point : run.result.points)
       entry["points"].push_back({{"omega", point.omega}, {"C_x", point.C_x}, {"stderr", point.standard_error},
-                                 {"theory", point.theory}, {"n_avg", point.n_avg}, {"bandwidth", point.bandwidth}});
+                                 {"theory", point.theory}, {"n_avg", point.n_avg}, {"bandwidth", point.bandwidth},
+                                 {"theory2", std::isfinite(point.theory2) ? nlohmann::ordered_json(point.theory2)
+                                                                          : nlohmann::ordered_json(nullptr)}});
     doc["runs"].push_back(entry);
   }
   return doc.dump(2) + "\n";

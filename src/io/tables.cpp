@@ -110,16 +110,19 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
   out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, the mean of C_x over the bin's frequencies;"
          " stderr [m^2 s]; theory [m^2 s] continuous exact first-order theory, its mean over the same bins;"
          " n_avg periodogram values averaged; bandwidth [rad/s]; C_v = omega^2 C_x [m^2/s];"
-         " C_F = M^2 omega^4 C_x [N^2 s]; theory_at_omega [m^2 s]; C_eq1 [m^2 s] the paper's Eq. (1)\n";
-  out << "# omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\n";
+         " C_F = M^2 omega^4 C_x [N^2 s]; theory_at_omega [m^2 s]; C_eq1 [m^2 s] the paper's Eq. (1);"
+         " theory2 [m^2 s] the second-order theory (docs/model.md §7), its mean over the same bins,"
+         " nan where it does not apply\n";
+  if (!result.theory2_note.empty()) out << "# theory2_note = " << result.theory2_note << "\n";
+  out << "# omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\ttheory2\n";
   for (const RunPoint& point : result.points) {
     out << format_number(point.omega) << "\t" << format_number(point.C_x) << "\t"
         << format_number(point.standard_error) << "\t" << format_number(point.theory) << "\t"
         << format_number(point.n_avg) << "\t" << format_number(point.bandwidth) << "\t"
         << format_number(velocity_spectrum(point.omega, point.C_x)) << "\t"
         << format_number(force_spectrum(point.omega, point.C_x, p.M)) << "\t"
-        << format_number(point.theory_at_omega) << "\t" << format_number(eq1_asymptote(p, point.omega))
-        << "\n";
+        << format_number(point.theory_at_omega) << "\t" << format_number(eq1_asymptote(p, point.omega)) << "\t"
+        << format_number(point.theory2) << "\n";
   }
   return out.str();
 }
@@ -144,6 +147,7 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
   doc["stationary"] = result.stationary;
   if (!result.stationary) doc["stationarity"] = result.stationarity;
   doc["reached_precision"] = result.reached_precision;
+  if (!result.theory2_note.empty()) doc["theory2_note"] = result.theory2_note;
   doc["measured_mean_speed"] = {{"value", result.mean_speed}, {"standard_error", result.mean_speed_error}};
   doc["simulated_time"] = result.simulated_time;
   doc["wall_seconds"] = result.wall_seconds;
@@ -162,7 +166,9 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                              {"theory", point.theory}, {"theory_at_omega", point.theory_at_omega},
                              {"n_avg", point.n_avg}, {"bandwidth", point.bandwidth},
                              {"bins", {{"first", point.bins.first}, {"last", point.bins.last},
-                                       {"spacing", point.bins.spacing}, {"count", point.bins.count}}}});
+                                       {"spacing", point.bins.spacing}, {"count", point.bins.count}}},
+                             {"theory2", std::isfinite(point.theory2) ? nlohmann::ordered_json(point.theory2)
+                                                                      : nlohmann::ordered_json(nullptr)}});
   return doc.dump(2) + "\n";
 }
 

@@ -1,6 +1,7 @@
 #include "slidespec/run.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +24,8 @@ namespace {
 // The highest omega a time step serves: omega dt <= 0.3 keeps the aliases of even the
 // Brownian omega^-2 part of C_x below 0.5% (docs/numerics.md).
 constexpr double kOmegaDtMax = 0.3;
+// The second-order theory is given where the first order is still meaningful.
+constexpr double kSecondOrderEpsMax = 0.3;
 // Each realization of a sub-band spans this many of the segments serving its lowest point.
 constexpr double kSegmentsPerRealization = 6;
 // Precision-driven runs stop growing at kMaxRealizationsPerBand (session.hpp) or 2e9
@@ -418,6 +421,17 @@ RunResult RunSession::result() const {
   // is (for a smooth C_x that is the plain mean over the bins; a periodic force spectrum's
   // zeros are narrower than a bin). The theory at the point's omega beside it.
   const LumpedTheory theory(s.params);
+  // The second-order theory beside it where it applies (docs/model.md §7).
+  std::optional<SecondOrderTheory> second;
+  if (landmarks(s.params).coupling_eps > kSecondOrderEpsMax) {
+    result.theory2_note = "eps beyond 0.3: the O(eps^2) expansion is not trusted there";
+  } else {
+    try {
+      second.emplace(s.params);
+    } catch (const InputError& e) {
+      result.theory2_note = e.what();
+    }
+  }
   for (std::size_t b = 0; b < s.bands.size(); ++b) {
     const BandTotals& totals = s.bands[b];
     SubBand& band = result.sub_bands[b];
@@ -427,6 +441,8 @@ RunResult RunSession::result() const {
     const SpectrumAccumulator merged = totals.merged();
     const std::vector<SpectrumPoint> estimated = band_spectrum(totals, merged);
     const std::vector<SpectrumPoint> expected = merged.expected(std::cref(theory));
+    const std::vector<SpectrumPoint> expected2 =
+        second ? merged.expected(std::cref(*second)) : std::vector<SpectrumPoint>();
     for (std::size_t k = 0; k < estimated.size(); ++k) {
       const SpectrumPoint& e = estimated[k];
       BinRange bins;
@@ -436,6 +452,7 @@ RunResult RunSession::result() const {
       bins.last = bins.first + (e.bin_count - 1) * e.bin_spacing;
       result.points.push_back({e.omega, e.C, e.standard_error, expected[k].C, theory(e.omega), e.n_avg,
                                e.bandwidth, bins});
+      if (second) result.points.back().theory2 = expected2[k].C;
     }
     result.simulated_time += static_cast<double>(totals.realizations) * band.duration;
     result.realization_steps += static_cast<double>(s.steps[b]) * static_cast<double>(totals.realizations);

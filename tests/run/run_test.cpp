@@ -157,6 +157,7 @@ TEST(Run, TheoryIsTheContinuousTheoryAveragedOverTheNamedBins) {
   r.omega_max = 3e3;
   r.realizations = 16;
   const Parameters p = ParameterBuilder("reference").build();
+  const SecondOrderTheory second(p);
   const RunResult result = run_spectrum(p, r);
   ASSERT_FALSE(result.points.empty());
   double worst = 0;
@@ -169,15 +170,35 @@ TEST(Run, TheoryIsTheContinuousTheoryAveragedOverTheNamedBins) {
     EXPECT_GE(point.omega, bins.first - bins.spacing);
     EXPECT_LE(point.omega, bins.last + bins.spacing);
     const std::vector<double> values = exact_spectrum(p, bins.omegas());
-    double sum = 0;
+    double sum = 0, sum2 = 0;
     for (double value : values) sum += value;
+    for (double omega : bins.omegas()) sum2 += second(omega);
     const double mean = sum / static_cast<double>(values.size());
+    const double mean2 = sum2 / static_cast<double>(values.size());
     EXPECT_DOUBLE_EQ(mean, bin_average(p, bins));
     worst = std::max(worst, std::fabs(point.theory / mean - 1));
     // Measured: 3e-3 at the resonance (548 rad/s), where the smooth local shape fits least.
     EXPECT_NEAR(point.theory, mean, 5e-3 * mean) << "omega " << point.omega << " ratio " << point.theory / mean;
+    // The second-order column is averaged the same way.
+    EXPECT_NEAR(point.theory2, mean2, 5e-3 * mean2) << "omega " << point.omega;
+    EXPECT_NE(point.theory2, point.theory);
   }
+  EXPECT_TRUE(result.theory2_note.empty()) << result.theory2_note;
   std::printf("largest |theory / bin mean - 1| = %.2e\n", worst);
+}
+
+// Where the second-order theory does not apply, its column is NaN and the result says why.
+TEST(Run, SecondOrderColumnIsNaNWithAReasonWhereItDoesNotApply) {
+  RunRequest r = short_request();
+  r.omega_min = 10;
+  r.omega_max = 100;
+  r.realizations = 8;
+  for (const char* change : {"renewal=periodic", "alpha=4.2"}) {
+    const RunResult result = run_spectrum(ParameterBuilder("reference").set(change).build(), r);
+    ASSERT_FALSE(result.points.empty());
+    for (const RunPoint& point : result.points) EXPECT_TRUE(std::isnan(point.theory2)) << change;
+    EXPECT_FALSE(result.theory2_note.empty()) << change;
+  }
 }
 
 // A state saved before renewals took effect inside the step (format 1) holds realizations
