@@ -218,33 +218,44 @@ class Spectrum {
                     py::arg("reaches_floor") = f.reaches_floor);
   }
 
-  py::dict alpha(const std::string& case_name, const Overrides& overrides, double low, double high) const {
+  py::dict alpha(const std::string& case_name, const Overrides& overrides, double low, double high,
+                 int theory_order) const {
     const Parameters p = build(case_name, overrides);
     AlphaFit f;
     {
       py::gil_scoped_release release;
-      f = fit_alpha(spectrum_, p, low, high);
+      f = fit_alpha(spectrum_, p, low, high, order_of(theory_order));
     }
     return py::dict(py::arg("omega_low") = f.omega_low, py::arg("omega_high") = f.omega_high,
                     py::arg("points") = f.points, py::arg("alpha") = f.alpha,
-                    py::arg("standard_error") = f.alpha_error, py::arg("chi2_per_dof") = f.chi2_per_dof);
+                    py::arg("standard_error") = f.alpha_error, py::arg("chi2_per_dof") = f.chi2_per_dof,
+                    py::arg("theory_order") = f.theory_order);
+  }
+
+  int model_order_of(const std::string& case_name, const Overrides& overrides, int theory_order) const {
+    return model_order(build(case_name, overrides), order_of(theory_order));
   }
 
   std::pair<double, double> alpha_band(const std::string& case_name, const Overrides& overrides) const {
     return default_alpha_band(spectrum_, build(case_name, overrides));
   }
 
-  Array model(const std::string& case_name, const Overrides& overrides) const {
+  Array model(const std::string& case_name, const Overrides& overrides, int theory_order) const {
     const Parameters p = build(case_name, overrides);
     std::vector<double> values;
     {
       py::gil_scoped_release release;
-      values = model_spectrum(spectrum_, p);
+      values = model_spectrum(spectrum_, p, order_of(theory_order));
     }
     return to_array(values);
   }
 
  private:
+  static ModelOrder order_of(int theory_order) {
+    if (theory_order != 1 && theory_order != 2) throw InputError("theory_order: 1 or 2");
+    return theory_order == 2 ? ModelOrder::best : ModelOrder::first;
+  }
+
   RecordSpectrum spectrum_;
   AnalysisRequest request_;
 };
@@ -340,7 +351,8 @@ PYBIND11_MODULE(_core, m) {
       .def("to_dict", &Spectrum::to_dict, "The fields of `slidespec analyze`'s JSON.")
       .def("fit_slope", &Spectrum::slope, "C_x ~ omega^slope over [low, high] rad/s.")
       .def("fit_alpha", &Spectrum::alpha, "alpha of a case fitted over [low, high] rad/s.")
-      .def("model", &Spectrum::model, "A case's spectrum seen through this estimator [m^2 s].");
+      .def("model", &Spectrum::model, "A case's spectrum seen through this estimator [m^2 s].")
+      .def("model_order", &Spectrum::model_order_of, "The theory order a comparison uses (1 or 2).");
   m.def("synthesize", [](const std::string& case_name, const Overrides& overrides, const py::dict& sensor) {
     SensorRequest s;
     s.sample_interval = sensor["sample_interval"].cast<double>();

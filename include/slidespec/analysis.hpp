@@ -141,19 +141,33 @@ struct SlopeFit {
 /// Throws InputError when the band holds fewer than 3 points.
 SlopeFit fit_slope(const RecordSpectrum& spectrum, double omega_low, double omega_high);
 
+/// Which theory a model comparison or an alpha fit uses.
+enum class ModelOrder {
+  first,  ///< the exact first-order theory
+  best,   ///< the second order (docs/model.md §7) where it applies: poisson renewal on one
+          ///< touching level, eps <= 0.3; the first order elsewhere
+};
+
+/// The order `order` gives at `params`: 2 where the second-order theory applies, else 1.
+int model_order(const Parameters& params, ModelOrder order);
+
 /// alpha of a model case fitted to the measured spectrum: C_x = alpha^2 T(omega) + floor,
-/// with T the exact theory at alpha = 1 seen through the estimator's bins and window.
+/// with T the exact theory at alpha = 1 seen through the estimator's bins and window. With
+/// the second order, T depends on alpha through eps (about 1/(1 + eps^2/2) in the omega^-4
+/// band, where the first order would bias alpha low by eps^2/4): fitted by iteration.
 struct AlphaFit {
   double omega_low = 0, omega_high = 0;  ///< [rad/s]
   int points = 0;
   double alpha = 0;
   double alpha_error = 0;                ///< standard error, scaled up by sqrt(chi2/dof) when > 1
   double chi2_per_dof = 0;
+  int theory_order = 1;                  ///< the order of the theory fitted
 };
 
 /// The model's spectrum at `params` (its own alpha) seen through the estimator, one value
 /// per point of `spectrum` [m^2 s], without the floor.
-std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Parameters& params);
+std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Parameters& params,
+                                   ModelOrder order = ModelOrder::best);
 
 /// The band of an alpha fit when none is given: where the data are usable and the model's
 /// Eq. (1) omega^-4 holds (5 v/a to omega_c/3), the band the paper's Fig. 6 compares.
@@ -163,7 +177,7 @@ std::pair<double, double> default_alpha_band(const RecordSpectrum& spectrum, con
 /// Weighted least squares for alpha^2 over the points in [omega_low, omega_high]; the
 /// alpha of `params` is ignored. Throws InputError when the band holds no point.
 AlphaFit fit_alpha(const RecordSpectrum& spectrum, const Parameters& params, double omega_low,
-                   double omega_high);
+                   double omega_high, ModelOrder order = ModelOrder::best);
 
 /// What a displacement sensor records of a simulated slider.
 struct SensorRequest {

@@ -644,7 +644,7 @@ class Analysis(_Table):
 
 def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega_min=0.0,
             omega_max=0.0, points=8, fit_slope=None, compare=None, fit=None, fit_band=None,
-            time_tolerance=0.01):
+            theory_order=2, time_tolerance=0.01):
     """Spectrum, slope and model fit of a sliding-distance record: `slidespec analyze`.
 
     t: sample times [s] (uniform within time_tolerance), or None with dt [s].
@@ -656,6 +656,9 @@ def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega
     compare: Parameters (or a case name) whose theory to set beside the data; with
       fit="alpha", its alpha is fitted over fit_band (low, high) [rad/s] (default: the
       usable band within 5 v/a .. omega_c/3, where Eq. (1)'s omega^-4 holds).
+    theory_order: 2 (default) compares and fits with the second-order theory where it
+      applies (poisson, one touching level, eps <= 0.3), else the first; 1 the first
+      order always. The result's theory_order field says which was used.
     Returns an Analysis. Raises ValueError for a malformed record or request.
     """
     if fit not in (None, "alpha"):
@@ -676,11 +679,13 @@ def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega
         if fit:
             if fit_band is None:
                 fit_band = spectrum.default_alpha_band(*p._args())
-            data["alpha_fit"] = spectrum.fit_alpha(*p._args(), float(fit_band[0]), float(fit_band[1]))
+            data["alpha_fit"] = spectrum.fit_alpha(*p._args(), float(fit_band[0]), float(fit_band[1]),
+                                                   int(theory_order))
             p = p.replace(alpha=data["alpha_fit"]["alpha"])
         data["compare_case"] = p.case
         data["model_parameters"] = p.to_dict()
-        for point, value in zip(data["points"], spectrum.model(*p._args())):
+        data["theory_order"] = spectrum.model_order(*p._args(), int(theory_order))
+        for point, value in zip(data["points"], spectrum.model(*p._args(), int(theory_order))):
             point["theory"] = float(value)
     return Analysis(data)
 

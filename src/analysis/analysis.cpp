@@ -220,28 +220,40 @@ std::pair<double, double> default_alpha_band(const RecordSpectrum& s, const Para
   return {low, high};
 }
 
-std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Parameters& params) {
-  // A sensor takes point samples, so the frequencies above Nyquist fold onto the band; a few
-  // aliases are plenty for a spectrum that falls as omega^-8 above omega_c.
-  const LumpedTheory theory(params);
-  const double sampling_rate = 2 * std::numbers::pi / spectrum.dt;
-  const auto sampled = [&](double omega) {
-    double sum = theory(omega);
-    for (int k = 1; k <= 4; ++k) sum += theory(std::abs(omega - k * sampling_rate)) + theory(omega + k * sampling_rate);
-    return sum;
-  };
-  std::vector<double> model;
-  for (const SpectrumPoint& e : spectrum.accumulator.expected(sampled)) model.push_back(e.C);
-  return model;
+int model_order(const Parameters& params, ModelOrder order) {
+  if (order == ModelOrder::first || landmarks(params).coupling_eps > 0.3) return 1;
+  try {
+    SecondOrderTheory{params};
+    return 2;
+  } catch (const InputError&) {
+    return 1;
+  }
 }
 
-AlphaFit fit_alpha(const RecordSpectrum& spectrum, const Parameters& params, double omega_low,
-                   double omega_high) {
-  if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("--fit-band: need 0 < LO < HI in rad/s");
-  Parameters unit_noise = params;
-  unit_noise.alpha = 1;
-  const std::vector<double> template_spectrum = model_spectrum(spectrum, unit_noise);
+std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Parameters& params, ModelOrder order) {
+  // A sensor takes point samples, so the frequencies above Nyquist fold onto the band; a few
+  // aliases are plenty for a spectrum that falls as omega^-8 above omega_c.
+  const auto aliased = [&](const auto& theory) {
+    const double sampling_rate = 2 * std::numbers::pi / spectrum.dt;
+    const auto sampled = [&](double omega) {
+      double sum = theory(omega);
+      for (int k = 1; k <= 4; ++k)
+        sum += theory(std::abs(omega - k * sampling_rate)) + theory(omega + k * sampling_rate);
+      return sum;
+    };
+    std::vector<double> model;
+    for (const SpectrumPoint& e : spectrum.accumulator.expected(sampled)) model.push_back(e.C);
+    return model;
+  };
+  if (model_order(params, order) == 2) return aliased(SecondOrderTheory(params));
+  return aliased(LumpedTheory(params));
+}
 
+namespace {
+// Weighted least squares for alpha^2 with a given shape T (the spectrum at alpha = 1).
+AlphaFit fit_alpha_to(const RecordSpectrum& spectrum, const std::vector<double>& template_spectrum,
+                      double omega_low, double omega_high) {
+  if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("--fit-band: need 0 < LO < HI in rad/s");
   std::vector<std::size_t> inside;
   for (std::size_t k = 0; k < spectrum.points.size(); ++k)
     if (spectrum.points[k].omega >= omega_low && spectrum.points[k].omega <= omega_high) inside.push_back(k);
@@ -279,6 +291,29 @@ AlphaFit fit_alpha(const RecordSpectrum& spectrum, const Parameters& params, dou
   fit.chi2_per_dof = fit.points > 1 ? chi2 / (fit.points - 1) : 0;
   fit.alpha = std::sqrt(alpha2);
   fit.alpha_error = inflated(1 / std::sqrt(sum_tt), fit.chi2_per_dof) / (2 * fit.alpha);
+  return fit;
+}
+}  // namespace
+
+AlphaFit fit_alpha(const RecordSpectrum& spectrum, const Parameters& params, double omega_low,
+                   double omega_high, ModelOrder order) {
+  Parameters unit_noise = params;
+  unit_noise.alpha = 1;
+  AlphaFit fit = fit_alpha_to(spectrum, model_spectrum(spectrum, unit_noise, ModelOrder::first), omega_low, omega_high);
+  // The second-order shape depends on alpha: refit at the alpha found until it settles
+  // (the shape changes by O(eps^2) per step, so a few steps reach the rounding).
+  for (int step = 0; step < 8 && order == ModelOrder::best; ++step) {
+    Parameters at_fit = params;
+    at_fit.alpha = fit.alpha;
+    if (model_order(at_fit, order) != 2) break;
+    const std::vector<double> shape = model_spectrum(spectrum, at_fit, order);
+    std::vector<double> unit(shape.size());
+    for (std::size_t k = 0; k < shape.size(); ++k) unit[k] = shape[k] / (fit.alpha * fit.alpha);
+    const double previous = fit.alpha;
+    fit = fit_alpha_to(spectrum, unit, omega_low, omega_high);
+    fit.theory_order = 2;
+    if (std::fabs(fit.alpha - previous) <= 1e-12 * previous) break;
+  }
   return fit;
 }
 

@@ -26,6 +26,7 @@ struct AnalysisCommands::Options {
   std::vector<std::string> overrides;
   std::string fit;
   std::vector<double> fit_band;    // LO HI [rad/s]
+  int theory_order = 2;            // 2: the second order where it applies
   double normal_mass = 0, driving_mass = 0;
   std::string out = "analysis";
   bool quiet = false, no_plot = false;
@@ -101,6 +102,7 @@ struct Findings {
   std::optional<AlphaFit> alpha;
   Verdict slope_verdict, alpha_verdict;
   std::vector<double> model_values;   // model seen through the estimator, per point
+  int model_order = 1;                // the theory order of model_values
   bool ok() const { return slope_verdict.ok && alpha_verdict.ok; }
 };
 
@@ -134,13 +136,16 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
   if (f.alpha)
     out << "# fitted_alpha = " << number(f.alpha->alpha) << "  # +- " << number(f.alpha->alpha_error) << " over "
         << number(f.alpha->omega_low) << " .. " << number(f.alpha->omega_high) << " rad/s, " << f.alpha->points
-        << " points, chi2/dof " << number(f.alpha->chi2_per_dof) << "\n"
+        << " points, chi2/dof " << number(f.alpha->chi2_per_dof) << ", theory order " << f.alpha->theory_order
+        << "\n"
         << "# alpha_fit_ok = " << (f.alpha_verdict.ok ? "true" : "false  # " + f.alpha_verdict.reason) << "\n";
   out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, mean over the bin's frequencies; stderr [m^2 s] from "
          "the scatter between segments; floor [m^2 s] quantization noise q^2/12 seen through the estimator; "
          "below_floor 1 when C_x < floor + 2 stderr; n_avg; bandwidth [rad/s]; C_v = omega^2 C_x [m^2/s]";
   if (f.slope) out << "; fit [m^2 s] the fitted power law inside its band";
-  if (f.model) out << "; theory [m^2 s] the model seen through the estimator (no floor)";
+  if (f.model)
+    out << "; theory [m^2 s] the model's " << (f.model_order == 2 ? "second" : "first")
+        << "-order theory seen through the estimator (no floor)";
   out << "\n# omega\tC_x\tstderr\tfloor\tbelow_floor\tn_avg\tbandwidth\tC_v" << (f.slope ? "\tfit" : "")
       << (f.model ? "\ttheory" : "") << "\n";
   for (std::size_t k = 0; k < s.points.size(); ++k) {
@@ -184,11 +189,13 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
   if (f.model) {
     doc["compare_case"] = o.compare_case;
     doc["model_parameters"] = io::parameters_json(*f.model);
+    doc["theory_order"] = f.model_order;
   }
   if (f.alpha)
     doc["alpha_fit"] = {{"omega_low", f.alpha->omega_low}, {"omega_high", f.alpha->omega_high},
                         {"points", f.alpha->points}, {"alpha", f.alpha->alpha},
                         {"standard_error", f.alpha->alpha_error}, {"chi2_per_dof", f.alpha->chi2_per_dof},
+                        {"theory_order", f.alpha->theory_order},
                         {"ok", f.alpha_verdict.ok}, {"failure", f.alpha_verdict.reason}};
   for (std::size_t k = 0; k < s.points.size(); ++k) {
     const AnalysisPoint& p = s.points[k];
@@ -222,15 +229,17 @@ int command_analyze(Options o) {
     f.slope = fit_slope(s, o.slope_band[0], o.slope_band[1]);
     f.slope_verdict = judge_chi2(f.slope->chi2_per_dof, f.slope->points - 2);
   }
+  const ModelOrder order = o.theory_order == 2 ? ModelOrder::best : ModelOrder::first;
   if (f.model) {
     if (!o.fit.empty()) {
       const auto [low, high] = o.fit_band.empty() ? default_alpha_band(s, *f.model)
                                                   : std::pair{o.fit_band[0], o.fit_band[1]};
-      f.alpha = fit_alpha(s, *f.model, low, high);
+      f.alpha = fit_alpha(s, *f.model, low, high, order);
       f.model->alpha = f.alpha->alpha;
       f.alpha_verdict = judge_alpha(*f.alpha, *f.model);
     }
-    f.model_values = model_spectrum(s, *f.model);
+    f.model_order = model_order(*f.model, order);
+    f.model_values = model_spectrum(s, *f.model, order);
   }
 
   io::OutputSet outputs;  // the table, the JSON and the picture appear together or not at all
@@ -357,6 +366,10 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
   analyze_->add_option("--set", o.overrides, "override a parameter of the compared case, KEY=VALUE");
   analyze_->add_option("--fit", o.fit, "fit the compared case's 'alpha' to the data");
   analyze_->add_option("--fit-band", o.fit_band, "band of the alpha fit, LO HI [rad/s]")->expected(2);
+  analyze_->add_option("--theory-order", o.theory_order,
+                       "2 (default): compare and fit with the second-order theory where it applies (poisson, "
+                       "one touching level, eps <= 0.3), else the first; 1: the first order always")
+      ->check(CLI::IsMember({1, 2}));
   analyze_->add_option("--normal-mass", o.normal_mass, "M, mass loading the slider [kg], for mu = M'/M");
   analyze_->add_option("--driving-mass", o.driving_mass, "M', hanging mass driving it [kg], for mu = M'/M");
   analyze_->add_option("--out", o.out, "output prefix: PREFIX.tsv, .json, .png (default analysis)");
