@@ -182,7 +182,8 @@ void validate_request(const Parameters& params, const RunRequest& request);
 double planned_first_round_work(const Parameters& params, const RunRequest& request);
 
 /// The sub-runs a request is split into: about a decade each, with the time step set by
-/// the sub-band's top frequency alone, not by the model's stiffness or renewal rate.
-std::vector<SubBand> plan_sub_bands(const RunRequest& request);
+/// the sub-band's top frequency (and capped so a realization renews at most 16 times per
+/// step), not by the model's stiffness.
+std::vector<SubBand> plan_sub_bands(const Parameters& params, const RunRequest& request);
 
 }  // namespace slidespec

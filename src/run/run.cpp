@@ -24,6 +24,10 @@ namespace {
 // The highest omega a time step serves: omega dt <= 0.3 keeps the aliases of even the
 // Brownian omega^-2 part of C_x below 0.5% (docs/numerics.md).
 constexpr double kOmegaDtMax = 0.3;
+// Renewals inside a step are exact however many (docs/numerics.md §2), and more per step
+// fill more lanes per renewal pass; but a step's renewals are its work, so the steps of a
+// band far below v/a are capped at this many renewals per realization.
+constexpr double kRenewalsPerStepMax = 16;
 // The second-order theory is given where the first order is still meaningful.
 constexpr double kSecondOrderEpsMax = 0.3;
 // Each realization of a sub-band spans this many of the segments serving its lowest point.
@@ -54,6 +58,14 @@ EstimatorConfig estimator_config(const SubBand& band, int points_per_decade) {
 // Below this many realizations the scatter between them is too coarse for the control
 // variate; the estimator's own (segment-scatter) error bars are used instead.
 constexpr std::uint64_t kMinimumForControl = 8;
+
+/// Renewals of one realization per second of steady sliding: every touching contact's v/a.
+double renewals_per_second(const Parameters& p) {
+  double rate = 0;
+  for (int l = 1; l <= p.levels; ++l)
+    if (p.touches(l)) rate += static_cast<double>(p.blocks(l)) * p.renewal_rate(l);
+  return rate;
+}
 
 /// The relative excess of a realization's forcing over what the model prescribes:
 /// sum (f_new - f_old)^2 over its renewals against 2 s2 per renewal mark passed, x/a per
@@ -202,7 +214,7 @@ double worst_relative_error(const std::vector<SpectrumPoint>& points, std::size_
 
 }  // namespace
 
-std::vector<SubBand> plan_sub_bands(const RunRequest& request) {
+std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& request) {
   const std::vector<double> omegas =
       log_spaced_omegas(request.omega_min, request.omega_max, request.points_per_decade);
   check_request_fields(request);
@@ -222,9 +234,7 @@ std::vector<SubBand> plan_sub_bands(const RunRequest& request) {
     SubBand band;
     band.omega_low = omegas[first];
     band.omega_high = omegas[last];
-    // Not limited by the renewal rate: renewals inside a step are exact however many
-    // (docs/numerics.md §2), and longer steps fill more lanes per renewal pass.
-    band.dt = kOmegaDtMax / band.omega_high;
+    band.dt = std::min(kOmegaDtMax / band.omega_high, kRenewalsPerStepMax / renewals_per_second(p));
     const double segment = SpectrumEstimator(estimator_config(band, request.points_per_decade), 1)
                                .segment_duration(band.omega_low);
     band.duration = request.duration > 0
@@ -242,7 +252,7 @@ std::vector<SubBand> plan_sub_bands(const RunRequest& request) {
 // The session: sub-bands in order, each in rounds, each round in chunks of batches.
 
 RunSession::Impl::Impl(const Parameters& p, const RunRequest& r, std::string name)
-  : params(p), request(r), case_name(std::move(name)), plan(plan_sub_bands(r)) {
+  : params(p), request(r), case_name(std::move(name)), plan(plan_sub_bands(p, r)) {
   if (r.first_realization % kBatchRealizations != 0)
     throw InputError("--realizations-range: FIRST must be a multiple of " + std::to_string(kBatchRealizations) +
                      " (parts share the batches of the whole run)");

@@ -87,7 +87,7 @@ void check_plan(const Parameters& p, const std::vector<SubBand>& plan) {
 }  // namespace run_detail
 
 double planned_first_round_work(const Parameters& p, const RunRequest& r) {
-  const std::vector<SubBand> plan = plan_sub_bands(r);
+  const std::vector<SubBand> plan = plan_sub_bands(p, r);
   check_plan(p, plan);
   const double realizations = static_cast<double>(r.realizations > 0 ? r.realizations : kInitialRealizations);
   double steps = 0;

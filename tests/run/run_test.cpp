@@ -140,7 +140,7 @@ TEST(Run, ProgressCallsFromWorkersNeverOverlap) {
 }
 
 TEST(Run, TimeStepIsSetByTheBandNotByTheStiffness) {
-  const auto bands = plan_sub_bands(RunRequest{});
+  const auto bands = plan_sub_bands(ParameterBuilder().build(), RunRequest{});
   ASSERT_EQ(bands.size(), 6u);
   EXPECT_NEAR(bands.back().dt * bands.back().omega_high, 0.3, 1e-9);
   // The miniblocks relax in 30 ns; the finest step is still three orders longer.

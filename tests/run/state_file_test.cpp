@@ -121,7 +121,7 @@ TEST(Checkpoints, ComeWithinOneBatchOfBeingDue) {
     RunSession::load(s.save());  // a loadable state at every checkpoint
   };
   checkpointed.advance(control);
-  const std::size_t bands = plan_sub_bands(request).size();
+  const std::size_t bands = plan_sub_bands(p, request).size();
   EXPECT_EQ(saves, static_cast<int>(bands * 64 / 8));
   EXPECT_TRUE(same_result(plain.result(), checkpointed.result()));
 }
