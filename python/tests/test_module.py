@@ -235,8 +235,8 @@ def interrupted_child(precision, resume, path):
 
 
 def test_ctrl_c_raises_promptly_with_the_partial_result(tmp_path):
-    # At 1% the whole run takes minutes; it stops at the next block of steps.
-    partial, stopped = interrupted_child(0.01, False, tmp_path / "unused")
+    # At 0.5% the whole run takes ~10 s; it stops at the next block of steps.
+    partial, stopped = interrupted_child(0.005, False, tmp_path / "unused")
     assert stopped < 2.0
     assert isinstance(partial, ss.Result) and not partial.complete
     assert len(partial) > 0 and partial.state is not None
@@ -244,12 +244,13 @@ def test_ctrl_c_raises_promptly_with_the_partial_result(tmp_path):
 
 
 def test_an_interrupted_run_resumes_to_the_unbroken_numbers(tmp_path):
-    partial, _ = interrupted_child(0.05, True, tmp_path / "resumed.pickle")
+    # At 2% (~2 s on two cores) the interrupt lands well before the end.
+    partial, _ = interrupted_child(0.02, True, tmp_path / "resumed.pickle")
     assert not partial.complete
     with open(tmp_path / "resumed.pickle", "rb") as f:
         resumed = pickle.load(f)
     out = tmp_path / "whole"
-    cli("run", "--case", "reference", "--precision", "0.05", "--seed", "7", "--out", str(out), "--no-plot",
+    cli("run", "--case", "reference", "--precision", "0.02", "--seed", "7", "--out", str(out), "--no-plot",
         "--quiet")
     whole = ss.read(f"{out}.json")
     assert resumed.complete and len(resumed) == len(whole) == 49

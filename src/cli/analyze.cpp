@@ -288,7 +288,8 @@ int command_analyze(Options o) {
   if (f.alpha && f.alpha_verdict.ok)
     std::cerr << "slidespec: alpha = " << f.alpha->alpha << " +- " << f.alpha->alpha_error << " (" << o.compare_case
               << ", " << f.alpha->omega_low << " .. " << f.alpha->omega_high << " rad/s, chi2/dof "
-              << f.alpha->chi2_per_dof << ")\n";
+              << f.alpha->chi2_per_dof << ", " << (f.alpha->theory_order == 2 ? "second" : "first")
+              << "-order theory)\n";
   std::cerr << "slidespec: wrote " << o.out << ".tsv, .json" << (plotted ? ", ." + o.figure.format : "")
             << (f.ok() ? "" : " (marked ok = false)") << "\n";
   return status;
