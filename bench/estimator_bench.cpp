@@ -127,8 +127,8 @@ Cost replay_plan(const Parameters& p, const RunRequest& request, const RunResult
       auto estimator = std::make_shared<SpectrumEstimator>(estimator_config, count);
       return [estimator](const double* data, std::size_t n) { estimator->push(data, n); };
     };
-    run_batches(p, config, 0, band.realizations, std::llround(band.duration / band.dt), result.threads, 8,
-                make_sink, {});
+    run_batches(p, config, 0, band.realizations, std::llround(band.duration / band.dt), result.threads, 8, make_sink,
+                {});
   }
   return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
           process_cpu_seconds() - cpu_start};
@@ -167,7 +167,6 @@ void ReferenceRun(benchmark::State& state) {
   state.counters["estimator_samples_per_cpu_s"] = samples * n / (both.cpu - stepping.cpu);
   state.counters["realization_steps"] = samples;
 }
-BENCHMARK(ReferenceRun)->Arg(1)->Arg(2)->ArgName("threads")->Iterations(1)->Unit(benchmark::kSecond)
-    ->UseRealTime();
+BENCHMARK(ReferenceRun)->Arg(1)->Arg(2)->ArgName("threads")->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 }  // namespace

@@ -20,8 +20,7 @@ namespace slidespec::bench {
 class PlainModel {
  public:
   PlainModel(const Parameters& p, double dt, std::uint64_t seed)
-      : p_(p), dt_(dt), rng_(seed), offset_(p.N, 0.0), velocity_(p.N, 0.0),
-        force_(p.N, 0.0), mark_(p.N, 0.0) {
+      : p_(p), dt_(dt), rng_(seed), offset_(p.N, 0.0), velocity_(p.N, 0.0), force_(p.N, 0.0), mark_(p.N, 0.0) {
     implicit_damping_ = 1.0 / (1.0 + dt * (p.eta0 + p.eta1));
     force_scale_ = p.alpha * p.friction_per_miniblock();
     for (int i = 0; i < p.N; ++i) {
@@ -62,9 +61,7 @@ class PlainModel {
   }
 
  private:
-  double next_spacing() {
-    return p_.renewal == Renewal::periodic ? p_.a : -p_.a * std::log1p(-uniform_(rng_));
-  }
+  double next_spacing() { return p_.renewal == Renewal::periodic ? p_.a : -p_.a * std::log1p(-uniform_(rng_)); }
 
   Parameters p_;
   double dt_, implicit_damping_ = 0, force_scale_ = 0;

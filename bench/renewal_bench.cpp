@@ -61,5 +61,7 @@ void StepperRenewals(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(PlainRenewalDraws)->Unit(benchmark::kMillisecond);
-BENCHMARK(StepperRenewals)->ArgsProduct({{30, 1000}, {0, 3}, {0, 1}})->ArgNames({"N", "path", "periodic"})
+BENCHMARK(StepperRenewals)
+    ->ArgsProduct({{30, 1000}, {0, 3}, {0, 1}})
+    ->ArgNames({"N", "path", "periodic"})
     ->Unit(benchmark::kMillisecond);

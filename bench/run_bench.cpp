@@ -65,7 +65,11 @@ void ReferenceSpectrumVsPlainRenewals(benchmark::State& state) {
   state.counters["run_over_plain"] = run_wall / plain_wall;
   state.counters["run_cpu_over_plain_cpu"] = run_cpu / plain_cpu;
 }
-BENCHMARK(ReferenceSpectrumVsPlainRenewals)->Arg(2)->ArgName("threads")->Iterations(1)->Unit(benchmark::kSecond)
+BENCHMARK(ReferenceSpectrumVsPlainRenewals)
+    ->Arg(2)
+    ->ArgName("threads")
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond)
     ->UseRealTime();
 
 }  // namespace

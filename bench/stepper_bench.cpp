@@ -24,10 +24,7 @@ namespace {
 constexpr double kStepDt = 1e-5;  // [s]; every path and the baseline step the same dt
 
 Parameters bench_parameters(long N, bool periodic) {
-  return ParameterBuilder()
-      .set("N", std::to_string(N))
-      .set("renewal", periodic ? "periodic" : "poisson")
-      .build();
+  return ParameterBuilder().set("N", std::to_string(N)).set("renewal", periodic ? "periodic" : "poisson").build();
 }
 
 void set_rates(benchmark::State& state, double realization_steps, int N) {
@@ -89,8 +86,7 @@ double step_realizations(benchmark::State& state, double dt, std::int64_t steps)
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = process_cpu_seconds();
   for (auto _ : state)
-    run_batches(p, config, 0, static_cast<std::uint64_t>(per_thread * threads), steps, threads,
-                per_thread, {}, {});
+    run_batches(p, config, 0, static_cast<std::uint64_t>(per_thread * threads), steps, threads, per_thread, {}, {});
   const double cpu = process_cpu_seconds() - cpu_start;
   const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
   const double realization_steps = double(per_thread) * threads * double(steps);
@@ -124,9 +120,17 @@ void AllShapes(benchmark::internal::Benchmark* b) {
 
 }  // namespace
 
-BENCHMARK(PlainBaseline)->ArgsProduct({{30, 100, 1000}, {0, 1}})->ArgNames({"N", "periodic"})
+BENCHMARK(PlainBaseline)
+    ->ArgsProduct({{30, 100, 1000}, {0, 1}})
+    ->ArgNames({"N", "periodic"})
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(StepperThroughput)->Apply(AllShapes)->ArgNames({"N", "path", "threads", "periodic"})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(StepperRenewalBound)->ArgsProduct({{30, 1000}, {0, 3}, {1}, {0, 1}})
-    ->ArgNames({"N", "path", "threads", "periodic"})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(StepperThroughput)
+    ->Apply(AllShapes)
+    ->ArgNames({"N", "path", "threads", "periodic"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(StepperRenewalBound)
+    ->ArgsProduct({{30, 1000}, {0, 3}, {1}, {0, 1}})
+    ->ArgNames({"N", "path", "threads", "periodic"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();

@@ -212,10 +212,9 @@ class Spectrum {
   py::dict slope(double low, double high) const {
     const SlopeFit f = fit_slope(spectrum_, low, high);
     return py::dict(py::arg("omega_low") = f.omega_low, py::arg("omega_high") = f.omega_high,
-                    py::arg("points") = f.points, py::arg("slope") = f.slope,
-                    py::arg("standard_error") = f.slope_error, py::arg("chi2_per_dof") = f.chi2_per_dof,
-                    py::arg("amplitude") = f.amplitude, py::arg("force_slope") = f.force_slope(),
-                    py::arg("reaches_floor") = f.reaches_floor);
+                    py::arg("points") = f.points, py::arg("slope") = f.slope, py::arg("standard_error") = f.slope_error,
+                    py::arg("chi2_per_dof") = f.chi2_per_dof, py::arg("amplitude") = f.amplitude,
+                    py::arg("force_slope") = f.force_slope(), py::arg("reaches_floor") = f.reaches_floor);
   }
 
   py::dict alpha(const std::string& case_name, const Overrides& overrides, double low, double high,
@@ -227,9 +226,8 @@ class Spectrum {
       f = fit_alpha(spectrum_, p, low, high, order_of(theory_order));
     }
     return py::dict(py::arg("omega_low") = f.omega_low, py::arg("omega_high") = f.omega_high,
-                    py::arg("points") = f.points, py::arg("alpha") = f.alpha,
-                    py::arg("standard_error") = f.alpha_error, py::arg("chi2_per_dof") = f.chi2_per_dof,
-                    py::arg("theory_order") = f.theory_order);
+                    py::arg("points") = f.points, py::arg("alpha") = f.alpha, py::arg("standard_error") = f.alpha_error,
+                    py::arg("chi2_per_dof") = f.chi2_per_dof, py::arg("theory_order") = f.theory_order);
   }
 
   int model_order_of(const std::string& case_name, const Overrides& overrides, int theory_order) const {
@@ -286,50 +284,65 @@ PYBIND11_MODULE(_core, m) {
   });
   m.attr("version") = SLIDESPEC_VERSION;
 
-  m.def("cases", [] {
-    std::vector<std::tuple<std::string, std::string, Overrides>> out;
-    for (const Case& c : cases()) out.emplace_back(c.name, c.description, c.changes);
-    return out;
-  }, "The named cases: (name, description, [(key, value) changed from the reference]).");
+  m.def(
+      "cases",
+      [] {
+        std::vector<std::tuple<std::string, std::string, Overrides>> out;
+        for (const Case& c : cases()) out.emplace_back(c.name, c.description, c.changes);
+        return out;
+      },
+      "The named cases: (name, description, [(key, value) changed from the reference]).");
   m.def("parameter_keys", &parameter_keys, "Every settable parameter key (KEY_l for level l).");
-  m.def("describe", [](const std::string& case_name, const Overrides& overrides) {
-    return describe(build(case_name, overrides));
-  }, "Every (key, value text) of a case with overrides; ValueError names a bad key.");
+  m.def(
+      "describe",
+      [](const std::string& case_name, const Overrides& overrides) { return describe(build(case_name, overrides)); },
+      "Every (key, value text) of a case with overrides; ValueError names a bad key.");
   m.def("landmarks", &landmarks_dict, "The theory's landmarks of a parameter set, SI units.");
-  m.def("log_spaced_omegas", [](double low, double high, int per_decade) {
-    return to_array(log_spaced_omegas(low, high, per_decade));
-  }, "Log-spaced omegas [rad/s], per_decade a decade, both ends included.");
-  m.def("theory", [](const std::string& case_name, const Overrides& overrides, const Array& omega, int order) {
-    const Parameters p = build(case_name, overrides);
-    if (order != 1 && order != 2) throw InputError("order: need 1 or 2");
-    // As `slidespec theory --order 2` computes C_x2: the exact C_x times the ratio.
-    const std::unique_ptr<SecondOrderTheory> second = order == 2 ? std::make_unique<SecondOrderTheory>(p) : nullptr;
-    const std::vector<double> omegas = to_vector(omega);
-    std::vector<double> values;
-    {
-      py::gil_scoped_release release;
-      values = exact_spectrum(p, omegas);
-      if (second)
-        for (std::size_t k = 0; k < values.size(); ++k) values[k] *= second->ratio(omegas[k]);
-    }
-    return to_array(values);
-  }, "The exact first- (order 1) or second-order C_x [m^2 s] at omegas [rad/s], without the GIL.");
-  m.def("long_time_motion", [](const std::string& case_name, const Overrides& overrides, const std::string& theory) {
-    const Parameters p = build(case_name, overrides);
-    const MotionTheory kind = theory == "first_order"    ? MotionTheory::first_order
-                              : theory == "second_order" ? MotionTheory::second_order
-                              : theory == "quasi_static" ? MotionTheory::quasi_static
-                                                         : throw InputError("theory: '" + theory +
-                                                                            "' is not first_order, second_order or quasi_static");
-    const LongTimeMotion motion = long_time_motion(p, kind);
-    return py::dict(py::arg("mean_speed") = motion.mean_speed, py::arg("diffusion") = motion.diffusion);
-  }, "The block's mean speed [m/s] and diffusion constant [m^2/s] in a theory (docs/model.md section 7).");
-  m.def("eq1", [](const std::string& case_name, const Overrides& overrides, const Array& omega) {
-    const Parameters p = build(case_name, overrides);
-    std::vector<double> values;
-    for (double w : to_vector(omega)) values.push_back(eq1_asymptote(p, w));
-    return to_array(values);
-  }, "The paper's Eq. (1) asymptote [m^2 s] at omegas [rad/s].");
+  m.def(
+      "log_spaced_omegas",
+      [](double low, double high, int per_decade) { return to_array(log_spaced_omegas(low, high, per_decade)); },
+      "Log-spaced omegas [rad/s], per_decade a decade, both ends included.");
+  m.def(
+      "theory",
+      [](const std::string& case_name, const Overrides& overrides, const Array& omega, int order) {
+        const Parameters p = build(case_name, overrides);
+        if (order != 1 && order != 2) throw InputError("order: need 1 or 2");
+        // As `slidespec theory --order 2` computes C_x2: the exact C_x times the ratio.
+        const std::unique_ptr<SecondOrderTheory> second = order == 2 ? std::make_unique<SecondOrderTheory>(p) : nullptr;
+        const std::vector<double> omegas = to_vector(omega);
+        std::vector<double> values;
+        {
+          py::gil_scoped_release release;
+          values = exact_spectrum(p, omegas);
+          if (second)
+            for (std::size_t k = 0; k < values.size(); ++k) values[k] *= second->ratio(omegas[k]);
+        }
+        return to_array(values);
+      },
+      "The exact first- (order 1) or second-order C_x [m^2 s] at omegas [rad/s], without the GIL.");
+  m.def(
+      "long_time_motion",
+      [](const std::string& case_name, const Overrides& overrides, const std::string& theory) {
+        const Parameters p = build(case_name, overrides);
+        const MotionTheory kind =
+            theory == "first_order"    ? MotionTheory::first_order
+            : theory == "second_order" ? MotionTheory::second_order
+            : theory == "quasi_static"
+                ? MotionTheory::quasi_static
+                : throw InputError("theory: '" + theory + "' is not first_order, second_order or quasi_static");
+        const LongTimeMotion motion = long_time_motion(p, kind);
+        return py::dict(py::arg("mean_speed") = motion.mean_speed, py::arg("diffusion") = motion.diffusion);
+      },
+      "The block's mean speed [m/s] and diffusion constant [m^2/s] in a theory (docs/model.md section 7).");
+  m.def(
+      "eq1",
+      [](const std::string& case_name, const Overrides& overrides, const Array& omega) {
+        const Parameters p = build(case_name, overrides);
+        std::vector<double> values;
+        for (double w : to_vector(omega)) values.push_back(eq1_asymptote(p, w));
+        return to_array(values);
+      },
+      "The paper's Eq. (1) asymptote [m^2 s] at omegas [rad/s].");
 
   py::class_<Run>(m, "Run", "A run advanced on its own thread; Python stays on the caller's.")
       .def("start", &Run::start, "Starts the run with threads (0 = all cores) and a SIMD path name.")
@@ -342,8 +355,9 @@ PYBIND11_MODULE(_core, m) {
       .def("save", &Run::save, "The run's saved state (bytes), for load_run.")
       .def("finished", &Run::finished, "True when every sub-band is done.");
   m.def("new_run", &new_run, "A run of a case with overrides and a request dict; ValueError before any work.");
-  m.def("load_run", [](const py::bytes& state) { return std::make_unique<Run>(RunSession::load(state)); },
-        "A run from its saved state (Run.save), to continue.");
+  m.def(
+      "load_run", [](const py::bytes& state) { return std::make_unique<Run>(RunSession::load(state)); },
+      "A run from its saved state (Run.save), to continue.");
 
   py::class_<Spectrum>(m, "Spectrum", "A record's spectrum: x in units at times t [s] (or every dt).")
       .def(py::init<const Array&, const Array&, const py::dict&, const py::dict&>())
@@ -353,19 +367,22 @@ PYBIND11_MODULE(_core, m) {
       .def("fit_alpha", &Spectrum::alpha, "alpha of a case fitted over [low, high] rad/s.")
       .def("model", &Spectrum::model, "A case's spectrum seen through this estimator [m^2 s].")
       .def("model_order", &Spectrum::model_order_of, "The theory order a comparison uses (1 or 2).");
-  m.def("synthesize", [](const std::string& case_name, const Overrides& overrides, const py::dict& sensor) {
-    SensorRequest s;
-    s.sample_interval = sensor["sample_interval"].cast<double>();
-    s.duration = sensor["duration"].cast<double>();
-    s.resolution = sensor["resolution"].cast<double>();
-    s.sensor_noise = sensor["sensor_noise"].cast<double>();
-    s.seed = sensor["seed"].cast<std::uint64_t>();
-    const Parameters p = build(case_name, overrides);
-    Record record;
-    {
-      py::gil_scoped_release release;
-      record = synthesize_record(p, s);
-    }
-    return py::make_tuple(record.dt, record.start_time, to_array(record.displacement));
-  }, "A synthetic sensor record of a case: (dt [s], t0 [s], x [m]).");
+  m.def(
+      "synthesize",
+      [](const std::string& case_name, const Overrides& overrides, const py::dict& sensor) {
+        SensorRequest s;
+        s.sample_interval = sensor["sample_interval"].cast<double>();
+        s.duration = sensor["duration"].cast<double>();
+        s.resolution = sensor["resolution"].cast<double>();
+        s.sensor_noise = sensor["sensor_noise"].cast<double>();
+        s.seed = sensor["seed"].cast<std::uint64_t>();
+        const Parameters p = build(case_name, overrides);
+        Record record;
+        {
+          py::gil_scoped_release release;
+          record = synthesize_record(p, s);
+        }
+        return py::make_tuple(record.dt, record.start_time, to_array(record.displacement));
+      },
+      "A synthetic sensor record of a case: (dt [s], t0 [s], x [m]).");
 }

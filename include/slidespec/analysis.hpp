@@ -32,12 +32,12 @@ double metres_per(LengthUnit unit);
 /// A header name may carry its unit: `t_s`, `time (s)`, `t [ms]`, `x_m`, `x (mm)`,
 /// `position [um]`, or the unit alone (`nm`).
 struct RecordFormat {
-  std::string column;         ///< displacement column; empty: x, position, displacement or
-                              ///< distance (with or without a unit), else the only non-time column
-  std::string time_column;    ///< empty: a column named t or time (any case, any time unit), or column 1 of 2
-  double dt = 0;              ///< > 0: fixed sampling interval [s], no time column is read
+  std::string column;              ///< displacement column; empty: x, position, displacement or
+                                   ///< distance (with or without a unit), else the only non-time column
+  std::string time_column;         ///< empty: a column named t or time (any case, any time unit), or column 1 of 2
+  double dt = 0;                   ///< > 0: fixed sampling interval [s], no time column is read
   std::optional<LengthUnit> unit;  ///< overrides the header's unit; neither: metres
-  double time_tolerance = 0.01;  ///< largest |interval - dt| / dt accepted [-]
+  double time_tolerance = 0.01;    ///< largest |interval - dt| / dt accepted [-]
 };
 
 /// A uniformly sampled displacement record x_n = x(t_0 + n dt).
@@ -61,16 +61,16 @@ Record read_record_file(const std::string& path, const RecordFormat& format);
 /// A record given as numbers: x in `format.unit` at times `time` [s] (empty: every
 /// format.dt). Checked as read_record checks a file (finite values, uniform increasing
 /// time), naming `source` and the sample (from 0) in the InputError.
-Record record_from_samples(const std::vector<double>& time, const std::vector<double>& x,
-                           const RecordFormat& format, const std::string& source = "record");
+Record record_from_samples(const std::vector<double>& time, const std::vector<double>& x, const RecordFormat& format,
+                           const std::string& source = "record");
 
 /// The mean sliding motion x = x_0 + v (t - t_0), fitted by least squares.
 struct SlidingFit {
-  double v = 0;         ///< mean sliding speed [m/s]
-  double v_error = 0;   ///< its standard error, from the scatter of the speeds of blocks [m/s]
-  double x0 = 0;        ///< x at t_0 [m]
-  double xi_rms = 0;    ///< rms of xi about the line [m]
-  int blocks = 0;       ///< blocks behind v_error
+  double v = 0;        ///< mean sliding speed [m/s]
+  double v_error = 0;  ///< its standard error, from the scatter of the speeds of blocks [m/s]
+  double x0 = 0;       ///< x at t_0 [m]
+  double xi_rms = 0;   ///< rms of xi about the line [m]
+  int blocks = 0;      ///< blocks behind v_error
 };
 
 SlidingFit fit_sliding(const Record& record);
@@ -83,11 +83,11 @@ std::vector<double> sliding_fluctuation(const Record& record, const SlidingFit& 
 double friction_coefficient(double normal_load_mass, double driving_mass);
 
 struct AnalysisRequest {
-  double omega_min = 0;        ///< [rad/s]; 0 = the lowest the record length allows
-  double omega_max = 0;        ///< [rad/s]; 0 = half of Nyquist
+  double omega_min = 0;  ///< [rad/s]; 0 = the lowest the record length allows
+  double omega_max = 0;  ///< [rad/s]; 0 = half of Nyquist
   int points_per_decade = 8;
-  double resolution = 0;       ///< sensor resolution q [m]; 0 = no quantization floor
-  double sensor_noise = 0;     ///< rms white noise of the sensor before quantization [m]
+  double resolution = 0;    ///< sensor resolution q [m]; 0 = no quantization floor
+  double sensor_noise = 0;  ///< rms white noise of the sensor before quantization [m]
 };
 
 /// One point of a measured spectrum.
@@ -106,10 +106,10 @@ struct RecordSpectrum {
   SpectrumAccumulator accumulator;  ///< for expected(): any true spectrum seen through these bins
   SlidingFit sliding;
   std::size_t samples = 0;
-  double dt = 0;                    ///< [s]
-  double duration = 0;              ///< samples x dt [s]
-  double quantization_variance = 0; ///< q^2/12 [m^2]
-  double sensor_noise_variance = 0; ///< sigma^2 [m^2]
+  double dt = 0;                     ///< [s]
+  double duration = 0;               ///< samples x dt [s]
+  double quantization_variance = 0;  ///< q^2/12 [m^2]
+  double sensor_noise_variance = 0;  ///< sigma^2 [m^2]
   /// C_x / floor at the highest point: well below 1 means the quantization error is not
   /// white (a steady ramp read without dither; docs/analysis.md), 0 without a floor.
   double top_to_floor = 0;
@@ -132,10 +132,10 @@ struct SlopeFit {
   double slope = 0;                      ///< exponent of C_x, -n [-]
   double slope_error = 0;                ///< standard error, scaled up by sqrt(chi2/dof) when > 1
   double chi2_per_dof = 0;
-  double amplitude = 0;                  ///< C_x at omega = 1 rad/s on the fitted line [m^2 s]
+  double amplitude = 0;  ///< C_x at omega = 1 rad/s on the fitted line [m^2 s]
   /// Exponent of the force spectrum M^2 omega^4 C_x (docs/model.md §5): slope + 4.
   double force_slope() const { return slope + 4; }
-  bool reaches_floor = false;            ///< a point of the band is beyond the usable band
+  bool reaches_floor = false;  ///< a point of the band is beyond the usable band
 };
 
 /// Throws InputError when the band holds fewer than 3 points.
@@ -159,9 +159,9 @@ struct AlphaFit {
   double omega_low = 0, omega_high = 0;  ///< [rad/s]
   int points = 0;
   double alpha = 0;
-  double alpha_error = 0;                ///< standard error, scaled up by sqrt(chi2/dof) when > 1
+  double alpha_error = 0;  ///< standard error, scaled up by sqrt(chi2/dof) when > 1
   double chi2_per_dof = 0;
-  int theory_order = 1;                  ///< the order of the theory fitted
+  int theory_order = 1;  ///< the order of the theory fitted
 };
 
 /// The model's spectrum at `params` (its own alpha) seen through the estimator, one value
@@ -176,8 +176,8 @@ std::pair<double, double> default_alpha_band(const RecordSpectrum& spectrum, con
 
 /// Weighted least squares for alpha^2 over the points in [omega_low, omega_high]; the
 /// alpha of `params` is ignored. Throws InputError when the band holds no point.
-AlphaFit fit_alpha(const RecordSpectrum& spectrum, const Parameters& params, double omega_low,
-                   double omega_high, ModelOrder order = ModelOrder::best);
+AlphaFit fit_alpha(const RecordSpectrum& spectrum, const Parameters& params, double omega_low, double omega_high,
+                   ModelOrder order = ModelOrder::best);
 
 /// What a displacement sensor records of a simulated slider.
 struct SensorRequest {

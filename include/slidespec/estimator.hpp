@@ -25,19 +25,19 @@ enum class SampleKind {
 };
 
 struct EstimatorConfig {
-  double dt = 1.0;                 ///< sample interval [s]
-  double omega_min = 0.0;          ///< lowest output omega [rad/s]; 0 = the longest segment allows
-  double omega_max = 0.0;          ///< highest output omega [rad/s]; 0 = a safe fraction of Nyquist
-  int points_per_decade = 8;       ///< output points evenly spaced in log omega
+  double dt = 1.0;            ///< sample interval [s]
+  double omega_min = 0.0;     ///< lowest output omega [rad/s]; 0 = the longest segment allows
+  double omega_max = 0.0;     ///< highest output omega [rad/s]; 0 = a safe fraction of Nyquist
+  int points_per_decade = 8;  ///< output points evenly spaced in log omega
   SampleKind input = SampleKind::value;
 };
 
 /// What an output point's C stands for.
 enum class PointValue {
-  bin_average,  ///< average of C over the point's FFT bins, [omega_low, omega_high]:
-                ///< compare with the exact C averaged over that interval
-  centre,       ///< C at the point's omega: the bin average corrected for the local slope
-                ///< and curvature of ln C (for smooth spectra; see docs/estimator.md)
+  bin_average,      ///< average of C over the point's FFT bins, [omega_low, omega_high]:
+                    ///< compare with the exact C averaged over that interval
+  centre,           ///< C at the point's omega: the bin average corrected for the local slope
+                    ///< and curvature of ln C (for smooth spectra; see docs/estimator.md)
   window_smoothed,  ///< the plain mean of the periodogram over the point's bins: C averaged
                     ///< over the bins after the window's smoothing, with no model of the
                     ///< local shape; expected() of it is exact for any true spectrum
@@ -45,13 +45,13 @@ enum class PointValue {
 
 /// One output point.
 struct SpectrumPoint {
-  double omega;      ///< centre of the output bin [rad/s]
-  double C;          ///< spectrum estimate [unit^2 s]
-  double standard_error;  ///< its statistical standard error [unit^2 s]
-  double n_avg;      ///< number of periodogram values (segments x FFT bins) averaged
-  double bandwidth;  ///< resolution bandwidth behind the point [rad/s]
-  double omega_low;  ///< lower edge of the FFT bins averaged [rad/s]
-  double omega_high; ///< upper edge of the FFT bins averaged [rad/s]
+  double omega;            ///< centre of the output bin [rad/s]
+  double C;                ///< spectrum estimate [unit^2 s]
+  double standard_error;   ///< its statistical standard error [unit^2 s]
+  double n_avg;            ///< number of periodogram values (segments x FFT bins) averaged
+  double bandwidth;        ///< resolution bandwidth behind the point [rad/s]
+  double omega_low;        ///< lower edge of the FFT bins averaged [rad/s]
+  double omega_high;       ///< upper edge of the FFT bins averaged [rad/s]
   double bin_spacing = 0;  ///< spacing of those FFT bins [rad/s]: their centres are
                            ///< omega_low + (j + 1/2) bin_spacing, j < bin_count
   int bin_count = 0;       ///< FFT bins averaged

@@ -24,13 +24,13 @@ const char* to_string(Renewal renewal);
 /// One level of blocks on blocks (docs/model.md §6, docs/hierarchy.md): every block of
 /// the level above carries N of these on springs, chained to their siblings.
 struct Level {
-  int N = 10;             ///< blocks per parent
-  double m = 1e-8;        ///< mass [kg]
-  double k0 = 1e3;        ///< spring to the parent [N/m]
-  double k1 = 10;         ///< spring to a neighbouring sibling [N/m]
-  double eta0 = 8e4;      ///< damping rate to the parent [1/s]
-  double a = 1e-4;        ///< mean renewal distance, if touching [m]
-  double alpha = 1.0;     ///< noise strength, if touching [-]
+  int N = 10;          ///< blocks per parent
+  double m = 1e-8;     ///< mass [kg]
+  double k0 = 1e3;     ///< spring to the parent [N/m]
+  double k1 = 10;      ///< spring to a neighbouring sibling [N/m]
+  double eta0 = 8e4;   ///< damping rate to the parent [1/s]
+  double a = 1e-4;     ///< mean renewal distance, if touching [m]
+  double alpha = 1.0;  ///< noise strength, if touching [-]
   ChainEnds chain = ChainEnds::open;
 };
 
@@ -83,12 +83,12 @@ struct Parameters {
 /// terms are summed over the touching levels (docs/hierarchy.md); omega_c stays the
 /// block's resonance against the level-1 blocks.
 struct Landmarks {
-  double renewal_rate;       ///< v/a [1/s] (the fastest touching level's)
-  double omega_c;            ///< sqrt(N k0 / M) [rad/s]
-  double diffusion;          ///< D = alpha^2 F_kin^2 a v / (12 N (F_drive-F_kin)^2) [m^2/s]; half for periodic renewal
-  double eq1_prefactor;      ///< C_x ~ prefactor / omega^4 for v/a << omega << omega_c [m^2 rad^4/s^3]
-  double coupling_eps;       ///< eps = alpha F_kin / ((F_drive-F_kin) sqrt(6 N)) [-]
-  bool forces_can_stall;     ///< alpha F_kin >= 2 (F_drive - F_kin)
+  double renewal_rate;    ///< v/a [1/s] (the fastest touching level's)
+  double omega_c;         ///< sqrt(N k0 / M) [rad/s]
+  double diffusion;       ///< D = alpha^2 F_kin^2 a v / (12 N (F_drive-F_kin)^2) [m^2/s]; half for periodic renewal
+  double eq1_prefactor;   ///< C_x ~ prefactor / omega^4 for v/a << omega << omega_c [m^2 rad^4/s^3]
+  double coupling_eps;    ///< eps = alpha F_kin / ((F_drive-F_kin) sqrt(6 N)) [-]
+  bool forces_can_stall;  ///< alpha F_kin >= 2 (F_drive - F_kin)
   /// True when docs/model.md §4.1 says the first-order theory may not hold.
   bool outside_first_order() const { return coupling_eps > 0.3 || forces_can_stall; }
 };

@@ -16,8 +16,8 @@
 namespace slidespec {
 
 struct RunRequest {
-  double omega_min = 0.1;          ///< lowest output omega [rad/s]
-  double omega_max = 1e5;          ///< highest output omega [rad/s]
+  double omega_min = 0.1;  ///< lowest output omega [rad/s]
+  double omega_max = 1e5;  ///< highest output omega [rad/s]
   int points_per_decade = 8;
   double precision = 0.05;         ///< target standard error / C_x at every point
   double duration = 0;             ///< > 0: fixed simulated time per realization of the lowest sub-band [s]
@@ -26,7 +26,7 @@ struct RunRequest {
   /// realizations) of a larger run (a multiple of 8, so parts share its batches).
   std::uint64_t first_realization = 0;
   std::uint64_t seed = 1;
-  int threads = 0;                 ///< 0 = all cores
+  int threads = 0;  ///< 0 = all cores
   SimdPath simd = SimdPath::automatic;
   /// Most work the run may plan up front, in realization-steps (a step of a model with more
   /// than 100 blocks counts blocks/100 times); 0 = kDefaultWorkBudget. Changes no number.
@@ -75,23 +75,23 @@ struct RunPoint {
 struct RunResult {
   std::vector<RunPoint> points;
   std::vector<SubBand> sub_bands;
-  double mean_speed = 0;            ///< measured, over the lowest sub-band's realizations [m/s]
-  double mean_speed_error = 0;      ///< its standard error [m/s]
-  double simulated_time = 0;        ///< all realizations of all sub-bands [s]
-  double realization_steps = 0;     ///< time steps simulated, over all realizations
-  double miniblock_steps = 0;       ///< blocks below the big block (all levels) x realization-steps
+  double mean_speed = 0;         ///< measured, over the lowest sub-band's realizations [m/s]
+  double mean_speed_error = 0;   ///< its standard error [m/s]
+  double simulated_time = 0;     ///< all realizations of all sub-bands [s]
+  double realization_steps = 0;  ///< time steps simulated, over all realizations
+  double miniblock_steps = 0;    ///< blocks below the big block (all levels) x realization-steps
   double wall_seconds = 0;
-  double reached_precision = 0;     ///< largest standard_error / C_x over the points
+  double reached_precision = 0;  ///< largest standard_error / C_x over the points
   /// Empty when every point has `theory2`; otherwise why the second-order theory does not
   /// apply (periodic renewal, several touching levels, eps beyond 0.3).
   std::string theory2_note;
   SimdPath simd_path = SimdPath::scalar;
   int threads = 1;
-  bool complete = false;            ///< false when interrupted or out of budget
+  bool complete = false;  ///< false when interrupted or out of budget
   /// False when the realizations are not one stationary process (the block stalled: a
   /// sub-band's mean sliding speed far from v); then no spectrum exists (docs/model.md).
   bool stationary = true;
-  std::string stationarity;         ///< why not, when not stationary
+  std::string stationarity;  ///< why not, when not stationary
 };
 
 /// Progress of a run, for a progress bar: fraction of the planned work and a message.
@@ -128,10 +128,10 @@ class RunSession {
 
   struct Control {
     ProgressCallback progress;
-    const std::atomic<bool>* stop = nullptr;        ///< set: end at the next batch
-    double checkpoint_every = 0;                    ///< [s] of wall time; 0 = never
+    const std::atomic<bool>* stop = nullptr;  ///< set: end at the next batch
+    double checkpoint_every = 0;              ///< [s] of wall time; 0 = never
     std::function<void(const RunSession&)> checkpoint;
-    const Communicator* communicator = nullptr;     ///< null: this process alone
+    const Communicator* communicator = nullptr;  ///< null: this process alone
   };
   /// Runs until every point reaches the precision, the fixed realizations are done or the
   /// budget is spent (returns true), or until stopped (returns false).
@@ -169,8 +169,8 @@ class RunSession {
 /// spent). Setting `*stop` (e.g. from a signal handler) ends the run early with what has
 /// accumulated, `complete = false`. Same seed and request, same numbers, whatever the
 /// thread count or SIMD path.
-RunResult run_spectrum(const Parameters& params, const RunRequest& request,
-                       const ProgressCallback& progress = {}, const std::atomic<bool>* stop = nullptr);
+RunResult run_spectrum(const Parameters& params, const RunRequest& request, const ProgressCallback& progress = {},
+                       const std::atomic<bool>* stop = nullptr);
 
 /// Checks a request against its parameters before any work: every field in range, every
 /// derived step count and sub-band finite and representable, and the planned work within

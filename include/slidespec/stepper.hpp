@@ -16,20 +16,20 @@
 namespace slidespec {
 
 struct StepperConfig {
-  double dt = 1e-5;             ///< time step [s]; the discretization is exact for any dt
-  std::uint64_t seed = 1;       ///< keys the random numbers
-  std::uint64_t stream = 0;     ///< independent sub-run index (e.g. one per frequency band)
+  double dt = 1e-5;          ///< time step [s]; the discretization is exact for any dt
+  std::uint64_t seed = 1;    ///< keys the random numbers
+  std::uint64_t stream = 0;  ///< independent sub-run index (e.g. one per frequency band)
   SimdPath simd = SimdPath::automatic;
 };
 
 /// What one realization did, for diagnostics and tests.
 struct RealizationSummary {
   std::uint64_t realization = 0;
-  double duration = 0;            ///< simulated time [s]
-  double xi_end = 0;              ///< xi at the end [m]; mean speed = v + xi_end / duration
-  double mean_offset = 0;         ///< time average of the miniblocks' mean offset from u_bar [m]
-  std::uint64_t renewals = 0;     ///< renewals of all miniblocks together
-  double jump_energy = 0;         ///< sum over renewals of (f_new - f_old)^2 [N^2]
+  double duration = 0;         ///< simulated time [s]
+  double xi_end = 0;           ///< xi at the end [m]; mean speed = v + xi_end / duration
+  double mean_offset = 0;      ///< time average of the miniblocks' mean offset from u_bar [m]
+  std::uint64_t renewals = 0;  ///< renewals of all miniblocks together
+  double jump_energy = 0;      ///< sum over renewals of (f_new - f_old)^2 [N^2]
 };
 
 /// Receives the increments xi_{n+1} - xi_n of every realization of a batch, chunk by
@@ -40,8 +40,7 @@ using IncrementSink = std::function<void(const double* data, std::size_t steps)>
 /// Realization r follows the same trajectory whatever the batch, lane width or thread.
 class Stepper {
  public:
-  Stepper(const Parameters& params, const StepperConfig& config, std::uint64_t first_realization,
-          int count);
+  Stepper(const Parameters& params, const StepperConfig& config, std::uint64_t first_realization, int count);
   ~Stepper();
   Stepper(Stepper&&) noexcept;
   Stepper& operator=(Stepper&&) noexcept;
@@ -66,8 +65,8 @@ class Stepper {
 /// threads (0 = all cores), in batches of `batch_size`. `make_sink(first, count)` gives
 /// each batch its sink; `done(batch_index, summaries)` is called as batches finish, in
 /// any order: combine their results by batch index to stay independent of scheduling.
-void run_batches(const Parameters& params, const StepperConfig& config, std::uint64_t first,
-                 std::uint64_t realizations, std::int64_t steps, int threads, int batch_size,
+void run_batches(const Parameters& params, const StepperConfig& config, std::uint64_t first, std::uint64_t realizations,
+                 std::int64_t steps, int threads, int batch_size,
                  const std::function<IncrementSink(std::uint64_t first, int count)>& make_sink,
                  const std::function<void(std::size_t batch, std::vector<RealizationSummary>)>& done);
 

@@ -77,9 +77,10 @@ double lowest_omega(const Record& record, const AnalysisRequest& request) {
   probe.points_per_decade = request.points_per_decade;
   const SpectrumEstimator layout(probe, 1);
   const double step = std::pow(10.0, 1.0 / request.points_per_decade);
-  double omega = std::pow(10.0, std::ceil(std::log10(probe.omega_min) * request.points_per_decade) /
-                                    request.points_per_decade);
-  while (kSegmentsForLowestPoint * layout.segment_duration(omega) > duration && omega < 0.25 * std::numbers::pi / record.dt)
+  double omega =
+      std::pow(10.0, std::ceil(std::log10(probe.omega_min) * request.points_per_decade) / request.points_per_decade);
+  while (kSegmentsForLowestPoint * layout.segment_duration(omega) > duration &&
+         omega < 0.25 * std::numbers::pi / record.dt)
     omega *= step;
   return omega;
 }
@@ -182,8 +183,7 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
 }
 
 SlopeFit fit_slope(const RecordSpectrum& spectrum, double omega_low, double omega_high) {
-  if (!(omega_low > 0 && omega_high > omega_low))
-    throw InputError("--fit-slope: need 0 < LO < HI in rad/s");
+  if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("--fit-slope: need 0 < LO < HI in rad/s");
   SlopeFit fit;
   fit.omega_low = omega_low;
   fit.omega_high = omega_high;
@@ -216,7 +216,8 @@ std::pair<double, double> default_alpha_band(const RecordSpectrum& s, const Para
   const double high = std::min(s.usable_high, l.omega_c / 3);
   if (!(high > low))
     throw InputError("--fit alpha: the usable band " + io::format_number(s.usable_low) + " .. " +
-                     io::format_number(s.usable_high) + " rad/s misses the model's omega^-4 band; give --fit-band LO HI");
+                     io::format_number(s.usable_high) +
+                     " rad/s misses the model's omega^-4 band; give --fit-band LO HI");
   return {low, high};
 }
 
@@ -251,8 +252,8 @@ std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Paramet
 
 namespace {
 // Weighted least squares for alpha^2 with a given shape T (the spectrum at alpha = 1).
-AlphaFit fit_alpha_to(const RecordSpectrum& spectrum, const std::vector<double>& template_spectrum,
-                      double omega_low, double omega_high) {
+AlphaFit fit_alpha_to(const RecordSpectrum& spectrum, const std::vector<double>& template_spectrum, double omega_low,
+                      double omega_high) {
   if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("--fit-band: need 0 < LO < HI in rad/s");
   std::vector<std::size_t> inside;
   for (std::size_t k = 0; k < spectrum.points.size(); ++k)
@@ -295,8 +296,8 @@ AlphaFit fit_alpha_to(const RecordSpectrum& spectrum, const std::vector<double>&
 }
 }  // namespace
 
-AlphaFit fit_alpha(const RecordSpectrum& spectrum, const Parameters& params, double omega_low,
-                   double omega_high, ModelOrder order) {
+AlphaFit fit_alpha(const RecordSpectrum& spectrum, const Parameters& params, double omega_low, double omega_high,
+                   ModelOrder order) {
   Parameters unit_noise = params;
   unit_noise.alpha = 1;
   AlphaFit fit = fit_alpha_to(spectrum, model_spectrum(spectrum, unit_noise, ModelOrder::first), omega_low, omega_high);

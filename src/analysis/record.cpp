@@ -55,20 +55,28 @@ double parse_length(const std::string& text, LengthUnit bare_unit, const std::st
 
 const char* to_string(LengthUnit unit) {
   switch (unit) {
-    case LengthUnit::m: return "m";
-    case LengthUnit::mm: return "mm";
-    case LengthUnit::um: return "um";
-    case LengthUnit::nm: return "nm";
+    case LengthUnit::m:
+      return "m";
+    case LengthUnit::mm:
+      return "mm";
+    case LengthUnit::um:
+      return "um";
+    case LengthUnit::nm:
+      return "nm";
   }
   return "?";
 }
 
 double metres_per(LengthUnit unit) {
   switch (unit) {
-    case LengthUnit::m: return 1.0;
-    case LengthUnit::mm: return 1e-3;
-    case LengthUnit::um: return 1e-6;
-    case LengthUnit::nm: return 1e-9;
+    case LengthUnit::m:
+      return 1.0;
+    case LengthUnit::mm:
+      return 1e-3;
+    case LengthUnit::um:
+      return 1e-6;
+    case LengthUnit::nm:
+      return 1e-9;
   }
   return 1.0;
 }
@@ -147,12 +155,16 @@ ColumnName split_unit(const std::string& name) {
   return {n, ""};
 }
 
-bool is_time_name(const ColumnName& c) { return (c.base == "t" || c.base == "time") && (c.unit.empty() || seconds_per(c.unit) > 0); }
+bool is_time_name(const ColumnName& c) {
+  return (c.base == "t" || c.base == "time") && (c.unit.empty() || seconds_per(c.unit) > 0);
+}
 
 bool is_displacement_name(const ColumnName& c) {
-  static const std::vector<std::string> bases = {"x", "pos", "position", "displacement", "distance", "sliding distance"};
+  static const std::vector<std::string> bases = {
+      "x", "pos", "position", "displacement", "distance", "sliding distance"};
   const bool unit_ok = c.unit.empty() || length_unit(c.unit).has_value();
-  return unit_ok && (std::find(bases.begin(), bases.end(), c.base) != bases.end() || (c.base.empty() && !c.unit.empty()));
+  return unit_ok &&
+         (std::find(bases.begin(), bases.end(), c.base) != bases.end() || (c.base.empty() && !c.unit.empty()));
 }
 
 /// "0,001;2,5" or "0,001<TAB>2,5": numbers written with a decimal comma.
@@ -180,13 +192,14 @@ class RecordReader {
       if (line.empty()) continue;
       take_line(split_fields(line), line_number);
     }
-    if (names_.empty() || record_.displacement.empty())
-      throw InputError(source_ + ": no data lines");
+    if (names_.empty() || record_.displacement.empty()) throw InputError(source_ + ": no data lines");
     if (record_.displacement.size() < 2)
       throw InputError(source_ + ": line " + std::to_string(last_line_) +
                        ": the only sample; a spectrum needs a record of many samples");
-    if (time_index_ >= 0) record_.dt = (last_time_ - record_.start_time) / (record_.displacement.size() - 1);
-    else record_.dt = format_.dt;
+    if (time_index_ >= 0)
+      record_.dt = (last_time_ - record_.start_time) / (record_.displacement.size() - 1);
+    else
+      record_.dt = format_.dt;
     return record_;
   }
 
@@ -207,31 +220,29 @@ class RecordReader {
       }
       record_.displacement.push_back(x[k] * metres_per(format_.unit.value_or(LengthUnit::m)));
     }
-    if (x.size() < 2) throw InputError(source_ + ": a spectrum needs a record of many samples, not " +
-                                       std::to_string(x.size()));
+    if (x.size() < 2)
+      throw InputError(source_ + ": a spectrum needs a record of many samples, not " + std::to_string(x.size()));
     record_.dt = time.empty() ? format_.dt : (last_time_ - record_.start_time) / static_cast<double>(x.size() - 1);
     return record_;
   }
 
  private:
   [[noreturn]] void fail(int where, const std::string& what) const {
-    const std::string hint = looks_like_decimal_commas(raw_line_)
-                                 ? " (decimal commas? write numbers with a point, e.g. sed 's/,/./g')"
-                                 : "";
+    const std::string hint =
+        looks_like_decimal_commas(raw_line_) ? " (decimal commas? write numbers with a point, e.g. sed 's/,/./g')" : "";
     throw InputError(source_ + ": " + place_ + " " + std::to_string(where) + ": " + what + hint);
   }
 
   void take_line(const std::vector<std::string>& fields, int line_number) {
     if (names_.empty()) {
       const bool header = !std::all_of(fields.begin(), fields.end(), is_number);
-      for (std::size_t k = 0; k < fields.size(); ++k)
-        names_.push_back(header ? fields[k] : std::to_string(k + 1));
+      for (std::size_t k = 0; k < fields.size(); ++k) names_.push_back(header ? fields[k] : std::to_string(k + 1));
       choose_columns(line_number);
       if (header) return;
     }
     if (fields.size() != names_.size())
-      fail(line_number, std::to_string(fields.size()) + " fields, expected " + std::to_string(names_.size()) +
-                            " (" + column_list(names_) + ")");
+      fail(line_number, std::to_string(fields.size()) + " fields, expected " + std::to_string(names_.size()) + " (" +
+                            column_list(names_) + ")");
     const double x = number(fields, x_index_, line_number) * metres_per(record_.unit);
     if (time_index_ >= 0) take_time(number(fields, time_index_, line_number) * seconds_per_time_, line_number);
     record_.displacement.push_back(x);
@@ -265,8 +276,8 @@ class RecordReader {
           if (is_time_name(split_unit(names_[k]))) time_index_ = k;
         if (time_index_ < 0 && count == 2 && names_[0] == "1") time_index_ = 0;
         if (time_index_ < 0)
-          fail(line_number, "no time column (columns: " + column_list(names_) +
-                                "); name it with --time-column or give --dt");
+          fail(line_number,
+               "no time column (columns: " + column_list(names_) + "); name it with --time-column or give --dt");
       }
     }
     if (!format_.column.empty()) {
@@ -275,7 +286,8 @@ class RecordReader {
       for (int k = 0; k < count && x_index_ < 0; ++k)
         if (k != time_index_ && is_displacement_name(split_unit(names_[k]))) x_index_ = k;
       if (x_index_ < 0 && count - (time_index_ >= 0 ? 1 : 0) == 1) x_index_ = time_index_ == 0 ? 1 : 0;
-      if (x_index_ < 0) fail(line_number, "which column is the displacement? give --column (columns: " + column_list(names_) + ")");
+      if (x_index_ < 0)
+        fail(line_number, "which column is the displacement? give --column (columns: " + column_list(names_) + ")");
     }
     if (x_index_ == time_index_) fail(line_number, "the displacement column is the time column");
     record_.column = names_[static_cast<std::size_t>(x_index_)];
@@ -305,17 +317,17 @@ class RecordReader {
     } else {
       const double interval = t - last_time_;
       if (interval <= 0)
-        fail(line_number, "time " + std::to_string(t) + " s does not increase (previous " +
-                              std::to_string(last_time_) + " s)");
+        fail(line_number,
+             "time " + std::to_string(t) + " s does not increase (previous " + std::to_string(last_time_) + " s)");
       if (n == 1) first_interval_ = interval;
       const double nominal = (t - record_.start_time) / static_cast<double>(n);
       // Both the local interval and the cumulative clock are checked: jitter averages out
       // of the second, a slow drift or a single gap does not.
       if (std::abs(interval - first_interval_) > format_.time_tolerance * first_interval_ ||
           std::abs(nominal - first_interval_) > format_.time_tolerance * first_interval_)
-        fail(line_number, "sampling is not uniform: interval " + shortest(interval) + " s where the record began with " +
-                              shortest(first_interval_) + " s (a gap or clock jump; tolerance " +
-                              shortest(format_.time_tolerance * 100) + "%)");
+        fail(line_number, "sampling is not uniform: interval " + shortest(interval) +
+                              " s where the record began with " + shortest(first_interval_) +
+                              " s (a gap or clock jump; tolerance " + shortest(format_.time_tolerance * 100) + "%)");
     }
     last_time_ = t;
   }
@@ -351,8 +363,8 @@ Record read_record(std::istream& in, const std::string& source, const RecordForm
   return RecordReader(source, format).read(in);
 }
 
-Record record_from_samples(const std::vector<double>& time, const std::vector<double>& x,
-                           const RecordFormat& format, const std::string& source) {
+Record record_from_samples(const std::vector<double>& time, const std::vector<double>& x, const RecordFormat& format,
+                           const std::string& source) {
   check_format(format);
   if (time.empty() && !(format.dt > 0)) throw InputError(source + ": give the sample times or a positive dt");
   return RecordReader(source, format).from_samples(time, x);

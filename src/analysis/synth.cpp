@@ -37,7 +37,12 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
   config.dt = sensor.sample_interval;
   config.seed = sensor.seed;
   Stepper stepper(params, config, 0, 1);
-  Record record{.displacement = {}, .dt = sensor.sample_interval, .start_time = 0, .column = "x", .unit = LengthUnit::m, .unit_source = "synthesized"};
+  Record record{.displacement = {},
+                .dt = sensor.sample_interval,
+                .start_time = 0,
+                .column = "x",
+                .unit = LengthUnit::m,
+                .unit_source = "synthesized"};
   record.displacement.reserve(static_cast<std::size_t>(samples));
   record.displacement.push_back(0.0);
   double xi = 0;
@@ -69,8 +74,8 @@ std::string record_csv(const Record& record, LengthUnit unit, const std::string&
   for (std::size_t n = 0; n < record.displacement.size(); ++n) {
     // 10 significant digits: time stamps of up to 1e7 samples at a round interval, and
     // readings of up to 1e9 resolution steps, print exactly.
-    std::snprintf(text, sizeof text, "%.10g,%.10g\n",
-                  record.start_time + static_cast<double>(n) * record.dt, record.displacement[n] * scale);
+    std::snprintf(text, sizeof text, "%.10g,%.10g\n", record.start_time + static_cast<double>(n) * record.dt,
+                  record.displacement[n] * scale);
     out << text;
   }
   return out.str();

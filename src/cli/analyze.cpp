@@ -18,15 +18,15 @@ struct AnalysisCommands::Options {
   // analyze
   std::string file;
   RecordFormat format;
-  std::string units;                  // empty: from the header, else m
+  std::string units;                     // empty: from the header, else m
   std::string resolution, sensor_noise;  // lengths, in the record's unit or with their own
   AnalysisRequest request;
   std::vector<double> slope_band;  // LO HI [rad/s]
   std::string compare_case;
   std::vector<std::string> overrides;
   std::string fit;
-  std::vector<double> fit_band;    // LO HI [rad/s]
-  int theory_order = 2;            // 2: the second order where it applies
+  std::vector<double> fit_band;  // LO HI [rad/s]
+  int theory_order = 2;          // 2: the second order where it applies
   double normal_mass = 0, driving_mass = 0;
   std::string out = "analysis";
   bool quiet = false, no_plot = false;
@@ -77,8 +77,10 @@ Verdict judge_alpha(const AlphaFit& fit, const Parameters& fitted) {
   Verdict verdict = judge_chi2(fit.chi2_per_dof, fit.points - 1);
   const Landmarks l = landmarks(fitted);
   std::string outside;
-  if (l.forces_can_stall) outside = "alpha F_kin >= 2 (F_drive - F_kin): the forces can stall the block";
-  else if (l.coupling_eps > 0.3) outside = "coupling eps = " + short_number(l.coupling_eps) + " > 0.3";
+  if (l.forces_can_stall)
+    outside = "alpha F_kin >= 2 (F_drive - F_kin): the forces can stall the block";
+  else if (l.coupling_eps > 0.3)
+    outside = "coupling eps = " + short_number(l.coupling_eps) + " > 0.3";
   if (!outside.empty()) {
     verdict.reason += (verdict.ok ? "" : "; ") + outside + ", outside the first-order theory (docs/model.md §4.1)";
     verdict.ok = false;
@@ -98,18 +100,20 @@ std::string number(double x) { return io::format_number(x); }
 struct Findings {
   std::optional<double> mu;
   std::optional<SlopeFit> slope;
-  std::optional<Parameters> model;    // the compared case, at the fitted alpha if fitted
+  std::optional<Parameters> model;  // the compared case, at the fitted alpha if fitted
   std::optional<AlphaFit> alpha;
   Verdict slope_verdict, alpha_verdict;
-  std::vector<double> model_values;   // model seen through the estimator, per point
-  int model_order = 1;                // the theory order of model_values
+  std::vector<double> model_values;  // model seen through the estimator, per point
+  int model_order = 1;               // the theory order of model_values
   bool ok() const { return slope_verdict.ok && alpha_verdict.ok; }
 };
 
 std::string analysis_table(const Options& o, const RecordSpectrum& s, const Findings& f) {
   std::ostringstream out;
-  if (f.model) out << io::metadata_lines(*f.model, o.compare_case);
-  else out << "# slidespec " << SLIDESPEC_VERSION << "\n";
+  if (f.model)
+    out << io::metadata_lines(*f.model, o.compare_case);
+  else
+    out << "# slidespec " << SLIDESPEC_VERSION << "\n";
   const SlidingFit& v = s.sliding;
   out << "# label = measured: " << o.file << " (column " << o.format.column << ")\n"
       << "# units = " << to_string(o.format.unit.value_or(LengthUnit::m)) << "  # of the displacement column, from "
@@ -117,27 +121,27 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
       << "# ok = " << (f.ok() ? "true" : "false") << "  # false: a fit failed (see its line)\n"
       << "# record = " << o.file << "\n# samples = " << s.samples << "\n# dt = " << number(s.dt) << "  # [s]\n"
       << "# duration = " << number(s.duration) << "  # [s]\n"
-      << "# measured_mean_speed = " << number(v.v) << "  # [m/s] +- " << number(v.v_error) << " (from "
-      << v.blocks << " blocks)\n"
+      << "# measured_mean_speed = " << number(v.v) << "  # [m/s] +- " << number(v.v_error) << " (from " << v.blocks
+      << " blocks)\n"
       << "# xi_rms = " << number(v.xi_rms) << "  # [m] rms of x - x0 - v t\n";
   if (f.mu) out << "# mu = " << number(*f.mu) << "  # M'/M\n";
-  out << "# resolution = " << number(o.request.resolution) << "  # q [m]\n# sensor_noise = "
-      << number(o.request.sensor_noise) << "  # sigma [m]; floor = q^2/12 + sigma^2, white\n"
+  out << "# resolution = " << number(o.request.resolution)
+      << "  # q [m]\n# sensor_noise = " << number(o.request.sensor_noise)
+      << "  # sigma [m]; floor = q^2/12 + sigma^2, white\n"
       << "# top_to_floor = " << number(s.top_to_floor) << "  # C_x / floor at the highest point\n"
       << "# usable_band = " << number(s.usable_low) << " .. " << number(s.usable_high) << "  # [rad/s], top set by "
       << (s.usable_high_set_by_floor ? "the floor reaching 10% of C_x" : "half of Nyquist") << "\n";
   if (f.slope)
-    out << "# slope = " << number(f.slope->slope) << "  # +- " << number(f.slope->slope_error) << ", C_x ~ omega^slope over "
-        << number(f.slope->omega_low) << " .. " << number(f.slope->omega_high) << " rad/s, " << f.slope->points
-        << " points, chi2/dof " << number(f.slope->chi2_per_dof) << "\n"
+    out << "# slope = " << number(f.slope->slope) << "  # +- " << number(f.slope->slope_error)
+        << ", C_x ~ omega^slope over " << number(f.slope->omega_low) << " .. " << number(f.slope->omega_high)
+        << " rad/s, " << f.slope->points << " points, chi2/dof " << number(f.slope->chi2_per_dof) << "\n"
         << "# slope_fit_ok = " << (f.slope_verdict.ok ? "true" : "false  # " + f.slope_verdict.reason) << "\n"
         << "# force_slope = " << number(f.slope->force_slope()) << "  # +- " << number(f.slope->slope_error)
         << ", M^2 omega^4 C_x ~ omega^force_slope\n";
   if (f.alpha)
     out << "# fitted_alpha = " << number(f.alpha->alpha) << "  # +- " << number(f.alpha->alpha_error) << " over "
         << number(f.alpha->omega_low) << " .. " << number(f.alpha->omega_high) << " rad/s, " << f.alpha->points
-        << " points, chi2/dof " << number(f.alpha->chi2_per_dof) << ", theory order " << f.alpha->theory_order
-        << "\n"
+        << " points, chi2/dof " << number(f.alpha->chi2_per_dof) << ", theory order " << f.alpha->theory_order << "\n"
         << "# alpha_fit_ok = " << (f.alpha_verdict.ok ? "true" : "false  # " + f.alpha_verdict.reason) << "\n";
   out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, mean over the bin's frequencies; stderr [m^2 s] from "
          "the scatter between segments; floor [m^2 s] quantization noise q^2/12 seen through the estimator; "
@@ -150,9 +154,9 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
       << (f.model ? "\ttheory" : "") << "\n";
   for (std::size_t k = 0; k < s.points.size(); ++k) {
     const AnalysisPoint& p = s.points[k];
-    out << number(p.omega) << "\t" << number(p.C_x) << "\t" << number(p.standard_error) << "\t"
-        << number(p.noise_floor) << "\t" << (p.below_floor ? 1 : 0) << "\t" << number(p.n_avg) << "\t"
-        << number(p.bandwidth) << "\t" << number(velocity_spectrum(p.omega, p.C_x));
+    out << number(p.omega) << "\t" << number(p.C_x) << "\t" << number(p.standard_error) << "\t" << number(p.noise_floor)
+        << "\t" << (p.below_floor ? 1 : 0) << "\t" << number(p.n_avg) << "\t" << number(p.bandwidth) << "\t"
+        << number(velocity_spectrum(p.omega, p.C_x));
     if (f.slope) {
       const bool inside = p.omega >= f.slope->omega_low && p.omega <= f.slope->omega_high;
       out << "\t" << (inside ? number(f.slope->amplitude * std::pow(p.omega, f.slope->slope)) : "nan");
@@ -167,41 +171,59 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
   nlohmann::ordered_json doc;
   doc["slidespec_version"] = SLIDESPEC_VERSION;
   doc["ok"] = f.ok();
-  doc["record"] = {{"file", o.file}, {"column", o.format.column},
-                   {"units", to_string(o.format.unit.value_or(LengthUnit::m))}, {"units_from", o.unit_source},
-                   {"samples", s.samples}, {"dt", s.dt}, {"duration", s.duration}};
-  doc["measured_mean_speed"] = {{"value", s.sliding.v}, {"standard_error", s.sliding.v_error},
-                                {"blocks", s.sliding.blocks}};
+  doc["record"] = {{"file", o.file},
+                   {"column", o.format.column},
+                   {"units", to_string(o.format.unit.value_or(LengthUnit::m))},
+                   {"units_from", o.unit_source},
+                   {"samples", s.samples},
+                   {"dt", s.dt},
+                   {"duration", s.duration}};
+  doc["measured_mean_speed"] = {
+      {"value", s.sliding.v}, {"standard_error", s.sliding.v_error}, {"blocks", s.sliding.blocks}};
   doc["xi_rms"] = s.sliding.xi_rms;
   if (f.mu) doc["mu"] = *f.mu;
   doc["resolution"] = o.request.resolution;
   doc["sensor_noise"] = o.request.sensor_noise;
   doc["quantization_variance"] = s.quantization_variance;
   doc["top_to_floor"] = s.top_to_floor;
-  doc["usable_band"] = {{"omega_low", s.usable_low}, {"omega_high", s.usable_high},
+  doc["usable_band"] = {{"omega_low", s.usable_low},
+                        {"omega_high", s.usable_high},
                         {"top_set_by", s.usable_high_set_by_floor ? "noise floor" : "half of Nyquist"}};
   if (f.slope)
-    doc["slope_fit"] = {{"omega_low", f.slope->omega_low}, {"omega_high", f.slope->omega_high},
-                        {"points", f.slope->points}, {"slope", f.slope->slope},
-                        {"standard_error", f.slope->slope_error}, {"chi2_per_dof", f.slope->chi2_per_dof},
-                        {"force_slope", f.slope->force_slope()}, {"reaches_floor", f.slope->reaches_floor},
-                        {"ok", f.slope_verdict.ok}, {"failure", f.slope_verdict.reason}};
+    doc["slope_fit"] = {{"omega_low", f.slope->omega_low},
+                        {"omega_high", f.slope->omega_high},
+                        {"points", f.slope->points},
+                        {"slope", f.slope->slope},
+                        {"standard_error", f.slope->slope_error},
+                        {"chi2_per_dof", f.slope->chi2_per_dof},
+                        {"force_slope", f.slope->force_slope()},
+                        {"reaches_floor", f.slope->reaches_floor},
+                        {"ok", f.slope_verdict.ok},
+                        {"failure", f.slope_verdict.reason}};
   if (f.model) {
     doc["compare_case"] = o.compare_case;
     doc["model_parameters"] = io::parameters_json(*f.model);
     doc["theory_order"] = f.model_order;
   }
   if (f.alpha)
-    doc["alpha_fit"] = {{"omega_low", f.alpha->omega_low}, {"omega_high", f.alpha->omega_high},
-                        {"points", f.alpha->points}, {"alpha", f.alpha->alpha},
-                        {"standard_error", f.alpha->alpha_error}, {"chi2_per_dof", f.alpha->chi2_per_dof},
+    doc["alpha_fit"] = {{"omega_low", f.alpha->omega_low},
+                        {"omega_high", f.alpha->omega_high},
+                        {"points", f.alpha->points},
+                        {"alpha", f.alpha->alpha},
+                        {"standard_error", f.alpha->alpha_error},
+                        {"chi2_per_dof", f.alpha->chi2_per_dof},
                         {"theory_order", f.alpha->theory_order},
-                        {"ok", f.alpha_verdict.ok}, {"failure", f.alpha_verdict.reason}};
+                        {"ok", f.alpha_verdict.ok},
+                        {"failure", f.alpha_verdict.reason}};
   for (std::size_t k = 0; k < s.points.size(); ++k) {
     const AnalysisPoint& p = s.points[k];
-    nlohmann::ordered_json point = {{"omega", p.omega}, {"C_x", p.C_x}, {"stderr", p.standard_error},
-                                    {"floor", p.noise_floor}, {"below_floor", p.below_floor},
-                                    {"n_avg", p.n_avg}, {"bandwidth", p.bandwidth}};
+    nlohmann::ordered_json point = {{"omega", p.omega},
+                                    {"C_x", p.C_x},
+                                    {"stderr", p.standard_error},
+                                    {"floor", p.noise_floor},
+                                    {"below_floor", p.below_floor},
+                                    {"n_avg", p.n_avg},
+                                    {"bandwidth", p.bandwidth}};
     if (f.model) point["theory"] = f.model_values[k];
     doc["points"].push_back(point);
   }
@@ -232,8 +254,8 @@ int command_analyze(Options o) {
   const ModelOrder order = o.theory_order == 2 ? ModelOrder::best : ModelOrder::first;
   if (f.model) {
     if (!o.fit.empty()) {
-      const auto [low, high] = o.fit_band.empty() ? default_alpha_band(s, *f.model)
-                                                  : std::pair{o.fit_band[0], o.fit_band[1]};
+      const auto [low, high] =
+          o.fit_band.empty() ? default_alpha_band(s, *f.model) : std::pair{o.fit_band[0], o.fit_band[1]};
       f.alpha = fit_alpha(s, *f.model, low, high, order);
       f.model->alpha = f.alpha->alpha;
       f.alpha_verdict = judge_alpha(*f.alpha, *f.model);
@@ -254,8 +276,9 @@ int command_analyze(Options o) {
   outputs.commit();
   if (!o.no_plot && !plotted) std::cerr << "slidespec: warning: " << o.figure.path(o.out) << " not drawn\n";
   // Warnings and failed fits are printed even with --quiet: they change what the files mean.
-  const std::string unit_note = std::string("read in ") + to_string(record.unit) +
-                                (record.unit_source == "default" ? " (no unit in its header)" : " (from " + record.unit_source + ")");
+  const std::string unit_note =
+      std::string("read in ") + to_string(record.unit) +
+      (record.unit_source == "default" ? " (no unit in its header)" : " (from " + record.unit_source + ")");
   if (std::abs(s.sliding.v) > kImplausibleSpeed)
     std::cerr << "slidespec: warning: mean speed " << s.sliding.v << " m/s is implausible for friction; likely cause: "
               << "the record was " << unit_note << "; give --units or name the unit in the header, e.g. x (mm)\n";
@@ -367,9 +390,10 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
   analyze_->add_option("--set", o.overrides, "override a parameter of the compared case, KEY=VALUE");
   analyze_->add_option("--fit", o.fit, "fit the compared case's 'alpha' to the data");
   analyze_->add_option("--fit-band", o.fit_band, "band of the alpha fit, LO HI [rad/s]")->expected(2);
-  analyze_->add_option("--theory-order", o.theory_order,
-                       "2 (default): compare and fit with the second-order theory where it applies (poisson, "
-                       "one touching level, eps <= 0.3), else the first; 1: the first order always")
+  analyze_
+      ->add_option("--theory-order", o.theory_order,
+                   "2 (default): compare and fit with the second-order theory where it applies (poisson, "
+                   "one touching level, eps <= 0.3), else the first; 1: the first order always")
       ->check(CLI::IsMember({1, 2}));
   analyze_->add_option("--normal-mass", o.normal_mass, "M, mass loading the slider [kg], for mu = M'/M");
   analyze_->add_option("--driving-mass", o.driving_mass, "M', hanging mass driving it [kg], for mu = M'/M");
@@ -384,7 +408,8 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
   synth_->add_option("--sample-interval", o.sensor.sample_interval, "sensor sampling interval [s] (default 1e-3)");
   synth_->add_option("--duration", o.sensor.duration, "record length [s] (default 1000)");
   synth_->add_option("--resolution", o.sensor.resolution, "sensor resolution q [m] (default 0.5e-6; 0 exact)");
-  synth_->add_option("--sensor-noise", o.sensor.sensor_noise, "rms noise before quantization [m] (default 0.25e-6, dithers the quantizer)");
+  synth_->add_option("--sensor-noise", o.sensor.sensor_noise,
+                     "rms noise before quantization [m] (default 0.25e-6, dithers the quantizer)");
   synth_->add_option("--seed", o.sensor.seed, "random seed (default 1)");
   synth_->add_option("--units", o.synth_units, "unit of the x column: m|mm|um (default um)");
   synth_->add_option("--out", o.synth_out, "output prefix: PREFIX.csv (default record)");

@@ -111,8 +111,8 @@ std::vector<double> theory_omegas(const TheoryOptions& options) {
     for (std::string word; words >> word;) {
       const double omega = io::parse_number(word).value_or(0);
       if (!(omega > 0))
-        throw InputError(source + (from_file ? ": line " + std::to_string(line_number) : std::string()) + ": '" +
-                         word + "' is not a positive omega in rad/s");
+        throw InputError(source + (from_file ? ": line " + std::to_string(line_number) : std::string()) + ": '" + word +
+                         "' is not a positive omega in rad/s");
       omegas.push_back(omega);
     }
   }
@@ -157,8 +157,10 @@ int command_theory(const ModelOptions& model, const TheoryOptions& options) {
     if (second) table << "\t" << io::format_number(spectrum[k] * second->ratio(omegas[k]));
     table << "\n";
   }
-  if (options.out.empty()) std::cout << table.str();
-  else io::write_atomically(options.out + ".tsv", table.str());
+  if (options.out.empty())
+    std::cout << table.str();
+  else
+    io::write_atomically(options.out + ".tsv", table.str());
   return 0;
 }
 
@@ -186,7 +188,7 @@ struct RunOptions {
   // One bar over several runs (sweep, paper): this run's place in the planned work.
   cli::Progress* shared_progress = nullptr;
   double work_before = 0, work_share = 1;  // fractions of the whole
-  std::string progress_prefix;            // "run 2/6, "
+  std::string progress_prefix;             // "run 2/6, "
 };
 
 /// Weights the runs of a multi-run command by their planned work and shares one bar.
@@ -216,20 +218,19 @@ void write_outputs(const RunSession& session, const RunResult& result, const Run
   outputs.add(out + ".tsv", io::run_table(p, session.case_name(), session.request(), result));
   outputs.add(out + ".json", io::run_json(p, session.case_name(), session.request(), result));
   const std::string figure = options.figure.path(out);
-  const bool plotted =
-      !options.no_plot &&
-      cli::plot({outputs.temporary(out + ".tsv")},
-                outputs.add_written_by_other(figure, std::filesystem::path(figure).extension().string()), "",
-                options.figure) == 0;
+  const bool plotted = !options.no_plot && cli::plot({outputs.temporary(out + ".tsv")},
+                                                     outputs.add_written_by_other(
+                                                         figure, std::filesystem::path(figure).extension().string()),
+                                                     "", options.figure) == 0;
   if (!options.no_plot && !plotted) outputs.drop(figure);
   outputs.commit();
   if (!options.no_plot && !plotted) std::cerr << "slidespec: warning: " << figure << " not drawn\n";
   if (options.quiet) return;
-  std::cerr << "slidespec: " << (result.complete ? "wrote " : "interrupted; wrote what accumulated to ")
-            << out << ".tsv, .json" << (plotted ? ", ." + options.figure.format : "") << " (" << result.points.size()
+  std::cerr << "slidespec: " << (result.complete ? "wrote " : "interrupted; wrote what accumulated to ") << out
+            << ".tsv, .json" << (plotted ? ", ." + options.figure.format : "") << " (" << result.points.size()
             << " points, largest relative error " << io::format_number(result.reached_precision)
-            << ", measured mean speed " << io::format_number(result.mean_speed) << " m/s, "
-            << result.wall_seconds << " s)\n";
+            << ", measured mean speed " << io::format_number(result.mean_speed) << " m/s, " << result.wall_seconds
+            << " s)\n";
   const RunRequest& request = session.request();
   if (result.complete && result.reached_precision > request.precision && request.duration == 0 &&
       request.realizations == 0)
@@ -305,8 +306,8 @@ void apply_realization_range(const std::string& range, RunRequest& request) {
   } catch (const std::exception&) {
     used_first = 0;
   }
-  if (colon == std::string::npos || used_first != colon || used_count != range.size() - colon - 1 ||
-      range[0] == '-' || range[colon + 1] == '-' || request.realizations == 0)
+  if (colon == std::string::npos || used_first != colon || used_count != range.size() - colon - 1 || range[0] == '-' ||
+      range[colon + 1] == '-' || request.realizations == 0)
     throw InputError("--realizations-range: expected FIRST:COUNT (whole numbers, COUNT > 0), got '" + range + "'");
 }
 
@@ -331,10 +332,8 @@ int command_run(const ModelOptions& model, RunOptions options, const std::functi
       request.first_realization = options.request.first_realization;
     }
     if (given("--seed")) request.seed = options.request.seed;
-    const std::string differs =
-        session.difference(model_given ? model.build() : session.parameters(), request);
-    if (!differs.empty())
-      throw InputError("--resume: " + options.resume + ".state is another run (" + differs + ")");
+    const std::string differs = session.difference(model_given ? model.build() : session.parameters(), request);
+    if (!differs.empty()) throw InputError("--resume: " + options.resume + ".state is another run (" + differs + ")");
     session.set_execution(options.request.threads, options.request.simd);
     if (options.out == "spectrum") options.out = options.resume;
     io::check_output_prefix(options.out);
@@ -424,7 +423,8 @@ int command_sweep(const ModelOptions& model, const std::vector<std::string>& wor
   if (writes_outputs()) {
     io::write_atomically(options.out + ".tsv", cli::sweep_table(axes, runs));
     io::write_atomically(options.out + ".json", cli::sweep_json(axes, runs));
-    if (!options.quiet) std::cerr << "slidespec: wrote " << options.out << ".tsv, .json (all " << runs.size() << " runs)\n";
+    if (!options.quiet)
+      std::cerr << "slidespec: wrote " << options.out << ".tsv, .json (all " << runs.size() << " runs)\n";
   }
   if (runs.size() < grid.size()) return 128 + stop_signal;
   const int done = stationary ? 0 : kNotStationary;
@@ -456,7 +456,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& paper_figur
   static const std::vector<std::pair<std::string, std::vector<std::string>>> figures = {
       {"fig2", {"reference", "fast", "short-renewal", "many-contacts"}},
       {"fig3", {"reference", "medium-noise", "weak-noise"}},
-      {"fig6", {}},  // a fit to a record through analyze, not runs
+      {"fig6", {}},                                  // a fit to a record through analyze, not runs
       {"hierarchy", {"reference", "hierarchical"}},  // docs/model.md §6, docs/hierarchy.md
   };
   return figures;
@@ -499,7 +499,7 @@ int command_paper(const std::string& figure, RunOptions options, const std::stri
   }
   progress.finish();
   const std::string title = figure == "hierarchy" ? "flat and two-level contacts (the paper's Fig. 1c)"
-                                                 : "Fig. " + figure.substr(3) + " of the paper";
+                                                  : "Fig. " + figure.substr(3) + " of the paper";
   if (!writes_outputs()) return 0;
   const std::string picture = options.figure.path(directory + "/" + figure);
   const int status = cli::plot(tables, picture, title, options.figure);
@@ -527,16 +527,16 @@ int main(int argc, char** argv) {
 
   ModelOptions theory_model;
   TheoryOptions theory_options;
-  CLI::App* theory_command =
-      app.add_subcommand("theory", "exact first-order spectrum C_x(omega) (docs/model.md §4)");
+  CLI::App* theory_command = app.add_subcommand("theory", "exact first-order spectrum C_x(omega) (docs/model.md §4)");
   theory_model.add_to(*theory_command);
   theory_command->add_option("--omega-min", theory_options.omega_min, "lowest omega [rad/s]");
   theory_command->add_option("--omega-max", theory_options.omega_max, "highest omega [rad/s]");
   theory_command->add_option("--points", theory_options.points_per_decade, "points per decade");
   auto* omega_list = theory_command->add_option("--omega", theory_options.omega_list,
                                                 "these omegas [rad/s], comma-separated, instead of the log grid");
-  theory_command->add_option("--omega-file", theory_options.omega_file,
-                             "omegas [rad/s] from a file (one or more a line, '#' comments)")
+  theory_command
+      ->add_option("--omega-file", theory_options.omega_file,
+                   "omegas [rad/s] from a file (one or more a line, '#' comments)")
       ->excludes(omega_list);
   theory_command->add_option("--order", theory_options.order,
                              "2: add C_x2, the second-order theory (poisson renewal, one touching level)");
@@ -550,23 +550,24 @@ int main(int argc, char** argv) {
   run_command->add_option("--omega-min", request.omega_min, "lowest omega [rad/s] (default 0.1)");
   run_command->add_option("--omega-max", request.omega_max, "highest omega [rad/s] (default 1e5)");
   run_command->add_option("--points", request.points_per_decade, "points per decade (default 8)");
-  auto* precision = run_command->add_option(
-      "--precision", request.precision, "target relative standard error at every point (default 0.05)");
-  auto* duration = run_command->add_option(
-      "--duration", request.duration, "simulated seconds per realization of the lowest sub-band");
+  auto* precision = run_command->add_option("--precision", request.precision,
+                                            "target relative standard error at every point (default 0.05)");
+  auto* duration = run_command->add_option("--duration", request.duration,
+                                           "simulated seconds per realization of the lowest sub-band");
   duration->excludes(precision);
-  auto* realizations =
-      run_command->add_option("--realizations", request.realizations, "realizations per sub-band");
+  auto* realizations = run_command->add_option("--realizations", request.realizations, "realizations per sub-band");
   auto* range = run_command->add_option("--realizations-range", run_options.range,
                                         "FIRST:COUNT: run only these realizations (a part of a run; see merge)");
   range->excludes(realizations)->excludes(precision);
   run_command->add_option("--seed", request.seed, "random seed (default 1)");
   run_command->add_option("--threads", request.threads, "threads (default, or 0: all cores)");
-  run_command->add_option("--work-budget", request.work_budget, "most realization-steps the run may plan (default 1e11)");
+  run_command->add_option("--work-budget", request.work_budget,
+                          "most realization-steps the run may plan (default 1e11)");
   run_command->add_option("--simd", run_options.simd, "scalar|sse2|avx2|avx512|auto (default auto)");
   run_command->add_option("--out", run_options.out, "output prefix: PREFIX.tsv, .json, .png (default spectrum)");
-  run_command->add_option("--checkpoint-every", run_options.checkpoint_every,
-                          "save the run to PREFIX.state every S seconds of wall time")
+  run_command
+      ->add_option("--checkpoint-every", run_options.checkpoint_every,
+                   "save the run to PREFIX.state every S seconds of wall time")
       ->check(CLI::PositiveNumber);
   run_command->add_option("--resume", run_options.resume, "continue the run saved in PREFIX.state");
   run_command->add_option("--save-state", run_options.save_state, "save the finished run (a part) to FILE");
@@ -581,9 +582,10 @@ int main(int argc, char** argv) {
   std::vector<std::string> sweep_values;
   CLI::App* sweep_command =
       app.add_subcommand("sweep", "one run per value of a parameter, and their spectra in one picture");
-  sweep_command->add_option("values", sweep_values,
-                            "KEY=V1,V2,... | KEY=FIRST:LAST:STEP | KEY=FIRST..LAST log|lin K; several keys make a grid "
-                            "(e.g. alpha=0.1:1:0.1 N=10..100 log 5)")
+  sweep_command
+      ->add_option("values", sweep_values,
+                   "KEY=V1,V2,... | KEY=FIRST:LAST:STEP | KEY=FIRST..LAST log|lin K; several keys make a grid "
+                   "(e.g. alpha=0.1:1:0.1 N=10..100 log 5)")
       ->required();
   sweep_model.add_to(*sweep_command);
   sweep_command->add_option("--omega-min", sweep_options.request.omega_min, "lowest omega [rad/s]");
@@ -593,7 +595,8 @@ int main(int argc, char** argv) {
   sweep_command->add_option("--realizations", sweep_options.request.realizations, "realizations per sub-band");
   sweep_command->add_option("--seed", sweep_options.request.seed, "random seed");
   sweep_command->add_option("--threads", sweep_options.request.threads, "threads (default, or 0: all cores)");
-  sweep_command->add_option("--work-budget", sweep_options.request.work_budget, "most realization-steps a run may plan");
+  sweep_command->add_option("--work-budget", sweep_options.request.work_budget,
+                            "most realization-steps a run may plan");
   sweep_command->add_option("--simd", sweep_options.simd, "scalar|sse2|avx2|avx512|auto");
   sweep_command->add_option("--out", sweep_options.out,
                             "output prefix: PREFIX_KEY=V....tsv/.json per run, PREFIX.tsv/.json all runs, PREFIX.png");
@@ -630,7 +633,8 @@ int main(int argc, char** argv) {
   paper_command->add_option("--omega-max", paper_options.request.omega_max, "highest omega [rad/s]");
   paper_command->add_option("--seed", paper_options.request.seed, "random seed");
   paper_command->add_option("--threads", paper_options.request.threads, "threads (default, or 0: all cores)");
-  paper_command->add_option("--work-budget", paper_options.request.work_budget, "most realization-steps a run may plan");
+  paper_command->add_option("--work-budget", paper_options.request.work_budget,
+                            "most realization-steps a run may plan");
   paper_command->add_option("--simd", paper_options.simd, "scalar|sse2|avx2|avx512|auto");
   paper_command->add_flag("--quiet", paper_options.quiet, "no progress, no summary");
   paper_options.figure.add_to(*paper_command);
@@ -670,7 +674,8 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const std::bad_alloc&) {
     // Every size is checked against its input first; what remains is a machine too small.
-    if (writes_outputs()) std::cerr << "slidespec: error: out of memory: the input asks for more than this machine has\n";
+    if (writes_outputs())
+      std::cerr << "slidespec: error: out of memory: the input asks for more than this machine has\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "slidespec: failed: " << e.what() << "\n";

@@ -36,8 +36,7 @@ std::vector<std::string> MpiWorld::all_gather(const std::string& mine) const {
     total += sizes[r];
   }
   std::string all(static_cast<std::size_t>(total), '\0');
-  MPI_Allgatherv(mine.data(), my_size, MPI_CHAR, all.data(), sizes.data(), offsets.data(), MPI_CHAR,
-                 MPI_COMM_WORLD);
+  MPI_Allgatherv(mine.data(), my_size, MPI_CHAR, all.data(), sizes.data(), offsets.data(), MPI_CHAR, MPI_COMM_WORLD);
   std::vector<std::string> parts;
   for (int r = 0; r < size_; ++r) parts.push_back(all.substr(offsets[r], sizes[r]));
   return parts;

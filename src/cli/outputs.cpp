@@ -27,8 +27,11 @@ constexpr std::size_t kLongestSuffix = 20;
 bool valid_utf8(const std::string& s) {
   for (std::size_t i = 0; i < s.size();) {
     const auto lead = static_cast<unsigned char>(s[i]);
-    const std::size_t more = lead < 0x80 ? 0 : lead >= 0xc2 && lead < 0xe0 ? 1 : lead >= 0xe0 && lead < 0xf0 ? 2
-                             : lead >= 0xf0 && lead < 0xf5                 ? 3 : 4;
+    const std::size_t more = lead < 0x80                   ? 0
+                             : lead >= 0xc2 && lead < 0xe0 ? 1
+                             : lead >= 0xe0 && lead < 0xf0 ? 2
+                             : lead >= 0xf0 && lead < 0xf5 ? 3
+                                                           : 4;
     if (more == 4 || i + more >= s.size()) return false;
     for (std::size_t k = 1; k <= more; ++k)
       if ((static_cast<unsigned char>(s[i + k]) & 0xc0) != 0x80) return false;
@@ -49,8 +52,7 @@ std::string one(const CLI::App& command, const std::string& name, const std::str
 }
 
 void check_name(const File& f) {
-  if (!valid_utf8(f.path))
-    throw InputError(f.option + ": the file name '" + f.path + "' is not valid UTF-8");
+  if (!valid_utf8(f.path)) throw InputError(f.option + ": the file name '" + f.path + "' is not valid UTF-8");
   if (f.path.size() + kLongestSuffix >= PATH_MAX)
     throw InputError(f.option + ": the path '" + f.path.substr(0, 40) + "...' is too long");
 }
@@ -68,8 +70,8 @@ void check_input(const File& f) {
 void check_output(const File& f) {
   check_name(f);
   const std::string name = fs::path(f.path).filename().string();
-  const long most = ::pathconf(fs::path(f.path).parent_path().empty() ? "." : fs::path(f.path).parent_path().c_str(),
-                               _PC_NAME_MAX);
+  const long most =
+      ::pathconf(fs::path(f.path).parent_path().empty() ? "." : fs::path(f.path).parent_path().c_str(), _PC_NAME_MAX);
   const std::size_t limit = most > 0 ? static_cast<std::size_t>(most) : 255;
   if (name.size() + kLongestSuffix > limit)
     throw InputError(f.option + ": the file name " + name.substr(0, 40) + "... is longer than the " +
@@ -123,8 +125,8 @@ void files_of(const CLI::App& command, std::vector<File>& inputs, std::vector<Fi
     if (equals != std::string::npos) {
       std::stringstream list(sweep.substr(equals + 1));
       for (std::string value; std::getline(list, value, ',');)
-        add_outputs(with_extensions(out + "_" + sweep.substr(0, equals) + "=" + value, "--out",
-                                    {".tsv", ".json", ".state"}));
+        add_outputs(
+            with_extensions(out + "_" + sweep.substr(0, equals) + "=" + value, "--out", {".tsv", ".json", ".state"}));
     }
     outputs.push_back({out + ".png", "--out"});
   } else if (name == "plot") {

@@ -30,7 +30,8 @@ std::string tools_directory() {
   const auto executable = std::filesystem::read_symlink("/proc/self/exe", error);
   if (!error) {
     const auto installed = executable.parent_path().parent_path() / "share" / "slidespec";
-    if (std::filesystem::exists(installed / "plot_spectra.py", error)) return from_environment("SLIDESPEC_TOOLS", installed);
+    if (std::filesystem::exists(installed / "plot_spectra.py", error))
+      return from_environment("SLIDESPEC_TOOLS", installed);
   }
   return from_environment("SLIDESPEC_TOOLS", SLIDESPEC_TOOLS_DIR);
 }

@@ -23,15 +23,17 @@ void Progress::update(double fraction, const std::string& what) {
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double left = fraction > 1e-3 ? elapsed * (1 - fraction) / fraction : -1;
   char eta[32];
-  if (left < 0) std::snprintf(eta, sizeof eta, "--");
-  else std::snprintf(eta, sizeof eta, "%dm%02ds", int(left) / 60, int(left) % 60);
+  if (left < 0)
+    std::snprintf(eta, sizeof eta, "--");
+  else
+    std::snprintf(eta, sizeof eta, "%dm%02ds", int(left) / 60, int(left) % 60);
   if (terminal_) {
     const int width = 30, filled = static_cast<int>(fraction * width);
     std::fprintf(stderr, "\r[%s%s] %5.1f%%  %s  left ~%s   ", std::string(filled, '#').c_str(),
                  std::string(width - filled, '.').c_str(), 100 * fraction, what.c_str(), eta);
   } else {
-    std::fprintf(stderr, "slidespec: %5.1f%% %s, %.0f s elapsed, about %s left\n", 100 * fraction,
-                 what.c_str(), elapsed, eta);
+    std::fprintf(stderr, "slidespec: %5.1f%% %s, %.0f s elapsed, about %s left\n", 100 * fraction, what.c_str(),
+                 elapsed, eta);
   }
   std::fflush(stderr);
 }

@@ -16,8 +16,7 @@ bool integer_key(const std::string& key) { return key == "N" || key == "levels" 
 
 double parse_value(const std::string& text, const std::string& word) {
   const std::optional<double> value = io::parse_number(text);
-  if (!value)
-    throw InputError("sweep: '" + text + "' in '" + word + "' is not a number");
+  if (!value) throw InputError("sweep: '" + text + "' in '" + word + "' is not a number");
   return *value;
 }
 
@@ -74,8 +73,8 @@ std::vector<SweepAxis> parse_sweep(const std::vector<std::string>& words) {
     const std::string& word = words[k];
     const auto equals = word.find('=');
     if (equals == std::string::npos || equals == 0 || equals + 1 == word.size())
-      throw InputError("sweep: expected KEY=V1,V2,..., KEY=FIRST:LAST:STEP or KEY=FIRST..LAST log|lin K, got '" +
-                       word + "'");
+      throw InputError("sweep: expected KEY=V1,V2,..., KEY=FIRST:LAST:STEP or KEY=FIRST..LAST log|lin K, got '" + word +
+                       "'");
     SweepAxis axis{word.substr(0, equals), {}};
     for (const SweepAxis& other : axes)
       if (other.key == axis.key) throw InputError("sweep: key " + axis.key + " given twice");
@@ -180,8 +179,10 @@ std::string sweep_json(const std::vector<SweepAxis>& axes, const std::vector<Swe
   for (const SweepRun& run : runs) {
     nlohmann::ordered_json entry;
     for (const auto& [key, value] : run.values) {
-      if (const auto number = io::parse_number(value)) entry["values"][key] = *number;
-      else entry["values"][key] = value;
+      if (const auto number = io::parse_number(value))
+        entry["values"][key] = *number;
+      else
+        entry["values"][key] = value;
     }
     entry["label"] = run.label;
     entry["table"] = run.table;
@@ -190,8 +191,12 @@ std::string sweep_json(const std::vector<SweepAxis>& axes, const std::vector<Swe
     entry["reached_precision"] = run.result.reached_precision;
     entry["points"] = nlohmann::ordered_json::array();
     for (const RunPoint& point : run.result.points)
-      entry["points"].push_back({{"omega", point.omega}, {"C_x", point.C_x}, {"stderr", point.standard_error},
-                                 {"theory", point.theory}, {"n_avg", point.n_avg}, {"bandwidth", point.bandwidth},
+      entry["points"].push_back({{"omega", point.omega},
+                                 {"C_x", point.C_x},
+                                 {"stderr", point.standard_error},
+                                 {"theory", point.theory},
+                                 {"n_avg", point.n_avg},
+                                 {"bandwidth", point.bandwidth},
                                  {"theory2", std::isfinite(point.theory2) ? nlohmann::ordered_json(point.theory2)
                                                                           : nlohmann::ordered_json(nullptr)}});
     doc["runs"].push_back(entry);

@@ -39,8 +39,8 @@ double weighted_fraction(double fraction, const std::vector<double>& band_work);
 /// One finished run of a sweep, for the combined table.
 struct SweepRun {
   std::vector<std::pair<std::string, std::string>> values;  ///< KEY=VALUE of this run
-  std::string label;                                         ///< "reference + alpha=0.5"
-  std::string table;                                         ///< its own PREFIX_....tsv
+  std::string label;                                        ///< "reference + alpha=0.5"
+  std::string table;                                        ///< its own PREFIX_....tsv
   RunResult result;
 };
 

@@ -101,9 +101,7 @@ bool same_config(const EstimatorConfig& a, const EstimatorConfig& b) {
          a.points_per_decade == b.points_per_decade && a.input == b.input;
 }
 
-double Layout::bin_omega(int band, int bin) const {
-  return 2.0 * kPi * bin / (kSegmentLength * bands[band].interval);
-}
+double Layout::bin_omega(int band, int bin) const { return 2.0 * kPi * bin / (kSegmentLength * bands[band].interval); }
 
 int Layout::band_for(double omega) const {
   int band = 0;
@@ -128,8 +126,8 @@ std::shared_ptr<const Layout> build_layout(const EstimatorConfig& requested) {
   const double nyquist = kPi / c.dt;
   if (c.omega_max == 0) c.omega_max = 0.5 * nyquist;
   if (!(c.omega_max > 0) || !(c.omega_max <= 0.8 * nyquist))
-    throw InputError("estimator: omega-max must lie in (0, 0.8 pi/dt] = (0, " +
-                     std::to_string(0.8 * nyquist) + "] rad/s");
+    throw InputError("estimator: omega-max must lie in (0, 0.8 pi/dt] = (0, " + std::to_string(0.8 * nyquist) +
+                     "] rad/s");
   if (c.omega_min == 0) c.omega_min = c.omega_max / 100;
   if (!(c.omega_min > 0) || !(c.omega_min <= c.omega_max))
     throw InputError("estimator: need 0 < omega-min <= omega-max");
@@ -160,8 +158,7 @@ std::shared_ptr<const Layout> build_layout(const EstimatorConfig& requested) {
     const double omega = c.omega_min * std::pow(10.0, static_cast<double>(k) / ppd);
     int band = 0;
     while (omega < nyquist / std::ldexp(4.0, band)) {
-      if (++band >= kMaximumBands)
-        throw InputError("estimator: omega-min is more than 60 octaves below pi/dt");
+      if (++band >= kMaximumBands) throw InputError("estimator: omega-min is more than 60 octaves below pi/dt");
     }
     const double resolution = 2.0 * kPi / (kSegmentLength * std::ldexp(c.dt, band));
     int first = static_cast<int>(std::ceil(omega / half_bin / resolution));
@@ -174,8 +171,7 @@ std::shared_ptr<const Layout> build_layout(const EstimatorConfig& requested) {
     layout->points.push_back(point);
     layout->band_count = std::max(layout->band_count, band + 1);
   }
-  if (layout->points.empty())
-    throw InputError("estimator: no output point between omega-min and omega-max");
+  if (layout->points.empty()) throw InputError("estimator: no output point between omega-min and omega-max");
 
   layout->bands.resize(layout->band_count);
   for (int b = 0; b < layout->band_count; ++b) {

@@ -49,21 +49,21 @@ struct OutputPoint {
 };
 
 struct BandLayout {
-  double interval;                  // sample interval of the band's stream [s]
-  double enbw;                      // equivalent noise bandwidth [rad/s]
-  std::vector<double> bin_factor;   // per FFT bin: normalisation / exact transfer
+  double interval;                 // sample interval of the band's stream [s]
+  double enbw;                     // equivalent noise bandwidth [rad/s]
+  std::vector<double> bin_factor;  // per FFT bin: normalisation / exact transfer
   // Exact transfer x -> band stream at bin omega and at omega -/+ the window's rms
   // spectral width, for the smoothing-bias correction of spectrum().
   std::vector<double> transfer_center, transfer_below, transfer_above;
-  double kernel_width;              // rms width of the window's spectral kernel [rad/s]
-  std::vector<int> points;          // output points this band serves
+  double kernel_width;      // rms width of the window's spectral kernel [rad/s]
+  std::vector<int> points;  // output points this band serves
 };
 
 struct Layout {
   EstimatorConfig config;
   int band_count = 0;
   std::vector<double> window;
-  double window_power = 0;          // sum w^2
+  double window_power = 0;  // sum w^2
   std::vector<double> taps;
   std::vector<OutputPoint> points;  // ascending omega
   std::vector<BandLayout> bands;

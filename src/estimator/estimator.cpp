@@ -57,22 +57,19 @@ namespace {
 
 std::string describe(const EstimatorConfig& c) {
   char text[200];
-  std::snprintf(text, sizeof text, "dt=%.17g omega=[%.17g, %.17g] points/decade=%d input=%s",
-                c.dt, c.omega_min, c.omega_max, c.points_per_decade,
-                c.input == SampleKind::value ? "value" : "increment");
+  std::snprintf(text, sizeof text, "dt=%.17g omega=[%.17g, %.17g] points/decade=%d input=%s", c.dt, c.omega_min,
+                c.omega_max, c.points_per_decade, c.input == SampleKind::value ? "value" : "increment");
   return text;
 }
 
 // E[s] = c4 sigma for n Gaussian units: undoes the low bias of the square root.
-double c4(double n) {
-  return std::sqrt(2.0 / (n - 1)) * std::exp(std::lgamma(0.5 * n) - std::lgamma(0.5 * (n - 1)));
-}
+double c4(double n) { return std::sqrt(2.0 / (n - 1)) * std::exp(std::lgamma(0.5 * n) - std::lgamma(0.5 * (n - 1))); }
 
 // Slope and curvature of ln C against ln omega at point i, from the quadratic through
 // it and its two nearest neighbours. Bounded: at a line or a resonance narrower than a
 // log bin there is no smooth local shape to correct for.
-std::pair<double, double> local_shape(const std::vector<SpectrumPoint>& points,
-                                      const std::vector<double>& C, std::size_t i) {
+std::pair<double, double> local_shape(const std::vector<SpectrumPoint>& points, const std::vector<double>& C,
+                                      std::size_t i) {
   constexpr double kSlopeBound = 16, kCurvatureBound = 8;
   const std::size_t n = points.size();
   if (n < 2) return {0.0, 0.0};
@@ -90,8 +87,7 @@ std::pair<double, double> local_shape(const std::vector<SpectrumPoint>& points,
   const double f12 = (l[2] - l[1]) / (u[2] - u[1]);
   const double f012 = (f12 - f01) / (u[2] - u[0]);
   const double slope = f01 - f012 * (u[0] + u[1]);
-  return {std::clamp(slope, -kSlopeBound, kSlopeBound),
-          std::clamp(2 * f012, -kCurvatureBound, kCurvatureBound)};
+  return {std::clamp(slope, -kSlopeBound, kSlopeBound), std::clamp(2 * f012, -kCurvatureBound, kCurvatureBound)};
 }
 
 }  // namespace
@@ -103,8 +99,8 @@ void SpectrumAccumulator::merge(const SpectrumAccumulator& other) {
     return;
   }
   if (!detail::same_config(impl_->layout->config, other.impl_->layout->config))
-    throw InputError("spectrum accumulator: cannot merge " + describe(other.impl_->layout->config) +
-                     " into " + describe(impl_->layout->config));
+    throw InputError("spectrum accumulator: cannot merge " + describe(other.impl_->layout->config) + " into " +
+                     describe(impl_->layout->config));
   for (std::size_t k = 0; k < impl_->sum_q.size(); ++k) {
     impl_->sum_q[k] += other.impl_->sum_q[k];
     impl_->sum_q2[k] += other.impl_->sum_q2[k];
@@ -144,12 +140,13 @@ void correct_for_smoothing(const detail::Layout& layout, const std::vector<int>&
         const double omega = layout.bin_omega(point.band, j);
         const double h = band.kernel_width;
         // E[periodogram]/C(omega_k) at bin j: the window averages T*C over +-h.
-        const double e = 0.5 * (shape(omega + h) * band.transfer_above[j] +
-                                shape(omega - h) * band.transfer_below[j]) / band.transfer_center[j];
+        const double e = 0.5 * (shape(omega + h) * band.transfer_above[j] + shape(omega - h) * band.transfer_below[j]) /
+                         band.transfer_center[j];
         smoothed += e;
         relative_smoothing += e / shape(omega);
-        smoothed_straight += 0.5 * (straight(omega + h) * band.transfer_above[j] +
-                                    straight(omega - h) * band.transfer_below[j]) / band.transfer_center[j];
+        smoothed_straight +=
+            0.5 * (straight(omega + h) * band.transfer_above[j] + straight(omega - h) * band.transfer_below[j]) /
+            band.transfer_center[j];
       }
       next[i] = mean[i] * point.bin_count / smoothed;
       // The curvature part is the least certain (a quadratic through noisy neighbours,
@@ -193,8 +190,8 @@ std::vector<SpectrumPoint> SpectrumAccumulator::spectrum(PointValue value) const
     const detail::BandLayout& band = layout.bands[point.band];
     const double resolution = layout.bin_omega(point.band, 1);
     out.push_back({point.omega, mean, standard_error, n * point.bin_count, band.enbw,
-                   (point.first_bin - 0.5) * resolution,
-                   (point.first_bin + point.bin_count - 0.5) * resolution, resolution, point.bin_count});
+                   (point.first_bin - 0.5) * resolution, (point.first_bin + point.bin_count - 0.5) * resolution,
+                   resolution, point.bin_count});
     index.push_back(k);
   }
 
@@ -333,12 +330,10 @@ SpectrumAccumulator SpectrumAccumulator::load(const std::string& bytes) {
   const auto input = in.get<std::int32_t>();
   if (input != 0 && input != 1) throw InputError("spectrum accumulator file: unknown input kind");
   config.input = input == 0 ? SampleKind::value : SampleKind::increment;
-  const bool same_design = in.get<std::int32_t>() == detail::kSegmentLength &&
-                           in.get<std::int32_t>() == detail::kSegmentHop &&
-                           in.get<std::int32_t>() == detail::kBandDifferences &&
-                           in.get<std::int32_t>() == detail::kHalfBandReach &&
-                           in.get<double>() == detail::kWindowBeta &&
-                           in.get<double>() == detail::kHalfBandBeta;
+  const bool same_design =
+      in.get<std::int32_t>() == detail::kSegmentLength && in.get<std::int32_t>() == detail::kSegmentHop &&
+      in.get<std::int32_t>() == detail::kBandDifferences && in.get<std::int32_t>() == detail::kHalfBandReach &&
+      in.get<double>() == detail::kWindowBeta && in.get<double>() == detail::kHalfBandBeta;
   if (!same_design)
     throw InputError("spectrum accumulator file: made with another estimator design (segment, window or filter)");
   auto impl = std::make_unique<Impl>(detail::Layout::make(config));

@@ -25,8 +25,7 @@ const FourierTables& fourier_tables();
 // padded to a multiple of the path's width), so each row is whole vectors.
 struct StreamKernels {
   /// target[i] = source[i] - source[i - lag] for i in [from, to).
-  void (*difference)(const double* source, double* target, std::ptrdiff_t from, std::ptrdiff_t to,
-                     std::ptrdiff_t lag);
+  void (*difference)(const double* source, double* target, std::ptrdiff_t from, std::ptrdiff_t to, std::ptrdiff_t lag);
   /// The half-band filter, lane by lane: output row j is centred on row 2j of `centre`,
   /// out = h[reach] centre + sum over odd t of h[reach + t] (row 2j - t + row 2j + t),
   /// summed in the order of t.

@@ -135,8 +135,10 @@ void OutputSet::commit() {
       continue;
     const std::string why = std::strerror(errno);
     for (std::size_t j = 0; j < k; ++j) {
-      if (!backups[j].empty()) std::rename(backups[j].c_str(), pending_[j].path.c_str());
-      else ::unlink(pending_[j].path.c_str());
+      if (!backups[j].empty())
+        std::rename(backups[j].c_str(), pending_[j].path.c_str());
+      else
+        ::unlink(pending_[j].path.c_str());
       backups[j].clear();
     }
     remove_backups();
@@ -154,13 +156,11 @@ void OutputSet::commit() {
 void check_output_prefix(const std::string& prefix) {
   if (prefix.empty()) throw InputError("--out: empty output prefix");
   if (std::filesystem::is_directory(prefix))
-    throw InputError("--out " + prefix + ": is a directory; give a prefix such as " + prefix +
-                     "/spectrum");
+    throw InputError("--out " + prefix + ": is a directory; give a prefix such as " + prefix + "/spectrum");
   const std::string dir = directory_of(prefix);
   if (!std::filesystem::is_directory(dir))
     throw InputError("--out " + prefix + ": directory " + dir + " does not exist");
-  if (::access(dir.c_str(), W_OK) != 0)
-    throw InputError("--out " + prefix + ": directory " + dir + " is not writable");
+  if (::access(dir.c_str(), W_OK) != 0) throw InputError("--out " + prefix + ": directory " + dir + " is not writable");
 }
 
 std::string read_file(const std::string& path, const std::string& what) {

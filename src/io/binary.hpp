@@ -56,8 +56,7 @@ class Reader {
 
  private:
   void need(std::uint64_t size) const {
-    if (size > bytes_.size() - position_)
-      throw InputError(what_ + ": truncated at byte " + std::to_string(position_));
+    if (size > bytes_.size() - position_) throw InputError(what_ + ": truncated at byte " + std::to_string(position_));
   }
   const std::string& bytes_;
   std::string what_;

@@ -49,9 +49,12 @@ nlohmann::ordered_json parameters_json(const Parameters& p) {
   for (const auto& [key, value] : describe(p)) {
     double number = 0;
     const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), number);
-    if (error != std::errc() || end != value.data() + value.size()) block[key] = value;
-    else if (value.find_first_of(".eE") == std::string::npos) block[key] = std::stoll(value);
-    else block[key] = number;
+    if (error != std::errc() || end != value.data() + value.size())
+      block[key] = value;
+    else if (value.find_first_of(".eE") == std::string::npos)
+      block[key] = std::stoll(value);
+    else
+      block[key] = number;
   }
   return block;
 }
@@ -79,8 +82,7 @@ std::string metadata_lines(const Parameters& p, const std::string& case_name) {
       << "# diffusion_D = " << format_number(l.diffusion) << "  # [m^2/s], C_x -> D/(pi omega^2)\n"
       << "# eq1_prefactor = " << format_number(l.eq1_prefactor)
       << "  # [m^2 rad^4/s^3], C_x ~ prefactor/omega^4 for v/a << omega << omega_c\n"
-      << "# coupling_eps = " << format_number(l.coupling_eps)
-      << "  # first-order theory holds for eps <= 0.3\n";
+      << "# coupling_eps = " << format_number(l.coupling_eps) << "  # first-order theory holds for eps <= 0.3\n";
   return out.str();
 }
 
@@ -95,17 +97,16 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
       << "# simulated_time = " << format_number(result.simulated_time) << "  # [s], all realizations\n"
       << "# measured_mean_speed = " << format_number(result.mean_speed) << "  # [m/s] +- "
       << format_number(result.mean_speed_error) << "\n"
-      << "# reached_precision = " << format_number(result.reached_precision)
-      << "  # largest stderr/C_x (target " << request.precision << ")\n"
+      << "# reached_precision = " << format_number(result.reached_precision) << "  # largest stderr/C_x (target "
+      << request.precision << ")\n"
       << "# complete = " << (result.complete ? "true" : "false") << "\n"
       << "# stationary = " << (result.stationary ? "true" : "false  # " + result.stationarity) << "\n"
       << "# versions = " << versions() << "\n";
   for (std::size_t b = 0; b < result.sub_bands.size(); ++b) {
     const SubBand& band = result.sub_bands[b];
-    out << "# sub_band " << b << ": omega " << format_number(band.omega_low) << " .. "
-        << format_number(band.omega_high) << ", dt = " << format_number(band.dt)
-        << " s, duration = " << format_number(band.duration) << " s, realizations = " << band.realizations
-        << "\n";
+    out << "# sub_band " << b << ": omega " << format_number(band.omega_low) << " .. " << format_number(band.omega_high)
+        << ", dt = " << format_number(band.dt) << " s, duration = " << format_number(band.duration)
+        << " s, realizations = " << band.realizations << "\n";
   }
   out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, the mean of C_x over the bin's frequencies;"
          " stderr [m^2 s]; theory [m^2 s] continuous exact first-order theory, its mean over the same bins;"
@@ -116,13 +117,11 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
   if (!result.theory2_note.empty()) out << "# theory2_note = " << result.theory2_note << "\n";
   out << "# omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\ttheory2\n";
   for (const RunPoint& point : result.points) {
-    out << format_number(point.omega) << "\t" << format_number(point.C_x) << "\t"
-        << format_number(point.standard_error) << "\t" << format_number(point.theory) << "\t"
-        << format_number(point.n_avg) << "\t" << format_number(point.bandwidth) << "\t"
-        << format_number(velocity_spectrum(point.omega, point.C_x)) << "\t"
-        << format_number(force_spectrum(point.omega, point.C_x, p.M)) << "\t"
-        << format_number(point.theory_at_omega) << "\t" << format_number(eq1_asymptote(p, point.omega)) << "\t"
-        << format_number(point.theory2) << "\n";
+    out << format_number(point.omega) << "\t" << format_number(point.C_x) << "\t" << format_number(point.standard_error)
+        << "\t" << format_number(point.theory) << "\t" << format_number(point.n_avg) << "\t"
+        << format_number(point.bandwidth) << "\t" << format_number(velocity_spectrum(point.omega, point.C_x)) << "\t"
+        << format_number(force_spectrum(point.omega, point.C_x, p.M)) << "\t" << format_number(point.theory_at_omega)
+        << "\t" << format_number(eq1_asymptote(p, point.omega)) << "\t" << format_number(point.theory2) << "\n";
   }
   return out.str();
 }
@@ -136,12 +135,15 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
   doc["label"] = case_name;
   doc["parameters"] = parameters_json(p);
   const Landmarks l = landmarks(p);
-  doc["landmarks"] = {{"renewal_rate", l.renewal_rate},   {"omega_c", l.omega_c},
-                      {"diffusion_D", l.diffusion},       {"eq1_prefactor", l.eq1_prefactor},
-                      {"coupling_eps", l.coupling_eps},   {"forces_can_stall", l.forces_can_stall}};
-  doc["request"] = {{"omega_min", request.omega_min},       {"omega_max", request.omega_max},
-                    {"points_per_decade", request.points_per_decade}, {"precision", request.precision},
-                    {"duration", request.duration},         {"realizations", request.realizations},
+  doc["landmarks"] = {{"renewal_rate", l.renewal_rate}, {"omega_c", l.omega_c},
+                      {"diffusion_D", l.diffusion},     {"eq1_prefactor", l.eq1_prefactor},
+                      {"coupling_eps", l.coupling_eps}, {"forces_can_stall", l.forces_can_stall}};
+  doc["request"] = {{"omega_min", request.omega_min},
+                    {"omega_max", request.omega_max},
+                    {"points_per_decade", request.points_per_decade},
+                    {"precision", request.precision},
+                    {"duration", request.duration},
+                    {"realizations", request.realizations},
                     {"seed", request.seed}};
   doc["complete"] = result.complete;
   doc["stationary"] = result.stationary;
@@ -158,15 +160,25 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
   doc["simd_path"] = to_string(result.simd_path);
   doc["threads"] = result.threads;
   for (const SubBand& band : result.sub_bands)
-    doc["sub_bands"].push_back({{"omega_low", band.omega_low}, {"omega_high", band.omega_high},
-                                {"dt", band.dt}, {"duration", band.duration},
-                                {"realizations", band.realizations}, {"rounds", band.rounds}});
+    doc["sub_bands"].push_back({{"omega_low", band.omega_low},
+                                {"omega_high", band.omega_high},
+                                {"dt", band.dt},
+                                {"duration", band.duration},
+                                {"realizations", band.realizations},
+                                {"rounds", band.rounds}});
   for (const RunPoint& point : result.points)
-    doc["points"].push_back({{"omega", point.omega}, {"C_x", point.C_x}, {"stderr", point.standard_error},
-                             {"theory", point.theory}, {"theory_at_omega", point.theory_at_omega},
-                             {"n_avg", point.n_avg}, {"bandwidth", point.bandwidth},
-                             {"bins", {{"first", point.bins.first}, {"last", point.bins.last},
-                                       {"spacing", point.bins.spacing}, {"count", point.bins.count}}},
+    doc["points"].push_back({{"omega", point.omega},
+                             {"C_x", point.C_x},
+                             {"stderr", point.standard_error},
+                             {"theory", point.theory},
+                             {"theory_at_omega", point.theory_at_omega},
+                             {"n_avg", point.n_avg},
+                             {"bandwidth", point.bandwidth},
+                             {"bins",
+                              {{"first", point.bins.first},
+                               {"last", point.bins.last},
+                               {"spacing", point.bins.spacing},
+                               {"count", point.bins.count}}},
                              {"theory2", std::isfinite(point.theory2) ? nlohmann::ordered_json(point.theory2)
                                                                       : nlohmann::ordered_json(nullptr)}});
   return doc.dump(2) + "\n";

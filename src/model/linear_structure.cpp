@@ -113,8 +113,7 @@ LinearStructure tree_structure(const Parameters& p) {
   const double f_kin = p.friction_per_miniblock();
   for (int i = 1; i < n; ++i) {
     const int l = level_of[static_cast<std::size_t>(i)];
-    if (p.touches(l))
-      s.contacts.push_back({i, p.random_force_variance(l), p.level(l).a, p.level(l).alpha * f_kin});
+    if (p.touches(l)) s.contacts.push_back({i, p.random_force_variance(l), p.level(l).a, p.level(l).alpha * f_kin});
   }
   return s;
 }
@@ -157,8 +156,6 @@ LumpedStructure lumped_flat_structure(const Parameters& p) {
   return lump(flat_structure(p), class_of);
 }
 
-LumpedStructure lumped_tree_structure(const Parameters& p) {
-  return lump(tree_structure(p), level_of_coordinates(p));
-}
+LumpedStructure lumped_tree_structure(const Parameters& p) { return lump(tree_structure(p), level_of_coordinates(p)); }
 
 }  // namespace slidespec::model

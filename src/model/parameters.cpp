@@ -16,9 +16,7 @@
 namespace slidespec {
 
 const char* to_string(ChainEnds chain) { return chain == ChainEnds::open ? "open" : "ring"; }
-const char* to_string(Renewal renewal) {
-  return renewal == Renewal::poisson ? "poisson" : "periodic";
-}
+const char* to_string(Renewal renewal) { return renewal == Renewal::poisson ? "poisson" : "periodic"; }
 
 Level Parameters::level(int l) const {
   if (l == 1) return {N, m, k0, k1, eta0, a, alpha, chain};
@@ -64,10 +62,10 @@ Landmarks landmarks(const Parameters& p) {
   // A force held exactly a (periodic) has half the zero-frequency power of one held an
   // exponential distance of mean a: int (1 - |s|/a)_+ ds = a against int exp(-|s|/a) ds = 2a.
   const double periodic_share = p.renewal == Renewal::periodic ? 0.5 : 1.0;
-  l.diffusion = periodic_share * p.alpha * p.alpha * p.F_kin * p.F_kin * p.a * p.v /
-                (12.0 * p.N * drive_excess * drive_excess);
-  l.eq1_prefactor = p.alpha * p.alpha * p.F_kin * p.F_kin * p.v * p.v * p.v /
-                    (12.0 * M_PI * p.N * p.a * drive_excess * drive_excess);
+  l.diffusion =
+      periodic_share * p.alpha * p.alpha * p.F_kin * p.F_kin * p.a * p.v / (12.0 * p.N * drive_excess * drive_excess);
+  l.eq1_prefactor =
+      p.alpha * p.alpha * p.F_kin * p.F_kin * p.v * p.v * p.v / (12.0 * M_PI * p.N * p.a * drive_excess * drive_excess);
   l.coupling_eps = p.alpha * p.F_kin / (drive_excess * std::sqrt(6.0 * p.N));
   l.forces_can_stall = p.alpha * p.F_kin >= 2.0 * drive_excess;
   if (p.levels > 1) {
@@ -114,18 +112,23 @@ const std::vector<Case>& cases() {
       // sqrt(k0/m), a ~ D); both levels touch. docs/hierarchy.md derives each value.
       {"hierarchical",
        "blocks on blocks: ten 0.1 mm microcontacts on each miniblock (docs/model.md §6)",
-       {{"levels", "2"}, {"N_2", "10"}, {"m_2", "1e-8"}, {"k0_2", "1e3"}, {"k1_2", "10"},
-        {"eta0_2", "8e4"}, {"a_2", "1e-4"}, {"alpha_2", "1"}, {"touching", "1,2"}}},
+       {{"levels", "2"},
+        {"N_2", "10"},
+        {"m_2", "1e-8"},
+        {"k0_2", "1e3"},
+        {"k1_2", "10"},
+        {"eta0_2", "8e4"},
+        {"a_2", "1e-4"},
+        {"alpha_2", "1"},
+        {"touching", "1,2"}}},
   };
   return all;
 }
 
 const std::vector<std::string>& parameter_keys() {
-  static const std::vector<std::string> keys = {"N",     "M",     "m",     "k0",      "k1",
-                                                "eta0",  "eta1",  "v",     "a",       "alpha",
-                                                "F_drive", "F_kin", "chain", "renewal",
-                                                "levels", "touching", "N_l", "m_l", "k0_l",
-                                                "k1_l", "eta0_l", "a_l", "alpha_l", "chain_l"};
+  static const std::vector<std::string> keys = {
+      "N",     "M",       "m",      "k0",       "k1",  "eta0", "eta1", "v",    "a",      "alpha", "F_drive", "F_kin",
+      "chain", "renewal", "levels", "touching", "N_l", "m_l",  "k0_l", "k1_l", "eta0_l", "a_l",   "alpha_l", "chain_l"};
   return keys;
 }
 
@@ -157,8 +160,7 @@ double parse_real(const std::string& key, const std::string& text) {
   errno = 0;
   char* end = nullptr;
   const double value = std::strtod(t.c_str(), &end);
-  if (end != t.c_str() + t.size())
-    throw InputError("parameter " + key + ": '" + text + "' is not a number");
+  if (end != t.c_str() + t.size()) throw InputError("parameter " + key + ": '" + text + "' is not a number");
   if (!std::isfinite(value) || errno == ERANGE)
     throw InputError("parameter " + key + ": '" + text + "' is not a finite number");
   return value;
@@ -179,14 +181,22 @@ ChainEnds parse_chain(const std::string& key, const std::string& value) {
 }
 
 void set_level_key(Level& level, const std::string& name, const std::string& key, const std::string& value) {
-  if (name == "N") level.N = parse_count(key, value);
-  else if (name == "m") level.m = parse_real(key, value);
-  else if (name == "k0") level.k0 = parse_real(key, value);
-  else if (name == "k1") level.k1 = parse_real(key, value);
-  else if (name == "eta0") level.eta0 = parse_real(key, value);
-  else if (name == "a") level.a = parse_real(key, value);
-  else if (name == "alpha") level.alpha = parse_real(key, value);
-  else level.chain = parse_chain(key, value);
+  if (name == "N")
+    level.N = parse_count(key, value);
+  else if (name == "m")
+    level.m = parse_real(key, value);
+  else if (name == "k0")
+    level.k0 = parse_real(key, value);
+  else if (name == "k1")
+    level.k1 = parse_real(key, value);
+  else if (name == "eta0")
+    level.eta0 = parse_real(key, value);
+  else if (name == "a")
+    level.a = parse_real(key, value);
+  else if (name == "alpha")
+    level.alpha = parse_real(key, value);
+  else
+    level.chain = parse_chain(key, value);
 }
 
 /// Splits "KEY_l" into a per-level key name and l >= 1; l = 0 when it is not one.
@@ -195,8 +205,7 @@ std::pair<std::string, int> split_level_key(const std::string& key) {
   if (underscore == std::string::npos || underscore + 1 == key.size()) return {key, 0};
   const std::string name = key.substr(0, underscore), suffix = key.substr(underscore + 1);
   if (suffix.find_first_not_of("0123456789") != std::string::npos || suffix.size() > 3) return {key, 0};
-  if (std::find(level_key_names().begin(), level_key_names().end(), name) == level_key_names().end())
-    return {key, 0};
+  if (std::find(level_key_names().begin(), level_key_names().end(), name) == level_key_names().end()) return {key, 0};
   return {name, std::stoi(suffix)};
 }
 
@@ -248,36 +257,55 @@ ParameterBuilder& ParameterBuilder::set(const std::string& key, const std::strin
     level_keys_[static_cast<std::size_t>(l - 2)].emplace_back(name, value);
     return *this;
   }
-  if (key == "levels") p.levels = parse_count(key, value);
+  if (key == "levels")
+    p.levels = parse_count(key, value);
   else if (key == "touching") {
     p.touching.clear();
     std::stringstream list(value);
     for (std::string item; std::getline(list, item, ',');) p.touching.push_back(parse_count(key, item));
     std::sort(p.touching.begin(), p.touching.end());
     p.touching.erase(std::unique(p.touching.begin(), p.touching.end()), p.touching.end());
-  } else if (key == "N") p.N = parse_count(key, value);
-  else if (key == "M") p.M = parse_real(key, value);
-  else if (key == "m") p.m = parse_real(key, value);
-  else if (key == "k0") p.k0 = parse_real(key, value);
-  else if (key == "k1") p.k1 = parse_real(key, value);
-  else if (key == "eta0") p.eta0 = parse_real(key, value);
-  else if (key == "eta1") { p.eta1 = parse_real(key, value); user_set_eta1_ = true; }
-  else if (key == "v") { p.v = parse_real(key, value); user_set_v_ = true; }
-  else if (key == "a") p.a = parse_real(key, value);
-  else if (key == "alpha") p.alpha = parse_real(key, value);
-  else if (key == "F_drive") p.F_drive = parse_real(key, value);
-  else if (key == "F_kin") p.F_kin = parse_real(key, value);
-  else if (key == "chain") p.chain = parse_chain(key, value);
+  } else if (key == "N")
+    p.N = parse_count(key, value);
+  else if (key == "M")
+    p.M = parse_real(key, value);
+  else if (key == "m")
+    p.m = parse_real(key, value);
+  else if (key == "k0")
+    p.k0 = parse_real(key, value);
+  else if (key == "k1")
+    p.k1 = parse_real(key, value);
+  else if (key == "eta0")
+    p.eta0 = parse_real(key, value);
+  else if (key == "eta1") {
+    p.eta1 = parse_real(key, value);
+    user_set_eta1_ = true;
+  } else if (key == "v") {
+    p.v = parse_real(key, value);
+    user_set_v_ = true;
+  } else if (key == "a")
+    p.a = parse_real(key, value);
+  else if (key == "alpha")
+    p.alpha = parse_real(key, value);
+  else if (key == "F_drive")
+    p.F_drive = parse_real(key, value);
+  else if (key == "F_kin")
+    p.F_kin = parse_real(key, value);
+  else if (key == "chain")
+    p.chain = parse_chain(key, value);
   else if (key == "renewal") {
     const std::string t = trim(value);
-    if (t == "poisson") p.renewal = Renewal::poisson;
-    else if (t == "periodic") p.renewal = Renewal::periodic;
-    else throw InputError("parameter renewal: '" + value + "' is not poisson or periodic");
+    if (t == "poisson")
+      p.renewal = Renewal::poisson;
+    else if (t == "periodic")
+      p.renewal = Renewal::periodic;
+    else
+      throw InputError("parameter renewal: '" + value + "' is not poisson or periodic");
   } else {
     std::string known;
     for (const auto& k : parameter_keys()) known += (known.empty() ? "" : " ") + k;
-    throw InputError("unknown parameter '" + key + "'" + io::did_you_mean(key, parameter_keys()) + " (known: " +
-                     known + ")");
+    throw InputError("unknown parameter '" + key + "'" + io::did_you_mean(key, parameter_keys()) + " (known: " + known +
+                     ")");
   }
   return *this;
 }
@@ -297,7 +325,8 @@ std::string format_real(double value) {
 void check_magnitude(const std::string& key, double value) {
   const double size = std::fabs(value);
   if (size != 0 && !(size >= kSmallest && size <= kLargest))
-    throw InputError("parameter " + key + ": " + format_real(value) + " is outside 1e-100..1e100 (its derived "
+    throw InputError("parameter " + key + ": " + format_real(value) +
+                     " is outside 1e-100..1e100 (its derived "
                      "quantities would not be representable)");
 }
 
@@ -326,17 +355,14 @@ void check_derived(const Parameters& p) {
 Parameters ParameterBuilder::build() const {
   Parameters p = params_;
   auto positive = [](const std::string& key, double value) {
-    if (!(value > 0))
-      throw InputError("parameter " + key + ": must be > 0 (got " + std::to_string(value) + ")");
+    if (!(value > 0)) throw InputError("parameter " + key + ": must be > 0 (got " + std::to_string(value) + ")");
     check_magnitude(key, value);
   };
   auto non_negative = [](const std::string& key, double value) {
-    if (!(value >= 0))
-      throw InputError("parameter " + key + ": must be >= 0 (got " + std::to_string(value) + ")");
+    if (!(value >= 0)) throw InputError("parameter " + key + ": must be >= 0 (got " + std::to_string(value) + ")");
     check_magnitude(key, value);
   };
-  if (user_set_v_ && user_set_eta1_)
-    throw InputError("parameters v and eta1: give one of them, the other is derived");
+  if (user_set_v_ && user_set_eta1_) throw InputError("parameters v and eta1: give one of them, the other is derived");
   if (p.N < 1) throw InputError("parameter N: must be at least 1 (got " + std::to_string(p.N) + ")");
   if (p.chain == ChainEnds::ring && p.N < 3)
     throw InputError("parameter chain: a ring needs N >= 3 (got N = " + std::to_string(p.N) + ")");
@@ -392,8 +418,8 @@ void ParameterBuilder::build_levels(Parameters& p) const {
   if (level_keys_.size() > static_cast<std::size_t>(p.levels - 1)) {
     const std::size_t deepest = level_keys_.size() + 1;
     throw InputError("parameter " + level_keys_.back().front().first + level_suffix(static_cast<int>(deepest)) +
-                     ": level " + std::to_string(deepest) + " is below the lowest (levels=" +
-                     std::to_string(p.levels) + ")");
+                     ": level " + std::to_string(deepest) + " is below the lowest (levels=" + std::to_string(p.levels) +
+                     ")");
   }
   p.sublevels.clear();
   for (int l = 2; l <= p.levels; ++l) {
@@ -405,8 +431,7 @@ void ParameterBuilder::build_levels(Parameters& p) const {
   }
   for (int l : p.touching)
     if (l < 1 || l > p.levels)
-      throw InputError("parameter touching: level " + std::to_string(l) + " is not in 1.." +
-                       std::to_string(p.levels));
+      throw InputError("parameter touching: level " + std::to_string(l) + " is not in 1.." + std::to_string(p.levels));
   for (int l = 2; l <= p.levels; ++l)
     if (p.level(l).N < 1)
       throw InputError("parameter N_" + std::to_string(l) + ": must be at least 1 (got " +
@@ -414,8 +439,7 @@ void ParameterBuilder::build_levels(Parameters& p) const {
   long long total = 0;
   for (int l = 1; l <= p.levels; ++l) {
     total += p.blocks(l);
-    if (total > 10000000)
-      throw InputError("parameter levels: the tree would have more than 10^7 blocks");
+    if (total > 10000000) throw InputError("parameter levels: the tree would have more than 10^7 blocks");
   }
 }
 
@@ -428,22 +452,23 @@ std::vector<std::string> read_parameter_file(const std::string& path) {
   } catch (const nlohmann::json::exception& e) {
     throw InputError("parameter file '" + path + "': not valid JSON (" + e.what() + ")");
   }
-  if (!doc.is_object())
-    throw InputError("parameter file '" + path + "': expected a JSON object of KEY: value");
+  if (!doc.is_object()) throw InputError("parameter file '" + path + "': expected a JSON object of KEY: value");
   // A run's output JSON: its "parameters" block, where eta1 is listed beside the v it
   // was derived from (or v beside eta1: they agree, and v is kept).
   if (doc.contains("parameters") && doc["parameters"].is_object()) doc = doc["parameters"];
   if (doc.contains("v") && doc.contains("eta1")) doc.erase("eta1");
   std::vector<std::string> assignments;
   for (const auto& [key, value] : doc.items()) {
-    if (value.is_string()) assignments.push_back(key + "=" + value.get<std::string>());
-    else if (value.is_number_integer()) assignments.push_back(key + "=" + std::to_string(value.get<long long>()));
+    if (value.is_string())
+      assignments.push_back(key + "=" + value.get<std::string>());
+    else if (value.is_number_integer())
+      assignments.push_back(key + "=" + std::to_string(value.get<long long>()));
     else if (value.is_number()) {
       char text[32];
-      assignments.push_back(key + "=" + std::string(text, std::to_chars(text, text + sizeof text, value.get<double>()).ptr));
+      assignments.push_back(key + "=" +
+                            std::string(text, std::to_chars(text, text + sizeof text, value.get<double>()).ptr));
     } else {
-      throw InputError("parameter file '" + path + "': value of " + key +
-                       " is neither a number nor a string");
+      throw InputError("parameter file '" + path + "': value of " + key + " is neither a number nor a string");
     }
   }
   return assignments;
@@ -454,14 +479,20 @@ std::vector<std::pair<std::string, std::string>> describe(const Parameters& p) {
     char text[32];
     return std::string(text, std::to_chars(text, text + sizeof text, x).ptr);
   };
-  std::vector<std::pair<std::string, std::string>> described = {
-          {"N", std::to_string(p.N)}, {"M", num(p.M)},
-          {"m", num(p.m)},           {"k0", num(p.k0)},
-          {"k1", num(p.k1)},         {"eta0", num(p.eta0)},
-          {"eta1", num(p.eta1)},     {"v", num(p.v)},
-          {"a", num(p.a)},           {"alpha", num(p.alpha)},
-          {"F_drive", num(p.F_drive)}, {"F_kin", num(p.F_kin)},
-          {"chain", to_string(p.chain)}, {"renewal", to_string(p.renewal)}};
+  std::vector<std::pair<std::string, std::string>> described = {{"N", std::to_string(p.N)},
+                                                                {"M", num(p.M)},
+                                                                {"m", num(p.m)},
+                                                                {"k0", num(p.k0)},
+                                                                {"k1", num(p.k1)},
+                                                                {"eta0", num(p.eta0)},
+                                                                {"eta1", num(p.eta1)},
+                                                                {"v", num(p.v)},
+                                                                {"a", num(p.a)},
+                                                                {"alpha", num(p.alpha)},
+                                                                {"F_drive", num(p.F_drive)},
+                                                                {"F_kin", num(p.F_kin)},
+                                                                {"chain", to_string(p.chain)},
+                                                                {"renewal", to_string(p.renewal)}};
   if (p.levels > 1) {
     described.emplace_back("levels", std::to_string(p.levels));
     std::string touching;

@@ -54,7 +54,6 @@ EstimatorConfig estimator_config(const SubBand& band, int points_per_decade) {
   return config;
 }
 
-
 // Below this many realizations the scatter between them is too coarse for the control
 // variate; the estimator's own (segment-scatter) error bars are used instead.
 constexpr std::uint64_t kMinimumForControl = 8;
@@ -127,10 +126,9 @@ std::vector<SpectrumPoint> band_spectrum(const BandTotals& totals, const Spectru
 /// Runs realizations [first, first + count) of one sub-band, in batches from `first`, and
 /// returns the completed prefix of its batches in realization order (all of them unless
 /// `stop` was set).
-std::vector<BatchRecord> run_batches_of(const Parameters& p, const SubBand& band,
-                                        const StepperConfig& stepper_config, const RunRequest& request,
-                                        std::uint64_t first, std::uint64_t count, std::int64_t steps,
-                                        const std::atomic<bool>* stop,
+std::vector<BatchRecord> run_batches_of(const Parameters& p, const SubBand& band, const StepperConfig& stepper_config,
+                                        const RunRequest& request, std::uint64_t first, std::uint64_t count,
+                                        std::int64_t steps, const std::atomic<bool>* stop,
                                         const std::function<void(double)>& chunk_progress) {
   const EstimatorConfig config = estimator_config(band, request.points_per_decade);
   std::map<std::size_t, BatchRecord> records;
@@ -195,8 +193,8 @@ void check_stationarity(const RunSession::Impl& s, RunResult& result) {
     const double error = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1));
     if (std::fabs(mean - v) - kSpeedStandardErrors * error > kStalledSpeedDeficit * v) {
       char why[200];
-      std::snprintf(why, sizeof why, "sub-band %zu slides at %.3g m/s on average (+- %.2g), not v = %.3g m/s",
-                    b, mean, error, v);
+      std::snprintf(why, sizeof why, "sub-band %zu slides at %.3g m/s on average (+- %.2g), not v = %.3g m/s", b, mean,
+                    error, v);
       result.stationary = false;
       result.stationarity = why;
       return;
@@ -215,8 +213,7 @@ double worst_relative_error(const std::vector<SpectrumPoint>& points, std::size_
 }  // namespace
 
 std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& request) {
-  const std::vector<double> omegas =
-      log_spaced_omegas(request.omega_min, request.omega_max, request.points_per_decade);
+  const std::vector<double> omegas = log_spaced_omegas(request.omega_min, request.omega_max, request.points_per_decade);
   check_request_fields(request);
 
   // About one decade per sub-band; a short remainder joins the sub-band below it.
@@ -235,11 +232,10 @@ std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& reque
     band.omega_low = omegas[first];
     band.omega_high = omegas[last];
     band.dt = std::min(kOmegaDtMax / band.omega_high, kRenewalsPerStepMax / renewals_per_second(p));
-    const double segment = SpectrumEstimator(estimator_config(band, request.points_per_decade), 1)
-                               .segment_duration(band.omega_low);
-    band.duration = request.duration > 0
-                        ? request.duration * omegas.front() / band.omega_low
-                        : kSegmentsPerRealization * segment;
+    const double segment =
+        SpectrumEstimator(estimator_config(band, request.points_per_decade), 1).segment_duration(band.omega_low);
+    band.duration =
+        request.duration > 0 ? request.duration * omegas.front() / band.omega_low : kSegmentsPerRealization * segment;
     // At least the segments a point needs, whatever the user's fixed duration.
     band.duration = std::max(band.duration, 1.5 * segment);
     bands.push_back(band);
@@ -247,12 +243,11 @@ std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& reque
   return bands;
 }
 
-
 // ---------------------------------------------------------------------------------------
 // The session: sub-bands in order, each in rounds, each round in chunks of batches.
 
 RunSession::Impl::Impl(const Parameters& p, const RunRequest& r, std::string name)
-  : params(p), request(r), case_name(std::move(name)), plan(plan_sub_bands(p, r)) {
+    : params(p), request(r), case_name(std::move(name)), plan(plan_sub_bands(p, r)) {
   if (r.first_realization % kBatchRealizations != 0)
     throw InputError("--realizations-range: FIRST must be a multiple of " + std::to_string(kBatchRealizations) +
                      " (parts share the batches of the whole run)");
@@ -302,8 +297,8 @@ bool RunSession::advance(const Control& control) {
   std::mutex progress_mutex;
   // With periodic checkpoints a chunk is one batch per thread, so a checkpoint comes at
   // most one batch after it is due (the chunk size changes no number).
-  const int threads = s.request.threads > 0 ? s.request.threads
-                                            : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads =
+      s.request.threads > 0 ? s.request.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const std::uint64_t chunk_batches_per_process =
       control.checkpoint_every > 0 && control.checkpoint ? static_cast<std::uint64_t>(threads) : kChunkBatches;
   for (std::size_t b = 0; b < band_count; ++b) {
@@ -349,9 +344,9 @@ bool RunSession::advance(const Control& control) {
         };
         std::vector<BatchRecord> records;
         if (share_end > share_first)
-          records = run_batches_of(s.params, band, stepper_config, s.request, chunk_first + share_first,
-                                   share_end - share_first, steps, comm.size() > 1 ? nullptr : control.stop,
-                                   chunk_progress);
+          records =
+              run_batches_of(s.params, band, stepper_config, s.request, chunk_first + share_first,
+                             share_end - share_first, steps, comm.size() > 1 ? nullptr : control.stop, chunk_progress);
         if (comm.size() > 1) {
           std::string mine;
           for (const BatchRecord& record : records) put_batch(mine, record);
@@ -393,9 +388,10 @@ bool RunSession::advance(const Control& control) {
       // that a run stops because it planned enough, not because its error estimate happened
       // to dip below the target (which would bias the reported error bars low). At most
       // eight times more per round, so a noisy early estimate cannot run away.
-      const double factor = std::isfinite(worst) ? 1.3 * (worst / s.request.precision) * (worst / s.request.precision) : 8.0;
-      const auto wanted = static_cast<std::uint64_t>(std::ceil(static_cast<double>(totals.realizations) *
-                                                               std::min(factor, 8.0)));
+      const double factor =
+          std::isfinite(worst) ? 1.3 * (worst / s.request.precision) * (worst / s.request.precision) : 8.0;
+      const auto wanted =
+          static_cast<std::uint64_t>(std::ceil(static_cast<double>(totals.realizations) * std::min(factor, 8.0)));
       std::uint64_t round_size = std::max<std::uint64_t>(wanted - totals.realizations, kBatchRealizations);
       round_size = (round_size + kBatchRealizations - 1) / kBatchRealizations * kBatchRealizations;
       round_size = std::min(round_size, most_realizations - totals.realizations);
@@ -424,8 +420,8 @@ RunResult RunSession::result() const {
   RunResult result;
   result.sub_bands = s.plan;
   result.simd_path = resolve_simd_path(s.request.simd);
-  result.threads = s.request.threads > 0 ? s.request.threads
-                                         : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  result.threads =
+      s.request.threads > 0 ? s.request.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   // Points, with the continuous-time theory seen through the estimator: averaged over
   // exactly the FFT bins each point averages, and smoothed by the window as the estimate
   // is (for a smooth C_x that is the plain mean over the bins; a periodic force spectrum's
@@ -460,8 +456,8 @@ RunResult RunSession::result() const {
       bins.count = e.bin_count;
       bins.first = e.omega_low + 0.5 * e.bin_spacing;
       bins.last = bins.first + (e.bin_count - 1) * e.bin_spacing;
-      result.points.push_back({e.omega, e.C, e.standard_error, expected[k].C, theory(e.omega), e.n_avg,
-                               e.bandwidth, bins});
+      result.points.push_back(
+          {e.omega, e.C, e.standard_error, expected[k].C, theory(e.omega), e.n_avg, e.bandwidth, bins});
       if (second) result.points.back().theory2 = expected2[k].C;
     }
     result.simulated_time += static_cast<double>(totals.realizations) * band.duration;
@@ -495,7 +491,6 @@ RunResult RunSession::result() const {
   result.wall_seconds = s.wall_seconds;
   return result;
 }
-
 
 RunResult run_spectrum(const Parameters& params, const RunRequest& request, const ProgressCallback& progress,
                        const std::atomic<bool>* stop) {

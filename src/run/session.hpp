@@ -36,10 +36,10 @@ void check_plan(const Parameters& params, const std::vector<SubBand>& plan);
 
 /// One batch of realizations, as the stepper and estimator leave it.
 struct BatchRecord {
-  SpectrumAccumulator spectrum;              // its lanes merged in lane order
-  std::vector<std::vector<double>> own_mean; // per realization: its mean periodogram per output point
-  std::vector<double> control;               // per realization: forcing_control
-  std::vector<double> speed;                 // per realization: its mean sliding speed [m/s]
+  SpectrumAccumulator spectrum;               // its lanes merged in lane order
+  std::vector<std::vector<double>> own_mean;  // per realization: its mean periodogram per output point
+  std::vector<double> control;                // per realization: forcing_control
+  std::vector<double> speed;                  // per realization: its mean sliding speed [m/s]
 };
 
 /// What one sub-band has accumulated: its batches in realization order, from its first.
@@ -71,7 +71,7 @@ struct RunSession::Impl {
   std::vector<SubBand> plan;
   std::vector<std::int64_t> steps;  // per sub-band realization
   std::vector<run_detail::BandTotals> bands;
-  double wall_seconds = 0;          // over every advance, including before a resume
+  double wall_seconds = 0;  // over every advance, including before a resume
 
   Impl(const Parameters& p, const RunRequest& r, std::string name);
 };

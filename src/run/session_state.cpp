@@ -261,8 +261,9 @@ RunSession RunSession::merge(std::vector<RunSession> parts) {
         first_difference(reference, fingerprint(part.params, part.request), {"realizations", "first_realization"});
     if (!differs.empty()) throw InputError("merge: parts of different runs (" + differs + ")");
     if (part.request.realizations == 0)
-      throw InputError("merge: a part must be a fixed realization range (--realizations-range), not a "
-                       "precision-driven run");
+      throw InputError(
+          "merge: a part must be a fixed realization range (--realizations-range), not a "
+          "precision-driven run");
     if (!parts[k].finished())
       throw InputError("merge: part " + std::to_string(part.request.first_realization) + ":" +
                        std::to_string(part.request.realizations) + " is incomplete (interrupted?)");
@@ -275,10 +276,9 @@ RunSession RunSession::merge(std::vector<RunSession> parts) {
                          std::to_string(part.request.first_realization) + ":" +
                          std::to_string(part.request.realizations) + ")");
       if (end % kBatchRealizations != 0 || part.request.first_realization != end)
-        throw InputError("merge: realizations " + std::to_string(end) + " to " +
-                         std::to_string(part.request.first_realization) +
-                         " are missing, or a part other than the last ends inside a batch of " +
-                         std::to_string(kBatchRealizations));
+        throw InputError(
+            "merge: realizations " + std::to_string(end) + " to " + std::to_string(part.request.first_realization) +
+            " are missing, or a part other than the last ends inside a batch of " + std::to_string(kBatchRealizations));
     }
   }
   RunRequest whole = parts[0].request();

@@ -79,8 +79,8 @@ void check_plan(const Parameters& p, const std::vector<SubBand>& plan) {
     const double steps = band.duration / band.dt;
     if (!std::isfinite(steps) || steps > kMostSteps)
       throw InputError((band.omega_low == plan.front().omega_low ? "--omega-min/--duration: " : "--omega-max: ") +
-                       where + " plans " + text(steps) + " time steps per realization (at most " +
-                       text(kMostSteps) + ")");
+                       where + " plans " + text(steps) + " time steps per realization (at most " + text(kMostSteps) +
+                       ")");
   }
 }
 
@@ -98,15 +98,14 @@ double planned_first_round_work(const Parameters& p, const RunRequest& r) {
 void validate_request(const Parameters& p, const RunRequest& r) {
   check_request_fields(r);
   if (!(expected_jump_energy(p, p.a) > 0))
-    throw InputError("alpha: 0 gives no random force, so C_x is zero at every omega and there is "
-                     "nothing to simulate");
+    throw InputError(
+        "alpha: 0 gives no random force, so C_x is zero at every omega and there is "
+        "nothing to simulate");
   const double work = planned_first_round_work(p, r);
   const double budget = r.work_budget > 0 ? r.work_budget : kDefaultWorkBudget;
   if (work > budget) {
     // Name the option that drives the work: the realization count, else the band's bottom.
-    const std::string option = r.realizations > 0 ? "--realizations"
-                               : r.duration > 0   ? "--duration"
-                                                  : "--omega-min";
+    const std::string option = r.realizations > 0 ? "--realizations" : r.duration > 0 ? "--duration" : "--omega-min";
     const double weight = block_weight(p);
     const std::string blocks =
         weight > 1 ? " (its " + text(100 * weight) + " blocks count " + text(weight) + " per step)" : "";

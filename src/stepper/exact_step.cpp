@@ -15,7 +15,7 @@ ExactStep exact_step(const model::LumpedStructure& lumped, double dt) {
   const int n = static_cast<int>(lumped.mass.rows());
   int inputs = 0;
   for (int c : lumped.class_of_contact) inputs = std::max(inputs, c);  // classes 1..n-1
-  const int state = 2 * n;  // (xi, r_1..r_{n-1}, q'_0..q'_{n-1})
+  const int state = 2 * n;                                             // (xi, r_1..r_{n-1}, q'_0..q'_{n-1})
 
   // q = xi * 1 + (0, r): stiffness sees only r because it annihilates a translation.
   const MatrixL mass_inverse = lumped.mass.cast<long double>().inverse();
@@ -23,7 +23,7 @@ ExactStep exact_step(const model::LumpedStructure& lumped, double dt) {
   const MatrixL D = lumped.damping.cast<long double>();
   MatrixL A = MatrixL::Zero(state, state);
   MatrixL B = MatrixL::Zero(state, inputs);
-  A(0, n) = 1;                                    // xi' = q'_0
+  A(0, n) = 1;                                                // xi' = q'_0
   for (int c = 1; c < n; ++c) A(c, n + c) = 1, A(c, n) = -1;  // r_c' = q'_c - q'_0
   const MatrixL stiffness_on_r = -mass_inverse * K.rightCols(n - 1);
   A.block(n, 1, n, n - 1) = stiffness_on_r;

@@ -4,7 +4,6 @@
 #include <cstdint>
 #include <vector>
 
-
 namespace slidespec::model {
 struct LumpedStructure;
 }
@@ -18,24 +17,24 @@ namespace slidespec::stepper {
 /// xi itself is left out of z: nothing depends on it (every spring is relative), and
 /// keeping it out means the increments are never computed as differences of large numbers.
 struct ExactStep {
-  double dt = 0;                         ///< the step [s]
-  int dimension = 0;                     ///< size of z
-  int inputs = 0;                        ///< number of input classes
-  std::vector<double> transition;        ///< dimension x dimension, row-major
-  std::vector<double> forcing;           ///< dimension x inputs, row-major
-  std::vector<double> increment;         ///< dimension
-  std::vector<double> increment_forcing; ///< inputs
-  std::vector<double> initial_response;  ///< dimension x inputs: z in equilibrium with g
-  std::vector<int> offset_component;     ///< components of z that are miniblock offsets
+  double dt = 0;                          ///< the step [s]
+  int dimension = 0;                      ///< size of z
+  int inputs = 0;                         ///< number of input classes
+  std::vector<double> transition;         ///< dimension x dimension, row-major
+  std::vector<double> forcing;            ///< dimension x inputs, row-major
+  std::vector<double> increment;          ///< dimension
+  std::vector<double> increment_forcing;  ///< inputs
+  std::vector<double> initial_response;   ///< dimension x inputs: z in equilibrium with g
+  std::vector<int> offset_component;      ///< components of z that are miniblock offsets
 
   /// Renewals inside a step, by superposition: a force jump of Delta g_k at a time s before
   /// the step's end adds response(s) Delta g_k to y = (xi increment, z) at the end. Tabulated
   /// at s = dt j / response_nodes, j = 0..response_nodes, with its rate d/ds (so a crossing
   /// between nodes is served by one Taylor term from the nearest): [class][j][component].
   static constexpr int response_nodes = 256;
-  std::vector<double> response;          ///< int_0^s e^{A u} du B, (dimension + 1) per node
-  std::vector<double> response_rate;     ///< e^{A s} B [1/s]
-  int velocity_component = 0;            ///< component of z that is the block's velocity fluctuation
+  std::vector<double> response;       ///< int_0^s e^{A u} du B, (dimension + 1) per node
+  std::vector<double> response_rate;  ///< e^{A s} B [1/s]
+  int velocity_component = 0;         ///< component of z that is the block's velocity fluctuation
 };
 
 /// Builds the exact step for dt > 0 (matrix exponentials in long double).

@@ -15,9 +15,9 @@ namespace slidespec::stepper {
 
 namespace {
 struct ScalarDraw {
-  double force;               // units
-  std::uint64_t contact_word; // chooses the contact: floor(word N / 2^32)
-  double spacing;             // -log u: the distance to the next mark in mean spacings
+  double force;                // units
+  std::uint64_t contact_word;  // chooses the contact: floor(word N / 2^32)
+  double spacing;              // -log u: the distance to the next mark in mean spacings
 };
 }  // namespace
 
@@ -26,10 +26,9 @@ namespace draw {
 Words words(std::uint64_t seed, std::uint64_t stream, std::uint64_t realization, std::uint32_t tag,
             std::uint64_t event) {
   r123::Philox4x32 philox;
-  const r123::Philox4x32::ctr_type counter = {{static_cast<std::uint32_t>(event),
-                                               static_cast<std::uint32_t>((event >> 32) | tag << 16 | stream << 24),
-                                               static_cast<std::uint32_t>(realization),
-                                               static_cast<std::uint32_t>(realization >> 32)}};
+  const r123::Philox4x32::ctr_type counter = {
+      {static_cast<std::uint32_t>(event), static_cast<std::uint32_t>((event >> 32) | tag << 16 | stream << 24),
+       static_cast<std::uint32_t>(realization), static_cast<std::uint32_t>(realization >> 32)}};
   const r123::Philox4x32::key_type key = {{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)}};
   const auto out = philox(counter, key);
   return {out[0], out[1], out[2], out[3]};
@@ -43,10 +42,9 @@ double open_uniform(std::uint32_t word2, std::uint32_t word3) {
 
 }  // namespace draw
 
-RenewalState::RenewalState(const std::vector<model::Contact>& contacts,
-                           const std::vector<int>& class_of_contact, Renewal renewal,
-                           std::uint64_t seed, std::uint64_t stream,
-                           std::uint64_t first_realization, int lanes) {
+RenewalState::RenewalState(const std::vector<model::Contact>& contacts, const std::vector<int>& class_of_contact,
+                           Renewal renewal, std::uint64_t seed, std::uint64_t stream, std::uint64_t first_realization,
+                           int lanes) {
   if (contacts.size() != class_of_contact.size())
     throw std::invalid_argument("renewal: one class per contact expected");
   if (stream > draw::max_stream) throw std::invalid_argument("renewal: stream beyond 255");
@@ -61,7 +59,8 @@ RenewalState::RenewalState(const std::vector<model::Contact>& contacts,
 
   // Contacts grouped by class; within a class they are exchangeable (one amplitude, one a).
   std::vector<std::vector<int>> members(static_cast<size_t>(v.inputs));
-  for (size_t j = 0; j < contacts.size(); ++j) members[static_cast<size_t>(class_of_contact[j] - 1)].push_back(static_cast<int>(j));
+  for (size_t j = 0; j < contacts.size(); ++j)
+    members[static_cast<size_t>(class_of_contact[j] - 1)].push_back(static_cast<int>(j));
   double row = 0;
   std::vector<double> distance(static_cast<size_t>(v.inputs), 0.0);
   for (int k = 0; k < v.inputs; ++k) {

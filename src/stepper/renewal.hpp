@@ -39,35 +39,35 @@ double open_uniform(std::uint32_t word2, std::uint32_t word3);
 /// renewal each class's contacts are kept in the order of their phases, so the next to
 /// renew is the one after the last, cyclically, and no search is needed.
 struct RenewalLanes {
-  int lanes = 0;                  ///< stride of every per-lane array
-  int inputs = 0;                 ///< input classes K
+  int lanes = 0;   ///< stride of every per-lane array
+  int inputs = 0;  ///< input classes K
   bool periodic = false;
   std::uint32_t key[2] = {};      ///< the seed
   std::uint64_t stream_bits = 0;  ///< stream << 24, or-ed into the second counter word
   // Per class:
-  double force_unit[3] = {};      ///< alpha f_kin 2^-33 [N]
-  double contacts[3] = {};        ///< N_k
-  double first_contact[3] = {};   ///< row of the class's first contact in `forces`
-  double spacing[3] = {};         ///< mean distance between renewals of the class: a/N_k
-                                  ///< (one merged Poisson process), or a for periodic [m]
+  double force_unit[3] = {};     ///< alpha f_kin 2^-33 [N]
+  double contacts[3] = {};       ///< N_k
+  double first_contact[3] = {};  ///< row of the class's first contact in `forces`
+  double spacing[3] = {};        ///< mean distance between renewals of the class: a/N_k
+                                 ///< (one merged Poisson process), or a for periodic [m]
   // Per lane (realization words), per class and lane, per contact and lane:
   const std::uint64_t* realization_low = nullptr;
   const std::uint64_t* realization_high = nullptr;
   const std::uint64_t* lane_index = nullptr;  ///< 0, 1, 2, ...: the column of each lane
-  double* force_sum = nullptr;    ///< [class][lane] sum of the class's forces, in units
-  double* next_mark = nullptr;    ///< [class][lane] the class's next mark [m]
-  double* events = nullptr;       ///< [class][lane] renewals so far (an exact integer)
-  double* position = nullptr;     ///< [class][lane] periodic: the place in the cycle of the next
-  double* cycles = nullptr;       ///< [class][lane] periodic: completed cycles
+  double* force_sum = nullptr;                ///< [class][lane] sum of the class's forces, in units
+  double* next_mark = nullptr;                ///< [class][lane] the class's next mark [m]
+  double* events = nullptr;                   ///< [class][lane] renewals so far (an exact integer)
+  double* position = nullptr;                 ///< [class][lane] periodic: the place in the cycle of the next
+  double* cycles = nullptr;                   ///< [class][lane] periodic: completed cycles
   // The class's next renewal, drawn one renewal ahead so that the generator's latency is
   // off the path from one renewal to the next ([class][lane]):
   double* upcoming_force = nullptr;    ///< the force it brings, in units
   double* upcoming_contact = nullptr;  ///< poisson: which of the class's contacts (0..N_k-1)
   double* upcoming_spacing = nullptr;  ///< poisson: the distance to the mark after it, in spacings
-  double* forces = nullptr;       ///< [contact][lane] in units
-  const double* phases = nullptr; ///< [contact][lane] periodic: where in [0, a) it renews [m]
-  double* renewals = nullptr;     ///< [lane]
-  double* jump_energy = nullptr;  ///< [lane] sum of (f_new - f_old)^2 [N^2]
+  double* forces = nullptr;            ///< [contact][lane] in units
+  const double* phases = nullptr;      ///< [contact][lane] periodic: where in [0, a) it renews [m]
+  double* renewals = nullptr;          ///< [lane]
+  double* jump_energy = nullptr;       ///< [lane] sum of (f_new - f_old)^2 [N^2]
 };
 
 /// The renewal state of a batch of lanes: the storage behind RenewalLanes, and the
@@ -79,9 +79,8 @@ class RenewalState {
   /// `class_of_contact[j]` in 1..inputs for `contacts[j]`; `lanes` lanes of which lane k is
   /// realization first + k. Throws std::invalid_argument if a class mixes amplitudes or
   /// renewal distances, or has more than 2^20 contacts.
-  RenewalState(const std::vector<model::Contact>& contacts, const std::vector<int>& class_of_contact,
-               Renewal renewal, std::uint64_t seed, std::uint64_t stream,
-               std::uint64_t first_realization, int lanes);
+  RenewalState(const std::vector<model::Contact>& contacts, const std::vector<int>& class_of_contact, Renewal renewal,
+               std::uint64_t seed, std::uint64_t stream, std::uint64_t first_realization, int lanes);
   RenewalState(RenewalState&&) noexcept;
   RenewalState& operator=(RenewalState&&) noexcept;
 

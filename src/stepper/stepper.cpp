@@ -75,8 +75,7 @@ struct Stepper::Impl {
   std::int64_t steps_done = 0;
 };
 
-Stepper::Stepper(const Parameters& params, const StepperConfig& config,
-                 std::uint64_t first_realization, int count)
+Stepper::Stepper(const Parameters& params, const StepperConfig& config, std::uint64_t first_realization, int count)
     : impl_(std::make_unique<Impl>(params, config, first_realization, count)) {}
 Stepper::~Stepper() = default;
 Stepper::Stepper(Stepper&&) noexcept = default;
@@ -132,8 +131,8 @@ std::vector<RealizationSummary> Stepper::summaries() const {
   return out;
 }
 
-void run_batches(const Parameters& params, const StepperConfig& config, std::uint64_t first,
-                 std::uint64_t realizations, std::int64_t steps, int threads, int batch_size,
+void run_batches(const Parameters& params, const StepperConfig& config, std::uint64_t first, std::uint64_t realizations,
+                 std::int64_t steps, int threads, int batch_size,
                  const std::function<IncrementSink(std::uint64_t first, int count)>& make_sink,
                  const std::function<void(std::size_t, std::vector<RealizationSummary>)>& done) {
   if (batch_size < 1) throw InputError("batch size must be at least 1");

@@ -76,7 +76,8 @@ double quasi_static_time_diffusion(double n, double b, double a, Renewal renewal
   std::vector<double> t(panels + 1), weight(panels + 1);
   for (int i = 0; i <= panels; ++i) {
     t[static_cast<std::size_t>(i)] = std::exp(first + i * h);
-    weight[static_cast<std::size_t>(i)] = t[static_cast<std::size_t>(i)] * ((i == 0 || i == panels) ? 1 : (i % 2 ? 4 : 2));
+    weight[static_cast<std::size_t>(i)] =
+        t[static_cast<std::size_t>(i)] * ((i == 0 || i == panels) ? 1 : (i % 2 ? 4 : 2));
   }
   double sum = 0;
   for (std::size_t i = 0; i < t.size(); ++i) {
@@ -108,8 +109,7 @@ LongTimeMotion long_time_motion(const Parameters& p, MotionTheory theory) {
   };
   std::vector<Group> groups;
   for (int l = 1; l <= p.levels; ++l)
-    if (p.touches(l))
-      groups.push_back({static_cast<double>(p.blocks(l)), p.random_force_variance(l), p.level(l).a});
+    if (p.touches(l)) groups.push_back({static_cast<double>(p.blocks(l)), p.random_force_variance(l), p.level(l).a});
 
   // Cov over distance of 1/u(0), 1/u(s), u = 1 - G/Delta, integrated over s >= 0:
   // first / Delta^2 + second / Delta^4. Given the set K of contacts kept from 0 to s, with

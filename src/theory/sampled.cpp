@@ -12,11 +12,11 @@ namespace slidespec {
 struct SampledTheory::Impl {
   Parameters params;
   double dt = 0;
-  Eigen::MatrixXcd transition;                 // z_{n+1} = transition z_n + forcing g_n
+  Eigen::MatrixXcd transition;  // z_{n+1} = transition z_n + forcing g_n
   Eigen::MatrixXcd forcing;
-  Eigen::RowVectorXcd increment;               // xi_{n+1} - xi_n = increment z_n + increment_forcing g_n
+  Eigen::RowVectorXcd increment;  // xi_{n+1} - xi_n = increment z_n + increment_forcing g_n
   Eigen::RowVectorXcd increment_forcing;
-  std::vector<double> contacts_per_input;      // independent forces summed into each input
+  std::vector<double> contacts_per_input;  // independent forces summed into each input
 
   /// Spectrum of one force of input class `level` sampled every dt [N^2 s]: (dt / 2 pi)
   /// times the discrete-time Fourier transform of its sampled autocovariance.

@@ -37,8 +37,7 @@ double SecondOrderTheory::ratio(double omega) const {
   const Complex z1 = Complex(lambda, -omega), z2 = Complex(2 * lambda, -omega);  // z + lambda, z + 2 lambda
   // One renewing contact (g^2 - s2 carried once), two (g_i g_j), and the time weight 1/u.
   const double one = n * (2 * s2 * s2 + k4_), two = n * (n - 1) * s2 * s2;
-  const Complex phi = (S + (2 * S * S + n * k4_) / d2) / z1 +
-                      lambda / d2 * (one / (z1 * z1) + 2 * two / (z1 * z2)) +
+  const Complex phi = (S + (2 * S * S + n * k4_) / d2) / z1 + lambda / d2 * (one / (z1 * z1) + 2 * two / (z1 * z2)) +
                       lambda * lambda / d2 * (one / (z1 * z1 * z1) + 4 * two / (z1 * z1 * z2));
   const double e = S / d2;
   return (phi / (1 + e)).real() / (S / z1).real();

@@ -13,9 +13,9 @@
 namespace slidespec {
 namespace {
 
-constexpr double kResolution = 0.5e-6;       // the paper's sensor [m]
-constexpr double kSensorNoise = 0.25e-6;     // q/2: dithers the quantizer (docs/analysis.md)
-constexpr double kTolerance = 3;             // standard errors
+constexpr double kResolution = 0.5e-6;    // the paper's sensor [m]
+constexpr double kSensorNoise = 0.25e-6;  // q/2: dithers the quantizer (docs/analysis.md)
+constexpr double kTolerance = 3;          // standard errors
 
 Parameters concrete_fit() { return ParameterBuilder("reference").set("alpha", "0.4").build(); }
 

@@ -53,8 +53,9 @@ TEST(FigureTheory, FineGridAndResolvedResonance) {
     }
     // The drawn peak is the true one: within 1% of its height.
     const double omega_c = landmarks(p).omega_c;
-    const double drawn = *std::max_element(spectrum.begin() + (std::lower_bound(omegas.begin(), omegas.end(), omega_c / 1.2) - omegas.begin()),
-                                           spectrum.begin() + (std::lower_bound(omegas.begin(), omegas.end(), omega_c * 1.2) - omegas.begin()));
+    const double drawn = *std::max_element(
+        spectrum.begin() + (std::lower_bound(omegas.begin(), omegas.end(), omega_c / 1.2) - omegas.begin()),
+        spectrum.begin() + (std::lower_bound(omegas.begin(), omegas.end(), omega_c * 1.2) - omegas.begin()));
     EXPECT_NEAR(drawn / true_peak(p, omega_c), 1.0, 0.01) << "N = " << n;
     // Every value is the exact theory at its omega.
     for (std::size_t k = 0; k < omegas.size(); k += 97)

@@ -27,9 +27,15 @@ TEST(Sweep, GridIsEveryCombinationFirstKeySlowest) {
 }
 
 TEST(Sweep, MalformedWordsAreRefused) {
-  for (const std::vector<std::string>& words :
-       {std::vector<std::string>{"alpha"}, {"N=10..100"}, {"N=10..100", "log", "1"}, {"alpha=1:0:0.1"},
-        {"alpha=0:1:0"}, {"a=-1..1", "log", "3"}, {"alpha=1,,2"}, {"alpha=1", "alpha=2"}, {"alpha=x:1:0.1"}})
+  for (const std::vector<std::string>& words : {std::vector<std::string>{"alpha"},
+                                                {"N=10..100"},
+                                                {"N=10..100", "log", "1"},
+                                                {"alpha=1:0:0.1"},
+                                                {"alpha=0:1:0"},
+                                                {"a=-1..1", "log", "3"},
+                                                {"alpha=1,,2"},
+                                                {"alpha=1", "alpha=2"},
+                                                {"alpha=x:1:0.1"}})
     EXPECT_THROW(parse_sweep(words), InputError) << words[0];
 }
 

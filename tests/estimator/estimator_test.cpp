@@ -44,8 +44,7 @@ constexpr double kPi = std::numbers::pi;
 
 // Feeds `steps` steps of the per-lane generators into the estimator in blocks.
 template <class Generator>
-void feed(SpectrumEstimator& estimator, std::vector<Generator>& lanes, std::size_t steps,
-          std::size_t block = 8192) {
+void feed(SpectrumEstimator& estimator, std::vector<Generator>& lanes, std::size_t steps, std::size_t block = 8192) {
   const int count = estimator.lanes();
   std::vector<double> data(block * count);
   for (std::size_t done = 0; done < steps; done += block) {
@@ -71,9 +70,7 @@ struct AutoRegressive {
   double a;
   std::normal_distribution<double> normal{0.0, 1.0};
   double x;
-  AutoRegressive(std::uint64_t seed, double pole) : rng(seed), a(pole) {
-    x = normal(rng) / std::sqrt(1 - a * a);
-  }
+  AutoRegressive(std::uint64_t seed, double pole) : rng(seed), a(pole) { x = normal(rng) / std::sqrt(1 - a * a); }
   double operator()() { return x = a * x + normal(rng); }
   static double spectrum(double pole, double omega, double dt) {
     const std::complex<double> d = 1.0 - pole * std::exp(std::complex<double>(0, -omega * dt));
@@ -158,8 +155,8 @@ TEST(Estimator, SinusoidPowerAndPosition) {
   std::vector<std::function<double()>> lanes{signal};
   feed(estimator, lanes, 300000);
   const auto spectrum = estimator.merged().spectrum(PointValue::bin_average);
-  auto peak = std::max_element(spectrum.begin(), spectrum.end(),
-                               [](const auto& a, const auto& b) { return a.C < b.C; });
+  auto peak =
+      std::max_element(spectrum.begin(), spectrum.end(), [](const auto& a, const auto& b) { return a.C < b.C; });
   EXPECT_DOUBLE_EQ(peak->omega, target.omega);
   const double power = peak->C * target.bin_count * resolution;
   // The window's leakage outside the point's bins is below 1e-4 of the line.
@@ -217,10 +214,11 @@ TEST(Estimator, SteepProcessOverThirtyFiveDecades) {
     worst_average_z = std::max(worst_average_z, std::abs(z));
   }
   EXPECT_LT(worst_average_z, kEveryPointZ);
-  std::printf("steep: %.1f decades, centre: worst |C/exact-1| = %.3f, worst |z| = %.2f over %d points;"
-              " bin averages: worst |z| = %.2f\n", decades, d.worst_relative, d.worst_z, d.points, worst_average_z);
+  std::printf(
+      "steep: %.1f decades, centre: worst |C/exact-1| = %.3f, worst |z| = %.2f over %d points;"
+      " bin averages: worst |z| = %.2f\n",
+      decades, d.worst_relative, d.worst_z, d.points, worst_average_z);
 }
-
 
 // Step-major AR(1) data for `lanes` lanes, each lane from its own seed.
 std::vector<double> ar1_data(int lanes, std::size_t steps, std::uint64_t seed) {

@@ -38,7 +38,9 @@ std::string content_of(const std::string& path) {
   return out.str();
 }
 
-void write_plain(const std::string& path, const std::string& content) { std::ofstream(path, std::ios::binary) << content; }
+void write_plain(const std::string& path, const std::string& content) {
+  std::ofstream(path, std::ios::binary) << content;
+}
 
 /// Names in the directory other than those given: temporaries left behind.
 std::vector<std::string> others(const fs::path& dir, const std::vector<std::string>& expected) {
@@ -132,7 +134,7 @@ TEST(OutputSet, AFullDiskChangesNoFileOfTheSet) {
   }
   {
     OutputSet set;
-    set.add(tsv, std::string(20 * 1024, 't'));  // fits
+    set.add(tsv, std::string(20 * 1024, 't'));                                      // fits
     EXPECT_THROW(set.add(json, std::string(100 * 1024, 'j')), std::runtime_error);  // does not
   }
   EXPECT_EQ(content_of(tsv), "old table");

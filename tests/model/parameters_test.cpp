@@ -40,8 +40,7 @@ TEST(Parameters, ReferenceLandmarksMatchModelSection4) {
 }
 
 TEST(Parameters, StallRegionIsFlagged) {
-  const Landmarks l = landmarks(
-      ParameterBuilder().set("N=7").set("F_drive=8").set("F_kin=6").set("a=3e-4").build());
+  const Landmarks l = landmarks(ParameterBuilder().set("N=7").set("F_drive=8").set("F_kin=6").set("a=3e-4").build());
   EXPECT_NEAR(l.coupling_eps, 0.46, 0.01);
   EXPECT_TRUE(l.outside_first_order());
 }
@@ -71,30 +70,20 @@ TEST_P(RefusesBadInput, WithMessageNamingTheKey) {
 
 INSTANTIATE_TEST_SUITE_P(
     Parameters, RefusesBadInput,
-    ::testing::Values(BadInput{"DriveNotAboveFriction", {"F_drive=5"}, "F_drive"},
-                      BadInput{"DriveBelowFriction", {"F_drive=4"}, "F_drive"},
-                      BadInput{"NoMiniblocks", {"N=0"}, "N"},
-                      BadInput{"FractionalN", {"N=2.5"}, "N"},
-                      BadInput{"ZeroBlockMass", {"M=0"}, "M"},
-                      BadInput{"NegativeMiniblockMass", {"m=-1e-5"}, "m"},
-                      BadInput{"NegativeSpring", {"k0=-1"}, "k0"},
-                      BadInput{"NegativeChainSpring", {"k1=-1"}, "k1"},
-                      BadInput{"ZeroRenewalDistance", {"a=0"}, "parameter a"},
-                      BadInput{"NegativeNoise", {"alpha=-0.1"}, "alpha"},
-                      BadInput{"NotANumber", {"v=fast"}, "parameter v"},
-                      BadInput{"Infinite", {"M=inf"}, "M"},
-                      BadInput{"NaN", {"k0=nan"}, "k0"},
-                      BadInput{"UnknownKey", {"mass=3"}, "mass"},
-                      BadInput{"MissingEquals", {"N30"}, "N30"},
-                      BadInput{"EmptyValue", {"N="}, "N"},
-                      BadInput{"BothSpeedAndEta1", {"v=1e-3", "eta1=1e7"}, "eta1"},
-                      BadInput{"RingTooShort", {"chain=ring", "N=2"}, "ring"},
-                      BadInput{"UnknownChain", {"chain=loop"}, "chain"},
-                      BadInput{"UnknownRenewal", {"renewal=gamma"}, "renewal"}),
+    ::testing::Values(
+        BadInput{"DriveNotAboveFriction", {"F_drive=5"}, "F_drive"},
+        BadInput{"DriveBelowFriction", {"F_drive=4"}, "F_drive"}, BadInput{"NoMiniblocks", {"N=0"}, "N"},
+        BadInput{"FractionalN", {"N=2.5"}, "N"}, BadInput{"ZeroBlockMass", {"M=0"}, "M"},
+        BadInput{"NegativeMiniblockMass", {"m=-1e-5"}, "m"}, BadInput{"NegativeSpring", {"k0=-1"}, "k0"},
+        BadInput{"NegativeChainSpring", {"k1=-1"}, "k1"}, BadInput{"ZeroRenewalDistance", {"a=0"}, "parameter a"},
+        BadInput{"NegativeNoise", {"alpha=-0.1"}, "alpha"}, BadInput{"NotANumber", {"v=fast"}, "parameter v"},
+        BadInput{"Infinite", {"M=inf"}, "M"}, BadInput{"NaN", {"k0=nan"}, "k0"},
+        BadInput{"UnknownKey", {"mass=3"}, "mass"}, BadInput{"MissingEquals", {"N30"}, "N30"},
+        BadInput{"EmptyValue", {"N="}, "N"}, BadInput{"BothSpeedAndEta1", {"v=1e-3", "eta1=1e7"}, "eta1"},
+        BadInput{"RingTooShort", {"chain=ring", "N=2"}, "ring"}, BadInput{"UnknownChain", {"chain=loop"}, "chain"},
+        BadInput{"UnknownRenewal", {"renewal=gamma"}, "renewal"}),
     [](const auto& param_info) { return std::string(param_info.param.name); });
 
-TEST(Parameters, UnknownCaseIsRefused) {
-  EXPECT_THROW(ParameterBuilder("slow"), InputError);
-}
+TEST(Parameters, UnknownCaseIsRefused) { EXPECT_THROW(ParameterBuilder("slow"), InputError); }
 
 TEST(Parameters, K1ZeroIsAllowed) { EXPECT_NO_THROW(ParameterBuilder().set("k1=0").build()); }

@@ -99,8 +99,7 @@ TEST_P(Acceptance, DeviationsFromTheoryAreStandardNormal) {
     }
     EXPECT_LE(result.reached_precision, request.precision) << s.name;
     // The measured mean speed: v / (1 + eps^2/2) to second order (docs/model.md §4.1).
-    EXPECT_NEAR(result.mean_speed, p.v / (1 + 0.5 * eps * eps), 4 * result.mean_speed_error + 1e-3 * p.v)
-        << s.name;
+    EXPECT_NEAR(result.mean_speed, p.v / (1 + 0.5 * eps * eps), 4 * result.mean_speed_error + 1e-3 * p.v) << s.name;
   }
 #ifdef SLIDESPEC_LONG_ACCEPTANCE
   // The acceptance criterion on the full band (3 x 49 points): at least 85% within 2
@@ -147,22 +146,19 @@ TEST(Acceptance, PeriodicRenewalBelowTheRenewalRate) {
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, Acceptance,
-    ::testing::Values(Setting{"reference", "reference", {}, 0}, Setting{"fast", "fast", {}, 0},
-                      Setting{"short_renewal", "short-renewal", {}, 0},
-                      Setting{"many_contacts", "many-contacts", {}, 0},
-                      Setting{"weak_noise", "weak-noise", {}, 0},
-                      Setting{"medium_noise", "medium-noise", {}, 0},
-                      Setting{"concrete_fit", "concrete-fit", {}, 0},
-                      Setting{"ring_N12", "reference", {"chain=ring", "N=12"}, 0},
-                      Setting{"k1_zero", "reference", {"k1=0"}, 0},
-                      Setting{"other_forces", "reference", {"F_drive=20", "F_kin=8", "alpha=0.7"}, 0},
-                      Setting{"periodic", "reference", {"renewal=periodic"}, 100},
-                      // Trees kept small: every contact renews, and the tests' time is renewals.
-                      Setting{"tree_two_touching_levels", "hierarchical", {"N=10", "N_2=3"}, 0},
-                      Setting{"tree_lowest_touching_ring", "hierarchical",
-                              {"N=10", "N_2=4", "touching=2", "chain_2=ring"}, 0},
-                      Setting{"tree_three_levels", "hierarchical",
-                              {"levels=3", "N=4", "N_2=3", "N_3=3", "a_3=1e-4", "touching=1,3"}, 0}),
+    ::testing::Values(
+        Setting{"reference", "reference", {}, 0}, Setting{"fast", "fast", {}, 0},
+        Setting{"short_renewal", "short-renewal", {}, 0}, Setting{"many_contacts", "many-contacts", {}, 0},
+        Setting{"weak_noise", "weak-noise", {}, 0}, Setting{"medium_noise", "medium-noise", {}, 0},
+        Setting{"concrete_fit", "concrete-fit", {}, 0}, Setting{"ring_N12", "reference", {"chain=ring", "N=12"}, 0},
+        Setting{"k1_zero", "reference", {"k1=0"}, 0},
+        Setting{"other_forces", "reference", {"F_drive=20", "F_kin=8", "alpha=0.7"}, 0},
+        Setting{"periodic", "reference", {"renewal=periodic"}, 100},
+        // Trees kept small: every contact renews, and the tests' time is renewals.
+        Setting{"tree_two_touching_levels", "hierarchical", {"N=10", "N_2=3"}, 0},
+        Setting{"tree_lowest_touching_ring", "hierarchical", {"N=10", "N_2=4", "touching=2", "chain_2=ring"}, 0},
+        Setting{
+            "tree_three_levels", "hierarchical", {"levels=3", "N=4", "N_2=3", "N_3=3", "a_3=1e-4", "touching=1,3"}, 0}),
     [](const auto& param_info) { return std::string(param_info.param.name); });
 
 }  // namespace

@@ -57,8 +57,10 @@ TEST(StateFile, EveryFlippedByteIsRefusedOrChangesNothing) {
       ++tried;
       try {
         const RunSession loaded = RunSession::load(damaged);
-        if (same_result(loaded.result(), original)) ++unchanged;
-        else ADD_FAILURE() << "byte " << k << " ^ " << int(flip) << " accepted with another result";
+        if (same_result(loaded.result(), original))
+          ++unchanged;
+        else
+          ADD_FAILURE() << "byte " << k << " ^ " << int(flip) << " accepted with another result";
       } catch (const InputError& e) {
         ++refused;
         const std::string what = e.what();

@@ -72,15 +72,15 @@ TEST(RenewalDraws, EveryPathGivesRandom123sWordsAndTheLogarithmToAnUlp) {
       double worst_ulps = 0;
       for (int l = 0; l < kLanes; ++l) {
         r123::Philox4x32 philox;
-        const r123::Philox4x32::ctr_type c = {{static_cast<std::uint32_t>(counters.word[0][l]),
-                                               static_cast<std::uint32_t>(counters.word[1][l]),
-                                               static_cast<std::uint32_t>(counters.word[2][l]),
-                                               static_cast<std::uint32_t>(counters.word[3][l])}};
+        const r123::Philox4x32::ctr_type c = {
+            {static_cast<std::uint32_t>(counters.word[0][l]), static_cast<std::uint32_t>(counters.word[1][l]),
+             static_cast<std::uint32_t>(counters.word[2][l]), static_cast<std::uint32_t>(counters.word[3][l])}};
         const auto expected = philox(c, {{key[0], key[1]}});
         for (int i = 0; i < 4; ++i) wrong_words += out[i][l] != expected[i];
         const double u = stepper::draw::open_uniform(expected[2], expected[3]);
         const double exact = -std::log(u);
-        const double ulps = std::fabs(exponential[l] - exact) / std::max(std::ldexp(1.0, -1074), std::fabs(exact) * 0x1p-52);
+        const double ulps =
+            std::fabs(exponential[l] - exact) / std::max(std::ldexp(1.0, -1074), std::fabs(exact) * 0x1p-52);
         worst_ulps = std::max(worst_ulps, ulps);
         wrong_logs += !(ulps <= 1.0);
       }

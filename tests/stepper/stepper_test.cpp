@@ -99,10 +99,9 @@ TEST(Stepper, ResultsDoNotDependOnTheThreadCount) {
   config.dt = 1e-4;
   auto run = [&](int threads) {
     std::vector<RealizationSummary> all(40);
-    run_batches(p, config, 0, 40, 2000, threads, 8, {},
-                [&](std::size_t, std::vector<RealizationSummary> s) {
-                  for (const auto& r : s) all[r.realization] = r;
-                });
+    run_batches(p, config, 0, 40, 2000, threads, 8, {}, [&](std::size_t, std::vector<RealizationSummary> s) {
+      for (const auto& r : s) all[r.realization] = r;
+    });
     return all;
   };
   const auto one = run(1), two = run(2);
@@ -187,11 +186,9 @@ TEST_P(StepperStatistics, RenewalsHappenAtRateVOverA) {
     expected += p.N * (p.v * r.duration + r.xi_end) / p.a;  // marks passed per distance slid
   }
   // Poisson marks: the count is Poisson; periodic marks: at most one per miniblock off.
-  const double tolerance = p.renewal == Renewal::poisson ? 4 * std::sqrt(expected)
-                                                         : double(p.N) * realizations / 2;
+  const double tolerance = p.renewal == Renewal::poisson ? 4 * std::sqrt(expected) : double(p.N) * realizations / 2;
   EXPECT_NEAR(renewals, expected, tolerance);
   EXPECT_NEAR(renewals / (p.N * realizations * duration * p.renewal_rate()), 1.0, 0.01);
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, StepperStatistics,
-                         ::testing::Values("reference", "fast", "weak-noise"));
+INSTANTIATE_TEST_SUITE_P(Cases, StepperStatistics, ::testing::Values("reference", "fast", "weak-noise"));

@@ -20,9 +20,23 @@ const std::vector<double> pinned_omegas = {0.1, 0.7, 3.0, 40.0, 548.0, 3e3, 1e5}
 // exact_spectrum, LumpedTheory, SampledTheory(dt = 1e-3); then interval averages over
 // [500, 600] and [1, 2]. Exact pins: the tree code must round exactly as the flat did.
 const double pinned_flat[3][23] = {
-    {0x1.6d2704ad291e1p-25, 0x1.6d2704ad291d7p-25, 0x1.6d27052c43c67p-25, 0x1.4f24caaeddda5p-32, 0x1.4f24caaedddabp-32, 0x1.4f24cb2227998p-32, 0x1.75b6bfb6a9b86p-40, 0x1.75b6bfb6a9b84p-40, 0x1.75b6c009df37fp-40, 0x1.926b0147a87bdp-55, 0x1.926b0147a87bbp-55, 0x1.926ade9b04eecp-55, 0x1.9ce52f06000e2p-62, 0x1.9ce52f06000e4p-62, 0x1.9ce53080dffep-62, 0x1.0114537e8c89fp-89, 0x1.0114537e8c8b6p-89, 0x1.7a738ff4989e6p-88, 0x1.1c19086d94979p-129, 0x1.1c19086d94973p-129, 0x1.dc6a581fde0fep-63, 0x1.56ec8f9c8d645p-63, 0x1.e74d784547d1ap-36},
-    {0x1.2fcbf3643a96cp-29, 0x1.2fcbf3643a964p-29, 0x1.2fcbf3642a142p-29, 0x1.8c2997186c5fcp-35, 0x1.8c2997186c603p-35, 0x1.8c299715a9becp-35, 0x1.4f703bdab6f0ep-39, 0x1.4f703bdab6f0ep-39, 0x1.4f703bb033a68p-39, 0x1.2026b2001d84p-51, 0x1.2026b2001d83ep-51, 0x1.202698c74bb11p-51, 0x1.f3f63c492de12p-58, 0x1.f3f63c492de13p-58, 0x1.f3f63d67da66fp-58, 0x1.41313e363f293p-85, 0x1.41313e363f2a5p-85, 0x1.d8d5532f09538p-84, 0x1.0959077d8c8fep-128, 0x1.0959077d8c8fbp-128, 0x1.bcf91deaa52aap-62, 0x1.b927a6dcdf599p-60, 0x1.824790815994cp-37},
-    {0x1.b62ed1125279dp-29, 0x1.b62ed112527cap-29, 0x1.b62ed1aaa173bp-29, 0x1.922bea267d9cap-36, 0x1.922bea267d9b9p-36, 0x1.922beaaa27d5ep-36, 0x1.c07013ac17383p-44, 0x1.c07013ac1738bp-44, 0x1.c07013885bebap-44, 0x1.df4c04b3b82a5p-59, 0x1.df4c04b3b82dp-59, 0x1.df4b76c9e2f32p-59, 0x1.c309602ceaebdp-73, 0x1.c309602ceae85p-73, 0x1.c2bf270f1e025p-73, 0x1.f9506674c3a5ap-90, 0x1.f9506674c3ad2p-90, 0x1.6de8522328ecep-88, 0x1.d8ff72af6b82fp-130, 0x1.d8ff72af6b7ep-130, 0x1.e5f2ed3496b68p-73, 0x1.c705aae257149p-73, 0x1.246112866136cp-39},
+    {0x1.6d2704ad291e1p-25, 0x1.6d2704ad291d7p-25, 0x1.6d27052c43c67p-25,  0x1.4f24caaeddda5p-32,
+     0x1.4f24caaedddabp-32, 0x1.4f24cb2227998p-32, 0x1.75b6bfb6a9b86p-40,  0x1.75b6bfb6a9b84p-40,
+     0x1.75b6c009df37fp-40, 0x1.926b0147a87bdp-55, 0x1.926b0147a87bbp-55,  0x1.926ade9b04eecp-55,
+     0x1.9ce52f06000e2p-62, 0x1.9ce52f06000e4p-62, 0x1.9ce53080dffep-62,   0x1.0114537e8c89fp-89,
+     0x1.0114537e8c8b6p-89, 0x1.7a738ff4989e6p-88, 0x1.1c19086d94979p-129, 0x1.1c19086d94973p-129,
+     0x1.dc6a581fde0fep-63, 0x1.56ec8f9c8d645p-63, 0x1.e74d784547d1ap-36},
+    {0x1.2fcbf3643a96cp-29, 0x1.2fcbf3643a964p-29, 0x1.2fcbf3642a142p-29,  0x1.8c2997186c5fcp-35,
+     0x1.8c2997186c603p-35, 0x1.8c299715a9becp-35, 0x1.4f703bdab6f0ep-39,  0x1.4f703bdab6f0ep-39,
+     0x1.4f703bb033a68p-39, 0x1.2026b2001d84p-51,  0x1.2026b2001d83ep-51,  0x1.202698c74bb11p-51,
+     0x1.f3f63c492de12p-58, 0x1.f3f63c492de13p-58, 0x1.f3f63d67da66fp-58,  0x1.41313e363f293p-85,
+     0x1.41313e363f2a5p-85, 0x1.d8d5532f09538p-84, 0x1.0959077d8c8fep-128, 0x1.0959077d8c8fbp-128,
+     0x1.bcf91deaa52aap-62, 0x1.b927a6dcdf599p-60, 0x1.824790815994cp-37},
+    {0x1.b62ed1125279dp-29, 0x1.b62ed112527cap-29, 0x1.b62ed1aaa173bp-29, 0x1.922bea267d9cap-36,  0x1.922bea267d9b9p-36,
+     0x1.922beaaa27d5ep-36, 0x1.c07013ac17383p-44, 0x1.c07013ac1738bp-44, 0x1.c07013885bebap-44,  0x1.df4c04b3b82a5p-59,
+     0x1.df4c04b3b82dp-59,  0x1.df4b76c9e2f32p-59, 0x1.c309602ceaebdp-73, 0x1.c309602ceae85p-73,  0x1.c2bf270f1e025p-73,
+     0x1.f9506674c3a5ap-90, 0x1.f9506674c3ad2p-90, 0x1.6de8522328ecep-88, 0x1.d8ff72af6b82fp-130, 0x1.d8ff72af6b7ep-130,
+     0x1.e5f2ed3496b68p-73, 0x1.c705aae257149p-73, 0x1.246112866136cp-39},
 };
 
 Parameters pinned_case(int k) {
@@ -96,8 +110,7 @@ TEST(HierarchyTheory, TreeWithoutSiblingSpringsIsTheSumOfIndependentBranches) {
     double branch_sum = 0;
     for (int j = 1; j < n; ++j) {
       const int l = level_of[static_cast<size_t>(j)];
-      if (p.touches(l))
-        branch_sum += random_force_spectrum(p, l, w) * std::norm(block_compliance * transfer(j - 1));
+      if (p.touches(l)) branch_sum += random_force_spectrum(p, l, w) * std::norm(block_compliance * transfer(j - 1));
     }
     EXPECT_LT(relative(p.N * branch_sum, tree[i]), 1e-8) << "omega " << w;
   }

@@ -106,8 +106,7 @@ inline Motion simulate_quasi_static(const Parameters& p, int chunks, int blocks_
 // where the forces resist), by about e v a / v in distance.
 // The stepper applies a renewal at the end of its step: keep (jump rate) dt at a few per
 // cent, or V comes out high (+0.1% for 0.3 jumps per step at eps 0.27, measured).
-inline Motion simulate_full(const Parameters& p, int realizations, double warm_up, double duration,
-                            double dt = 1e-2) {
+inline Motion simulate_full(const Parameters& p, int realizations, double warm_up, double duration, double dt = 1e-2) {
   StepperConfig config;
   config.dt = dt;
   config.seed = 17;
@@ -119,7 +118,9 @@ inline Motion simulate_full(const Parameters& p, int realizations, double warm_u
     return [&xi, first, count, done, warm_up_steps](const double* data, std::size_t chunk) {
       for (std::size_t step = 0; step < chunk; ++step, ++*done)
         if (*done >= warm_up_steps)
-          for (int k = 0; k < count; ++k) xi[first + static_cast<std::size_t>(k)] += data[step * static_cast<std::size_t>(count) + static_cast<std::size_t>(k)];
+          for (int k = 0; k < count; ++k)
+            xi[first + static_cast<std::size_t>(k)] +=
+                data[step * static_cast<std::size_t>(count) + static_cast<std::size_t>(k)];
     };
   };
   run_batches(p, config, 0, static_cast<std::uint64_t>(realizations), steps, 0, 64, make_sink,
@@ -159,6 +160,5 @@ inline Parameters tree(double alpha_2) {
       .set("alpha_2", std::to_string(alpha_2))
       .build();
 }
-
 
 }  // namespace long_time_test

@@ -50,7 +50,8 @@ TEST(LongTimeMotion, ReducesToFirstOrderAsAlphaSquared) {
     half.alpha /= 2;
     const auto difference = [](const Parameters& q) {
       return long_time_motion(q, MotionTheory::quasi_static).diffusion /
-                 long_time_motion(q, MotionTheory::first_order).diffusion - 1;
+                 long_time_motion(q, MotionTheory::first_order).diffusion -
+             1;
     };
     EXPECT_NEAR(difference(p) / difference(half), 4, 0.02);
     EXPECT_NEAR(1 - long_time_motion(p, MotionTheory::quasi_static).mean_speed / p.v, 0.5 * 0.02 * 0.02, 1e-6);
@@ -104,7 +105,8 @@ TEST(LongTimeMotion, FullModelMovesAsTheQuasiStaticBlock) {
 TEST(LongTimeMotionLong, FullModelMovesAsTheQuasiStaticBlock) {
   Parameters ring = flat(6, 0.25, "periodic");
   ring.chain = ChainEnds::ring;
-  const std::vector<std::pair<Parameters, double>> sets = {{ring, 1e-2}, {tree(1.6), 1e-2}, {flat(12, 0.2, "poisson"), 5e-3}};
+  const std::vector<std::pair<Parameters, double>> sets = {
+      {ring, 1e-2}, {tree(1.6), 1e-2}, {flat(12, 0.2, "poisson"), 5e-3}};
   for (const auto& [p, dt] : sets) {
     const Motion simulated = simulate_full(p, 65536, 20, 200, dt);
     const LongTimeMotion exact = long_time_motion(p, MotionTheory::quasi_static);

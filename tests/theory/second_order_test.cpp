@@ -52,7 +52,8 @@ TEST(SecondOrderTheory, ReducesToFirstOrderAsAlphaSquared) {
     half.alpha /= 2;
     const double full_difference = SecondOrderTheory(p).ratio(omega) - 1;
     EXPECT_NEAR(full_difference / (SecondOrderTheory(half).ratio(omega) - 1), 4, 0.01) << omega;
-    EXPECT_NEAR(SecondOrderTheory(p)(omega), LumpedTheory(p)(omega) * (1 + full_difference), 1e-12 * LumpedTheory(p)(omega));
+    EXPECT_NEAR(SecondOrderTheory(p)(omega), LumpedTheory(p)(omega) * (1 + full_difference),
+                1e-12 * LumpedTheory(p)(omega));
   }
 }
 

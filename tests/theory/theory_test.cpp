@@ -75,8 +75,7 @@ TEST(Theory, PeriodicRenewalForceSpectrumIsSincSquared) {
   // The total variance is the same as for Poisson renewal: integral of S_f = s2.
   double integral = 0;
   const double step = 1e-3 / T;
-  for (double omega = step / 2; omega < 2e4 / T; omega += step)
-    integral += 2 * random_force_spectrum(p, omega) * step;
+  for (double omega = step / 2; omega < 2e4 / T; omega += step) integral += 2 * random_force_spectrum(p, omega) * step;
   EXPECT_NEAR(integral / s2, 1.0, 1e-3);
 }
 
