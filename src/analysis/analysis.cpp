@@ -75,6 +75,7 @@ double lowest_omega(const Record& record, const AnalysisRequest& request) {
   probe.dt = record.dt;
   probe.omega_min = 2 * std::numbers::pi / duration;
   probe.points_per_decade = request.points_per_decade;
+  if (probe.omega_min >= 0.25 * std::numbers::pi / record.dt) return probe.omega_min;  // no band at all
   const SpectrumEstimator layout(probe, 1);
   const double step = std::pow(10.0, 1.0 / request.points_per_decade);
   double omega =
@@ -148,16 +149,21 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
   config.omega_max = request.omega_max;
   config.points_per_decade = request.points_per_decade;
   config.input = SampleKind::value;
+  const auto too_short = [&] {
+    return InputError("the record (" + std::to_string(result.samples) +
+                      " samples) is too short for a spectrum point in the band: the lowest point needs 12 "
+                      "segments; record longer or raise --omega-min");
+  };
+  // Half of Nyquist is the default top (the estimator's own); a record too short for any
+  // point below it would otherwise surface as an empty band.
+  if (request.omega_min <= 0 && config.omega_min >= 0.25 * std::numbers::pi / record.dt) throw too_short();
   SpectrumEstimator estimator(config, 1);
   const std::vector<double> xi = sliding_fluctuation(record, result.sliding);
   estimator.push(xi.data(), xi.size());
   result.accumulator = estimator.merged();
 
   const std::vector<SpectrumPoint> estimate = result.accumulator.spectrum(PointValue::bin_average);
-  if (estimate.empty())
-    throw InputError("the record (" + std::to_string(result.samples) +
-                     " samples) is too short for a spectrum point in the band: the lowest point needs 12 "
-                     "segments; record longer or raise --omega-min");
+  if (estimate.empty()) throw too_short();
   // White noise of variance q^2/12 (+ sigma^2) per sample (docs/model.md §3: C = s^2 dt / 2 pi),
   // through the same bins and window as the estimate so that the two compare point by point.
   const double white =

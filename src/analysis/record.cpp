@@ -94,7 +94,14 @@ std::string lower(std::string text) {
   return text;
 }
 
-/// Fields of one line: split on commas, else tabs or semicolons, else runs of whitespace.
+/// True while `field` has a bracket or parenthesis it has not closed.
+bool open_bracket(const std::string& field) {
+  return std::count(field.begin(), field.end(), '(') > std::count(field.begin(), field.end(), ')') ||
+         std::count(field.begin(), field.end(), '[') > std::count(field.begin(), field.end(), ']');
+}
+
+/// Fields of one line: split on commas, else tabs or semicolons, else runs of whitespace
+/// (where a unit in brackets stays with its name: "x (mm)", "t [s]").
 std::vector<std::string> split_fields(const std::string& line) {
   std::vector<std::string> fields;
   for (const char separator : {',', '\t', ';'}) {
@@ -106,7 +113,12 @@ std::vector<std::string> split_fields(const std::string& line) {
     return fields;
   }
   std::istringstream stream(line);
-  for (std::string field; stream >> field;) fields.push_back(field);
+  for (std::string field; stream >> field;) {
+    if (!fields.empty() && (field[0] == '(' || field[0] == '[' || open_bracket(fields.back())))
+      fields.back() += " " + field;
+    else
+      fields.push_back(field);
+  }
   return fields;
 }
 

@@ -568,7 +568,12 @@ int main(int argc, char** argv) {
   run_command
       ->add_option("--checkpoint-every", run_options.checkpoint_every,
                    "save the run to PREFIX.state every S seconds of wall time")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            const auto seconds = io::parse_number(text);
+            return seconds && *seconds > 0 ? std::string() : "need a positive number of seconds (got " + text + ")";
+          },
+          "S>0"));
   run_command->add_option("--resume", run_options.resume, "continue the run saved in PREFIX.state");
   run_command->add_option("--save-state", run_options.save_state, "save the finished run (a part) to FILE");
   run_command->add_flag("--quiet", run_options.quiet, "no progress, no summary");

@@ -37,6 +37,16 @@ expect_refused analyze-missing-directory "does not exist" analyze "$work/rec.csv
 expect_refused synth-bad-interval "sample-interval" synth --sample-interval -1 $out
 expect_refused synth-bad-case slow synth --case slow $out
 expect_refused synth-missing-directory "does not exist" synth --out "$work/nowhere/x"
+expect_refused fit-typo "did you mean 'alpha'" analyze "$work/rec.csv" --fit alhpa --compare-case reference $out
+printf 'x (mm)\n0.001\n0.002\n0.003\n' > "$work/short.csv"
+expect_refused too-short "too short" analyze "$work/short.csv" --dt 0.001 $out
+
+# One column headed "x (mm)" (a unit in brackets stays with its name), sampled every --dt.
+{ echo "x (mm)"; awk 'NR > 1 { print $2 }' FS=, "$work/rec.csv" | head -20000 | awk '{ printf "%.9g\n", $1 / 1000 }'; } \
+  > "$work/one_column.txt"
+"$bin" analyze "$work/one_column.txt" --dt 0.001 --out "$work/one" --no-plot 2> "$work/one.err" \
+  || fail "one column headed 'x (mm)' refused: $(cat "$work/one.err")"
+grep -q "read in mm (from header)" "$work/one.err" || fail "one column 'x (mm)': unit not read from the header: $(cat "$work/one.err")"
 
 # Units from the header: the same record in mm, headed "time (s),position (mm)", gives the
 # same speed; a bare --resolution is in the record's unit, one with a unit is converted.

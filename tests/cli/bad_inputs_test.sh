@@ -167,7 +167,8 @@ range-no-colon|realizations-range|run --realizations-range 8 --no-plot
 range-zero-count|realizations-range|run --realizations-range 0:0 --no-plot
 range-unaligned|multiple of 8|run --realizations-range 3:8 --no-plot
 range-huge|--realizations|run --realizations-range 0:99999999999999 --no-plot
-checkpoint-negative|checkpoint-every|run --checkpoint-every -1 --no-plot
+checkpoint-negative|positive number of seconds (got -1)|run --checkpoint-every -1 --no-plot
+checkpoint-word|positive number of seconds (got soon)|run --checkpoint-every soon --no-plot
 simd-unknown|simd|run --simd neon --no-plot
 resume-other-seed|seed|run --resume part --seed 9 --no-plot
 paper-unknown|fig9|paper fig9
