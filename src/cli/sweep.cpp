@@ -67,7 +67,13 @@ std::vector<std::string> range_values(const std::string& key, const std::string&
 
 }  // namespace
 
-std::vector<SweepAxis> parse_sweep(const std::vector<std::string>& words) {
+std::vector<SweepAxis> parse_sweep(const std::vector<std::string>& arguments) {
+  // A quoted grid ("N=10..30 lin 2") is the same words as the unquoted one.
+  std::vector<std::string> words;
+  for (const std::string& argument : arguments) {
+    std::istringstream split(argument);
+    for (std::string word; split >> word;) words.push_back(word);
+  }
   std::vector<SweepAxis> axes;
   for (std::size_t k = 0; k < words.size(); ++k) {
     const std::string& word = words[k];

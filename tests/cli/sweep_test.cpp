@@ -17,6 +17,8 @@ TEST(Sweep, RangesGiveTheValuesAUserMeans) {
   EXPECT_EQ(axes[2].values, (Values{"open", "ring"}));
   EXPECT_EQ(parse_sweep({"a=1e-4..1e-3", "lin", "3"})[0].values, (Values{"1e-04", "0.00055", "0.001"}));
   EXPECT_EQ(parse_sweep({"N=1..3", "lin", "5"})[0].values, (Values{"1", "2", "3"}));  // rounded, no repeats
+  // Quoted as one argument, the same grid.
+  EXPECT_EQ(parse_sweep({"N=10..100 log 5"})[0].values, axes[1].values);
 }
 
 TEST(Sweep, GridIsEveryCombinationFirstKeySlowest) {
