@@ -150,6 +150,31 @@ def read_spectrum(path):
     return Spectrum(path, metadata, {name: table[:, i] for i, name in enumerate(header)})
 
 
+def split_runs(spectrum):
+    """A sweep's combined table (a 'run' column and '# run_N = LABEL' lines) as one
+    spectrum per run, each with its label and the swept keys' values; any other table as
+    itself."""
+    if "run" not in spectrum.columns or "run_0" not in spectrum.metadata:
+        return [spectrum]
+    swept = {key[len("sweep_"):]: value.split() for key, value in spectrum.metadata.items()
+             if key.startswith("sweep_")}
+    runs = []
+    for index in np.unique(spectrum.columns["run"]).astype(int):
+        rows = spectrum.columns["run"] == index
+        metadata = {key: value for key, value in spectrum.metadata.items()
+                    if not key.startswith(("run_", "sweep_"))}
+        metadata["label"] = spectrum.metadata.get(f"run_{index}", f"run {index}")
+        for key, values in swept.items():
+            if key in spectrum.columns:
+                value = spectrum.columns[key][rows][0]
+                words = not all(_is_float(v) for v in values)
+                metadata[key] = values[int(value)] if words else f"{value:.12g}"
+        columns = {name: column[rows] for name, column in spectrum.columns.items()
+                   if name != "run" and name not in swept}
+        runs.append(Spectrum(spectrum.path, metadata, columns))
+    return runs
+
+
 def _all_floats(fields):
     return all(_is_float(field) for field in fields)
 
@@ -596,7 +621,7 @@ def main(argv=None):
     args = parse_arguments(argv)
     try:
         output_format(args.out)
-        spectra = [read_spectrum(path) for path in args.files]
+        spectra = [run for path in args.files for run in split_runs(read_spectrum(path))]
         fine = [None if not path or path == "-" else read_fine_theory(path)
                 for path in (args.theory.split(",") if args.theory else [])] or None
         if args.labels is not None:

@@ -153,25 +153,37 @@ double weighted_fraction(double fraction, const std::vector<double>& band_work) 
 std::string sweep_table(const std::vector<SweepAxis>& axes, const std::vector<SweepRun>& runs) {
   std::ostringstream out;
   out << "# slidespec " << SLIDESPEC_VERSION << " sweep: " << runs.size() << " runs\n";
-  for (const SweepAxis& axis : axes) {
-    out << "# sweep_" << axis.key << " =";
-    for (const std::string& value : axis.values) out << " " << value;
-    out << "\n";
+  // A word-valued key (chain, renewal, touching) is written as its value's index in the
+  // sweep_KEY list, so the table stays numbers (numpy.loadtxt reads it with no options).
+  std::vector<bool> words(axes.size(), false);
+  for (std::size_t a = 0; a < axes.size(); ++a) {
+    for (const std::string& value : axes[a].values) words[a] = words[a] || !io::parse_number(value);
+    out << "# sweep_" << axes[a].key << " =";
+    for (const std::string& value : axes[a].values) out << " " << value;
+    out << (words[a] ? "  # its column holds the index of the value in this list" : "") << "\n";
   }
   for (std::size_t r = 0; r < runs.size(); ++r)
     out << "# run_" << r << " = " << runs[r].label << "  # " << runs[r].table
         << (runs[r].result.complete ? "" : ", incomplete") << "\n";
   out << "# columns: run (index of the run_ lines); the swept keys; omega [rad/s]; C_x [m^2 s] estimate;"
-         " stderr [m^2 s]; theory [m^2 s]; n_avg; bandwidth [rad/s] (as in each run's table)\n# run";
+         " stderr [m^2 s]; theory [m^2 s]; n_avg; bandwidth [rad/s]; theory2 [m^2 s] (as in each run's table)\n"
+         "# run";
   for (const SweepAxis& axis : axes) out << "\t" << axis.key;
-  out << "\tomega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\n";
+  out << "\tomega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\ttheory2\n";
   for (std::size_t r = 0; r < runs.size(); ++r)
     for (const RunPoint& point : runs[r].result.points) {
       out << r;
-      for (const auto& [key, value] : runs[r].values) out << "\t" << value;
+      for (std::size_t a = 0; a < axes.size(); ++a) {
+        const std::string& value = runs[r].values[a].second;
+        if (words[a])
+          out << "\t" << std::find(axes[a].values.begin(), axes[a].values.end(), value) - axes[a].values.begin();
+        else
+          out << "\t" << value;
+      }
       out << "\t" << io::format_number(point.omega) << "\t" << io::format_number(point.C_x) << "\t"
           << io::format_number(point.standard_error) << "\t" << io::format_number(point.theory) << "\t"
-          << io::format_number(point.n_avg) << "\t" << io::format_number(point.bandwidth) << "\n";
+          << io::format_number(point.n_avg) << "\t" << io::format_number(point.bandwidth) << "\t"
+          << io::format_number(point.theory2) << "\n";
     }
   return out.str();
 }

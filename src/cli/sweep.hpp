@@ -45,7 +45,8 @@ struct SweepRun {
 };
 
 /// All runs in one TSV: '#' lines, a '#' column line "run KEY... omega C_x stderr theory
-/// n_avg bandwidth", one row per point of every run.
+/// n_avg bandwidth theory2", one row per point of every run; a word-valued KEY's column
+/// holds the index of the value in its "# sweep_KEY = ..." line.
 std::string sweep_table(const std::vector<SweepAxis>& axes, const std::vector<SweepRun>& runs);
 /// The same as JSON: {"keys": [...], "runs": [{"values", "label", "table", "complete",
 /// "measured_mean_speed", "reached_precision", "points": [...]}]}.

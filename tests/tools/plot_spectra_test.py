@@ -254,6 +254,24 @@ class LegendTest(unittest.TestCase):
                                              spectrum({"case": "again", "v": "0.0005"})])
         self.assertEqual(labels, ["reference", "again"])
 
+    def test_a_sweeps_combined_table_is_one_series_per_run(self):
+        with tempfile.TemporaryDirectory() as folder:
+            path = pathlib.Path(folder) / "sweep.tsv"
+            path.write_text("# slidespec 0.1.0 sweep: 2 runs\n"
+                            "# sweep_renewal = poisson periodic  # its column holds the index\n"
+                            "# sweep_N = 10 30\n"
+                            "# run_0 = reference + N=10  # a.tsv\n"
+                            "# run_1 = reference + renewal=periodic, N=30  # b.tsv\n"
+                            "# run\trenewal\tN\tomega\tC_x\tstderr\ttheory\n"
+                            "0\t0\t10\t1\t2\t0.1\t2\n0\t0\t10\t10\t1\t0.1\t1\n"
+                            "1\t1\t30\t1\t3\t0.1\t3\n1\t1\t30\t10\t2\t0.1\t2\n")
+            runs = plot_spectra.split_runs(plot_spectra.read_spectrum(str(path)))
+        self.assertEqual(len(runs), 2)
+        self.assertEqual([list(r.columns["C_x"]) for r in runs], [[2, 1], [3, 2]])
+        self.assertEqual([r.metadata["renewal"] for r in runs], ["poisson", "periodic"])
+        self.assertEqual(plot_spectra.legend_labels(runs),
+                         ["reference: N = 10, renewal = poisson", "reference: N = 30, renewal = periodic"])
+
     def test_file_name_without_case(self):
         labels = plot_spectra.legend_labels([spectrum({}, "/some/dir/ref.tsv")])
         self.assertEqual(labels, ["ref.tsv"])
