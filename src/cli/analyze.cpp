@@ -35,6 +35,7 @@ struct AnalysisCommands::Options {
   std::string title;
   // synth
   std::string synth_case = "reference";
+  std::string synth_params;  // JSON file of parameter overrides
   std::vector<std::string> synth_overrides;
   SensorRequest sensor;
   std::string synth_units = "um";
@@ -324,11 +325,16 @@ int command_analyze(Options o) {
 int command_synth(const Options& o) {
   io::check_output_prefix(o.synth_out);
   const LengthUnit unit = parse_length_unit(o.synth_units);
-  const Parameters p = build_parameters(o.synth_case, o.synth_overrides);
+  ParameterBuilder builder(o.synth_case);
+  if (!o.synth_params.empty())
+    for (const auto& assignment : read_parameter_file(o.synth_params)) builder.set(assignment);
+  for (const auto& assignment : o.synth_overrides) builder.set(assignment);
+  const Parameters p = builder.build();
   const Record record = synthesize_record(p, o.sensor);
   std::ostringstream comments;
   comments << "slidespec " << SLIDESPEC_VERSION << " synth: a simulated slider read by a displacement sensor\n"
-           << "case = " << o.synth_case << "\n";
+           << "case = " << o.synth_case << "\n"
+           << "label = " << io::run_label(o.synth_case, p) << "\n";
   for (const auto& [key, value] : describe(p)) comments << key << " = " << value << "\n";
   comments << "seed = " << o.sensor.seed << "\nsample_interval = " << o.sensor.sample_interval << " s\n"
            << "resolution = " << o.sensor.resolution << " m\nsensor_noise = " << o.sensor.sensor_noise << " m\n"
@@ -408,6 +414,8 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
   synth_ = app.add_subcommand("synth", "a synthetic displacement-sensor record of a simulated slider (CSV)");
   synth_->add_option("--case", o.synth_case, "named case (default reference)");
   synth_->add_option("--set", o.synth_overrides, "override a parameter, KEY=VALUE (repeatable)");
+  synth_->add_option("--params", o.synth_params,
+                     "JSON file of parameter overrides (as for run: a run's output JSON or its parameters block)");
   synth_->add_option("--sample-interval", o.sensor.sample_interval, "sensor sampling interval [s] (default 1e-3)");
   synth_->add_option("--duration", o.sensor.duration, "record length [s] (default 1000)");
   synth_->add_option("--resolution", o.sensor.resolution, "sensor resolution q [m] (default 0.5e-6; 0 exact)");

@@ -41,6 +41,14 @@ expect_refused fit-typo "did you mean 'alpha'" analyze "$work/rec.csv" --fit alh
 printf 'x (mm)\n0.001\n0.002\n0.003\n' > "$work/short.csv"
 expect_refused too-short "too short" analyze "$work/short.csv" --dt 0.001 $out
 
+# synth takes --params as run does, and labels its record as run labels its tables.
+echo '{"N": 10, "alpha": 0.5}' > "$work/params.json"
+"$bin" synth --params "$work/params.json" --duration 5 --out "$work/labelled" 2> "$work/labelled.err" \
+  || fail "synth --params failed: $(cat "$work/labelled.err")"
+grep -q "^# label = reference + N=10, alpha=0.5$" "$work/labelled.csv" || fail "synth: no label line for --params"
+cp "$work/params.json" "$work/clash.csv"
+expect_refused synth-replaces-params "would replace the input" synth --params "$work/clash.csv" --out "$work/clash"
+
 # One column headed "x (mm)" (a unit in brackets stays with its name), sampled every --dt.
 { echo "x (mm)"; awk 'NR > 1 { print $2 }' FS=, "$work/rec.csv" | head -20000 | awk '{ printf "%.9g\n", $1 / 1000 }'; } \
   > "$work/one_column.txt"
