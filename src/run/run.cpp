@@ -180,6 +180,9 @@ std::vector<BatchRecord> run_batches_of(const Parameters& p, const SubBand& band
 // standard errors, lies far from both.
 constexpr double kStalledSpeedDeficit = 0.5;
 constexpr double kSpeedStandardErrors = 5;
+// Renewals per contact a realization must span before its sliding can vouch for a
+// parameter set whose forces can stall the block.
+constexpr double kStallRenewalsToJudge = 100;
 
 /// Marks `result` non-stationary when a sub-band's realizations do not slide at v.
 void check_stationarity(const RunSession::Impl& s, RunResult& result) {
@@ -198,6 +201,24 @@ void check_stationarity(const RunSession::Impl& s, RunResult& result) {
       result.stationary = false;
       result.stationarity = why;
       return;
+    }
+  }
+  // Where the forces can stall the block, a stall is absorbing (docs/model.md §8); a
+  // realization that has seen only a few renewals per contact cannot have drawn one yet,
+  // so its sliding says nothing about whether a stationary state exists.
+  if (landmarks(s.params).forces_can_stall && !s.plan.empty()) {
+    double longest = 0;
+    for (const SubBand& band : s.plan) longest = std::max(longest, band.duration);
+    const double renewal_time = 1 / s.params.renewal_rate();
+    if (longest < kStallRenewalsToJudge * renewal_time) {
+      char why[300];
+      std::snprintf(why, sizeof why,
+                    "the random forces can stall the block (alpha F_kin >= 2 (F_drive - F_kin)) and these "
+                    "realizations (at most %.3g s) span under %.0f renewal times a/v = %.3g s: too short to tell "
+                    "steady sliding from a coming stall; extend the band down",
+                    longest, kStallRenewalsToJudge, renewal_time);
+      result.stationary = false;
+      result.stationarity = why;
     }
   }
 }
