@@ -91,21 +91,24 @@ enum class MotionTheory {
 /// beyond the stall boundary and throws InputError for D with more than one touching level.
 LongTimeMotion long_time_motion(const Parameters& p, MotionTheory theory);
 
-/// C_x(omega) to second order in eps for poisson renewal on one touching level
-/// (docs/model.md §7): the first-order C_x times the ratio of the second- to the
-/// first-order force spectrum seen in time, from the quasi-static block's renewal times.
-/// The ratio tends to D / D_1 (second order) as omega -> 0 and to 1 / (1 + eps^2/2) above
-/// v/a. Throws InputError for periodic renewal or several touching levels.
+/// C_x(omega) to second order in eps on one touching level (docs/model.md §7): the
+/// block's response times the force spectrum seen in time, from the quasi-static block's
+/// renewal times. Poisson renewal: a resolvent expansion in closed form. Periodic renewal:
+/// the travel time's characteristic function, its Gaussian part whole (which fills the
+/// first order's zeros and damps its ripple) and the rest to O(eps^2). The ratio to the
+/// first order tends to D / D_1 (second order) as omega -> 0 and to V / v (bin-averaged,
+/// for periodic renewal) above v/a. Throws InputError for several touching levels.
 class SecondOrderTheory {
  public:
   explicit SecondOrderTheory(const Parameters& p);
-  double operator()(double omega) const { return first_order_(omega) * ratio(omega); }
-  /// Second- over first-order C_x at omega.
+  double operator()(double omega) const;
+  /// Second- over first-order C_x at omega (not finite at the zeros of a periodic
+  /// renewal's first-order spectrum).
   double ratio(double omega) const;
+  struct Impl;
 
  private:
-  LumpedTheory first_order_;
-  double contacts_, s2_, k4_, rate_, drive_excess2_;
+  std::shared_ptr<const Impl> impl_;
 };
 
 }  // namespace slidespec

@@ -154,7 +154,7 @@ int command_theory(const ModelOptions& model, const TheoryOptions& options) {
   for (size_t k = 0; k < omegas.size(); ++k) {
     table << io::format_number(omegas[k]) << "\t" << io::format_number(spectrum[k]) << "\t"
           << io::format_number(eq1_asymptote(p, omegas[k]));
-    if (second) table << "\t" << io::format_number(spectrum[k] * second->ratio(omegas[k]));
+    if (second) table << "\t" << io::format_number((*second)(omegas[k]));
     table << "\n";
   }
   if (options.out.empty())
