@@ -207,7 +207,7 @@ def theory(params, omega, order=1):
     frequencies [rad/s]; the result has its shape (a float for a number). The values are
     those `slidespec theory` prints (two-sided, angular: the integral over all omega is
     <xi^2>); omegas() gives the command's grid. order=2: the second-order spectrum C_x2
-    [m^2 s] of `slidespec theory --order 2` (poisson renewal, one touching level;
+    [m^2 s] of `slidespec theory --order 2` (one touching level, eps <= 0.25 for periodic renewal;
     docs/model.md section 7)."""
     p = _as_parameters(params)
     w = _positive_omegas(omega)

@@ -124,8 +124,8 @@ def test_second_order_theory_is_the_command_line():
     rows = [line.split("\t") for line in printed.splitlines() if line and not line.startswith(("#", "omega"))]
     p = ss.Parameters("reference", alpha=1.5)
     assert same_bits([float(r[3]) for r in rows], ss.theory(p, ss.omegas(), order=2))
-    with pytest.raises(ValueError, match="renewal"):
-        ss.theory(ss.Parameters(renewal="periodic"), 1.0, order=2)
+    with pytest.raises(ValueError, match="eps"):
+        ss.theory(ss.Parameters(renewal="periodic", alpha=4), 1.0, order=2)
     with pytest.raises(ValueError, match="order"):
         ss.theory(p, 1.0, order=3)
 

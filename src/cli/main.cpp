@@ -538,8 +538,9 @@ int main(int argc, char** argv) {
       ->add_option("--omega-file", theory_options.omega_file,
                    "omegas [rad/s] from a file (one or more a line, '#' comments)")
       ->excludes(omega_list);
-  theory_command->add_option("--order", theory_options.order,
-                             "2: add C_x2, the second-order theory (poisson renewal, one touching level)");
+  theory_command->add_option(
+      "--order", theory_options.order,
+      "2: add C_x2, the second-order theory (one touching level; eps <= 0.25 for periodic renewal)");
   theory_command->add_option("--out", theory_options.out, "write PREFIX.tsv instead of stdout");
 
   ModelOptions run_model;

@@ -100,7 +100,6 @@ Complex integrate(F&& f, double lo, double hi, double phase_rate) {
   return 0.5 * h * sum;
 }
 
-
 // Truncated power series in x - x0 with complex coefficients.
 constexpr int kOrders = 32;
 using Series = std::array<Complex, kOrders>;
@@ -290,9 +289,10 @@ struct SecondOrderTheory::Impl {
       const double eps = landmarks(p).coupling_eps;
       if (eps > kPeriodicEpsMax) {
         char message[160];
-        std::snprintf(message, sizeof message,
-                      "eps: the second-order theory of periodic renewal holds to eps %.2f (here %.3f; docs/model.md §7)",
-                      kPeriodicEpsMax, eps);
+        std::snprintf(
+            message, sizeof message,
+            "eps: the second-order theory of periodic renewal holds to eps %.2f (here %.3f; docs/model.md §7)",
+            kPeriodicEpsMax, eps);
         throw InputError(message);
       }
       twin.renewal = Renewal::poisson;
@@ -321,7 +321,8 @@ struct SecondOrderTheory::Impl {
 
   double value(double omega) const {
     if (renewal == Renewal::poisson) return first_order(omega) * poisson_ratio(omega);
-    const double response = (*twin_theory)(omega) / (contacts * random_force_spectrum(twin, static_cast<int>(level), omega));
+    const double response =
+        (*twin_theory)(omega) / (contacts * random_force_spectrum(twin, static_cast<int>(level), omega));
     return response * periodic_force_spectrum(omega);
   }
 };

@@ -21,7 +21,7 @@ expect_refused unknown-option "--bogus" theory --bogus
 expect_refused level-mass "parameter m_2" theory $out --set levels=2 --set m_2=0
 expect_refused level-below-lowest "parameter N_3" theory $out --set levels=2 --set N_3=4
 expect_refused touching-level "parameter touching" theory $out --case hierarchical --set touching=3
-expect_refused second-order-periodic "renewal=poisson" theory $out --order 2 --set renewal=periodic
+expect_refused second-order-periodic "eps 0.25" theory $out --order 2 --set renewal=periodic --set alpha=4
 expect_refused bad-order "order" theory $out --order 3
 expect_refused stepper-levels "levels" run --out $work/levels4 --set levels=4 --work-budget 1e15 --no-plot --quiet
 

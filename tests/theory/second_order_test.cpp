@@ -101,8 +101,7 @@ TEST(SecondOrderTheory, PeriodicReducesToFirstOrderAsAlphaSquared) {
     const Parameters p = periodic(6, 0.02);
     Parameters half = p;
     half.alpha /= 2;
-    EXPECT_NEAR((SecondOrderTheory(p).ratio(omega) - 1) / (SecondOrderTheory(half).ratio(omega) - 1), 4, 0.02)
-        << omega;
+    EXPECT_NEAR((SecondOrderTheory(p).ratio(omega) - 1) / (SecondOrderTheory(half).ratio(omega) - 1), 4, 0.02) << omega;
   }
 }
 
