@@ -9,9 +9,7 @@ deviation from the simulation, in standard errors. Exit status 2 and one line on
 for an unusable input; the image is written atomically.
 """
 
-import os
 import sys
-import tempfile
 
 import matplotlib
 
@@ -19,25 +17,16 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (must follow the backend choice)
 import numpy as np  # noqa: E402
 
+import map_table  # noqa: E402  (beside this script)
+
 COLUMNS = ("renewal", "eps", "V_sim", "V_err", "V_1", "V_2", "V_qs", "D_sim", "D_err", "D_1", "D_2", "D_qs")
-
-
-def read(path):
-    with open(path) as f:
-        lines = [line.rstrip("\n").split("\t") for line in f if line.strip()]
-    if not lines or tuple(lines[0]) != COLUMNS:
-        raise ValueError(f"{path}: not a long_time_map table (header {COLUMNS})")
-    rows = {}
-    for fields in lines[1:]:
-        rows.setdefault(fields[0], []).append([float(x) for x in fields[1:]])
-    return {kind: dict(zip(COLUMNS[1:], np.array(r).T)) for kind, r in rows.items()}
 
 
 def main():
     if len(sys.argv) != 3:
         sys.exit("usage: plot_long_time_map.py MAP.tsv OUT.png")
     try:
-        data = read(sys.argv[1])
+        data = map_table.read(sys.argv[1], COLUMNS, "long_time_map")
     except (OSError, ValueError) as error:
         print(f"plot_long_time_map: {error}", file=sys.stderr)
         sys.exit(2)
@@ -69,16 +58,7 @@ def main():
     axes[0][0].legend(fontsize=7)
     axes[1][0].legend(fontsize=7)
     fig.tight_layout()
-    out = sys.argv[2]
-    handle, temporary = tempfile.mkstemp(suffix=".png", dir=os.path.dirname(os.path.abspath(out)))
-    os.close(handle)
-    try:
-        fig.savefig(temporary, dpi=90)
-        os.replace(temporary, out)
-    finally:
-        if os.path.exists(temporary):
-            os.remove(temporary)
-
+    map_table.save(fig, sys.argv[2])
 
 if __name__ == "__main__":
     main()

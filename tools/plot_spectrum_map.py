@@ -9,35 +9,23 @@ a point for scale. Exit status 2 and one line on stderr for an unusable input; t
 is written atomically.
 """
 
-import os
 import sys
-import tempfile
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (must follow the backend choice)
-import numpy as np  # noqa: E402
+
+import map_table  # noqa: E402  (beside this script)
 
 COLUMNS = ("renewal", "eps", "deviation_1", "deviation_2", "beyond_1", "beyond_2", "points", "standard_error")
-
-
-def read(path):
-    with open(path) as f:
-        lines = [line.rstrip("\n").split("\t") for line in f if line.strip()]
-    if not lines or tuple(lines[0]) != COLUMNS:
-        raise ValueError(f"{path}: not a spectrum_map table (header {COLUMNS})")
-    rows = {}
-    for fields in lines[1:]:
-        rows.setdefault(fields[0], []).append([float(x) for x in fields[1:]])
-    return {kind: dict(zip(COLUMNS[1:], np.array(r).T)) for kind, r in rows.items()}
 
 
 def main():
     if len(sys.argv) != 3:
         sys.exit("usage: plot_spectrum_map.py MAP.tsv OUT.png")
     try:
-        data = read(sys.argv[1])
+        data = map_table.read(sys.argv[1], COLUMNS, "spectrum_map")
     except (OSError, ValueError) as error:
         print(f"plot_spectrum_map: {error}", file=sys.stderr)
         sys.exit(2)
@@ -57,16 +45,7 @@ def main():
     ax.set_title("N = 6: simulated spectra against first- and second-order theory")
     ax.legend(fontsize=7)
     fig.tight_layout()
-    out = sys.argv[2]
-    handle, temporary = tempfile.mkstemp(suffix=".png", dir=os.path.dirname(os.path.abspath(out)))
-    os.close(handle)
-    try:
-        fig.savefig(temporary, dpi=90)
-        os.replace(temporary, out)
-    finally:
-        if os.path.exists(temporary):
-            os.remove(temporary)
-
+    map_table.save(fig, sys.argv[2])
 
 if __name__ == "__main__":
     main()
