@@ -179,6 +179,7 @@ class Spectrum {
     r.points_per_decade = request["points_per_decade"].cast<int>();
     r.resolution = request["resolution"].cast<double>();
     r.sensor_noise = request["sensor_noise"].cast<double>();
+    r.estimator = parse_estimator(request["estimator"].cast<std::string>());
     const std::vector<double> t = to_vector(time), samples = to_vector(x);
     py::gil_scoped_release release;
     spectrum_ = analyze_record(record_from_samples(t, samples, f), r);
@@ -198,13 +199,35 @@ class Spectrum {
     d["sensor_noise"] = request_.sensor_noise;
     d["quantization_variance"] = s.quantization_variance;
     d["top_to_floor"] = s.top_to_floor;
-    d["usable_band"] = py::dict(py::arg("omega_low") = s.usable_low, py::arg("omega_high") = s.usable_high,
-                                py::arg("top_set_by") = s.usable_high_set_by_floor ? "noise floor" : "half of Nyquist");
+    d["usable_band"] =
+        py::dict(py::arg("omega_low") = s.usable_low, py::arg("omega_high") = s.usable_high,
+                 py::arg("top_set_by") = s.usable_high_set_by_floor        ? "noise floor"
+                                         : s.estimator == Estimator::welch ? "the bin below Nyquist, or omega_max"
+                                                                           : "half of Nyquist, or omega_max");
+    py::dict estimator(py::arg("name") = to_string(s.estimator), py::arg("reason") = s.estimator_reason);
+    if (s.estimator == Estimator::welch) {
+      estimator["window"] = "hann";
+      estimator["overlap"] = 0.5;
+      estimator["segment_samples"] = s.welch.segment_samples;
+      estimator["segments"] = s.welch.segments;
+      estimator["bin_spacing"] = s.welch.bin_spacing;
+      estimator["leaky_points"] = s.leaky_points;
+    }
+    d["estimator"] = estimator;
     py::list points;
-    for (const AnalysisPoint& p : s.points)
-      points.append(py::dict(py::arg("omega") = p.omega, py::arg("C_x") = p.C_x, py::arg("stderr") = p.standard_error,
-                             py::arg("floor") = p.noise_floor, py::arg("below_floor") = p.below_floor,
-                             py::arg("n_avg") = p.n_avg, py::arg("bandwidth") = p.bandwidth));
+    for (std::size_t k = 0; k < s.points.size(); ++k) {
+      const AnalysisPoint& p = s.points[k];
+      py::dict point(py::arg("omega") = p.omega, py::arg("C_x") = p.C_x, py::arg("stderr") = p.standard_error,
+                     py::arg("floor") = p.noise_floor, py::arg("below_floor") = p.below_floor,
+                     py::arg("n_avg") = p.n_avg, py::arg("bandwidth") = p.bandwidth, py::arg("dof") = p.dof,
+                     py::arg("segment_samples") = p.segment_samples, py::arg("leaky") = p.leaky,
+                     py::arg("C_low") = p.lower, py::arg("C_high") = p.upper);
+      if (s.estimator == Estimator::welch) {
+        point["first_bin"] = s.welch.points[k].first_bin;
+        point["bins"] = s.welch.points[k].bins;
+      }
+      points.append(point);
+    }
     d["points"] = points;
     return d;
   }

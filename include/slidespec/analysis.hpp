@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -82,9 +83,65 @@ std::vector<double> sliding_fluctuation(const Record& record, const SlidingFit& 
 /// InputError unless both are positive.
 double friction_coefficient(double normal_load_mass, double driving_mass);
 
+/// Which estimator turns a record into a spectrum.
+enum class Estimator {
+  automatic,  ///< welch up to kWelchLargestRecord samples, streaming beyond
+  welch,      ///< Welch, Hann window, 50% overlap, of the first differences (short records)
+  streaming,  ///< the run's estimator: a cascade of segment lengths, 12 segments per point
+};
+/// Longest record the automatic choice gives to Welch [samples].
+inline constexpr std::size_t kWelchLargestRecord = 10'000'000;
+/// Parses auto|welch|streaming; throws InputError naming --estimator.
+Estimator parse_estimator(const std::string& name);
+const char* to_string(Estimator estimator);
+
+struct WelchRequest {
+  double omega_min = 0;  ///< [rad/s]; 0: bin 2 of 8 half-overlapping segments (9 x 2 pi / T)
+  double omega_max = 0;  ///< [rad/s]; 0: up to the bin below Nyquist
+  int points_per_decade = 8;
+  std::size_t segment_samples = 0;  ///< 0: chosen from the record length and omega_min
+};
+
+/// One point of a Welch spectrum: the mean over `bins` FFT bins from `first_bin`.
+struct WelchPoint {
+  double omega = 0;           ///< mean frequency of the bins [rad/s]
+  double C = 0;               ///< mean of the bins' estimates [unit^2 s]
+  double standard_error = 0;  ///< C sqrt(2 / dof): the chi-square scatter of the estimate
+  double dof = 0;             ///< equivalent degrees of freedom (segments, overlap, bins)
+  /// The error bar: C's chi-square interval at the two-sigma level (95.4%), asymmetric at
+  /// few degrees of freedom, where C +- 2 standard_error would be too short below.
+  double lower = 0, upper = 0;
+  std::size_t first_bin = 0, bins = 0;
+  double leakage = 0;  ///< side-lobe power from the rest of the spectrum / the point's own
+  bool leaky = false;  ///< leakage above 0.3 standard errors: the spectrum is steeper than
+                       ///< a prewhitened Hann window allows, the point is biased high
+};
+
+struct WelchSpectrum {
+  std::vector<WelchPoint> points;
+  std::size_t segment_samples = 0;  ///< FFT length, a product of 2, 3, 5, 7
+  std::size_t segments = 0;         ///< half-overlapping segments averaged
+  double dt = 0;                    ///< [s]
+  double bin_spacing = 0;           ///< 2 pi / (segment_samples dt) [rad/s]
+};
+
+/// The segment length welch_spectrum chooses: the longest fast FFT length giving 8
+/// half-overlapping segments, longer (down to 4 segments) when omega_min asks for it.
+/// Throws InputError naming --omega-min and the lowest omega the record reaches.
+std::size_t welch_segment_samples(std::size_t samples, double dt, double omega_min);
+
+/// Welch's estimate (docs/model.md §3 normalisation) of x's spectrum: Hann window, segments
+/// overlapping by half, each segment's mean difference removed, the periodogram of the first
+/// differences divided by 4 sin^2(omega dt / 2); points on a log grid from bin 2 to the bin
+/// below Nyquist, each bin its own point where bins are sparser than the grid.
+WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const WelchRequest& request);
+/// The mean of `true_spectrum` over each point's bins: what each point estimates.
+std::vector<double> welch_expected(const WelchSpectrum& spectrum, const std::function<double(double)>& true_spectrum);
+
 struct AnalysisRequest {
+  Estimator estimator = Estimator::automatic;
   double omega_min = 0;  ///< [rad/s]; 0 = the lowest the record length allows
-  double omega_max = 0;  ///< [rad/s]; 0 = half of Nyquist
+  double omega_max = 0;  ///< [rad/s]; 0 = Nyquist (welch), half of Nyquist (streaming)
   int points_per_decade = 8;
   double resolution = 0;    ///< sensor resolution q [m]; 0 = no quantization floor
   double sensor_noise = 0;  ///< rms white noise of the sensor before quantization [m]
@@ -92,18 +149,26 @@ struct AnalysisRequest {
 
 /// One point of a measured spectrum.
 struct AnalysisPoint {
-  double omega;           ///< [rad/s]
-  double C_x;             ///< estimate of the sampled xi's spectrum, mean over the point's bins [m^2 s]
-  double standard_error;  ///< from the scatter between the record's segments [m^2 s]
-  double noise_floor;     ///< sensor noise q^2/12 + sigma^2, white, seen through the estimator [m^2 s]
-  double n_avg;           ///< periodogram values averaged
-  double bandwidth;       ///< resolution bandwidth [rad/s]
-  bool below_floor;       ///< C_x < noise_floor + 2 standard_error: indistinguishable from sensor noise
+  double omega;                     ///< [rad/s]
+  double C_x;                       ///< estimate of the sampled xi's spectrum, mean over the point's bins [m^2 s]
+  double standard_error;            ///< from the scatter between the record's segments [m^2 s]
+  double noise_floor;               ///< sensor noise q^2/12 + sigma^2, white, seen through the estimator [m^2 s]
+  double n_avg;                     ///< periodogram values averaged
+  double bandwidth;                 ///< resolution bandwidth [rad/s]
+  bool below_floor;                 ///< C_x < noise_floor + 2 standard_error: indistinguishable from sensor noise
+  double dof = 0;                   ///< equivalent degrees of freedom of C_x
+  double lower = 0, upper = 0;      ///< the error bar, a 95.4% interval [m^2 s] (streaming: +- 2 stderr)
+  std::size_t segment_samples = 0;  ///< FFT length behind the point
+  bool leaky = false;               ///< window leakage may bias the point (welch only)
 };
 
 struct RecordSpectrum {
   std::vector<AnalysisPoint> points;
-  SpectrumAccumulator accumulator;  ///< for expected(): any true spectrum seen through these bins
+  Estimator estimator = Estimator::streaming;  ///< the one used (never automatic)
+  std::string estimator_reason;                ///< why it was chosen
+  SpectrumAccumulator accumulator;             ///< streaming: for expected(), any true spectrum through these bins
+  WelchSpectrum welch;                         ///< welch: segments, bins of each point
+  int leaky_points = 0;                        ///< points flagged for leakage
   SlidingFit sliding;
   std::size_t samples = 0;
   double dt = 0;                     ///< [s]
@@ -123,6 +188,8 @@ struct RecordSpectrum {
 /// the conventions of docs/model.md §3). Throws InputError when the record is too short
 /// for a single point or the band does not fit the sampling.
 RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& request);
+/// What each point of `spectrum` reports on average for a process of spectrum `true_spectrum`.
+std::vector<double> expected_points(const RecordSpectrum& spectrum, const std::function<double(double)>& true_spectrum);
 
 /// C_x ~ omega^slope over a band: weighted least squares of ln(C_x - floor) on ln omega,
 /// over the points of the band that stand out of the floor.

@@ -613,7 +613,10 @@ class Analysis(_Table):
     Columns (numpy arrays): omega [rad/s]; C_x [m^2 s] estimate; stderr [m^2 s] from the
     scatter between segments; floor [m^2 s] the sensor's q^2/12 + sigma^2 seen through the
     estimator; below_floor (bool) indistinguishable from sensor noise; n_avg; bandwidth
-    [rad/s]; theory [m^2 s] the compared model (at the fitted alpha) when asked.
+    [rad/s]; dof degrees of freedom; segment_samples; leaky (bool) window leakage may bias
+    the point; C_low, C_high [m^2 s] the error bar (a 95.4% interval); theory [m^2 s] the
+    compared model (at the fitted alpha) when asked. Field estimator {name, reason,
+    segment_samples, segments, ...} says how the spectrum was estimated.
     Fields: slope_fit {slope, standard_error, chi2_per_dof, force_slope, omega_low,
     omega_high [rad/s], ...}; alpha_fit {alpha, standard_error, chi2_per_dof, ...};
     mean_speed [m/s]; usable_band {omega_low, omega_high} [rad/s]; dt, duration [s].
@@ -644,7 +647,7 @@ class Analysis(_Table):
 
 def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega_min=0.0,
             omega_max=0.0, points=8, fit_slope=None, compare=None, fit=None, fit_band=None,
-            theory_order=2, time_tolerance=0.01):
+            theory_order=2, time_tolerance=0.01, estimator="auto"):
     """Spectrum, slope and model fit of a sliding-distance record: `slidespec analyze`.
 
     t: sample times [s] (uniform within time_tolerance), or None with dt [s].
@@ -656,6 +659,8 @@ def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega
     compare: Parameters (or a case name) whose theory to set beside the data; with
       fit="alpha", its alpha is fitted over fit_band (low, high) [rad/s] (default: the
       usable band within 5 v/a .. omega_c/3, where Eq. (1)'s omega^-4 holds).
+    estimator: "auto" (Welch up to 1e7 samples, streaming beyond), "welch" (Hann, 50% overlap,
+      8 segments of first differences: 9 x 2 pi / T to Nyquist) or "streaming" (the run's).
     theory_order: 2 (default) compares and fits with the second-order theory where it
       applies (poisson, one touching level, eps <= 0.3), else the first; 1 the first
       order always. The result's theory_order field says which was used.
@@ -669,7 +674,7 @@ def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega
     samples = np.asarray(x, dtype=float).ravel()
     record = {"dt": float(dt or 0), "units": str(units), "time_tolerance": float(time_tolerance)}
     request = {"omega_min": float(omega_min), "omega_max": float(omega_max), "points_per_decade": int(points),
-               "resolution": float(resolution), "sensor_noise": float(sensor_noise)}
+               "resolution": float(resolution), "sensor_noise": float(sensor_noise), "estimator": str(estimator)}
     spectrum = _core.Spectrum(time, samples, record, request)
     data = spectrum.to_dict()
     if fit_slope is not None:

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "io/suggest.hpp"
 #include "io/tables.hpp"
 #include "slidespec/analysis.hpp"
 #include "slidespec/theory.hpp"
@@ -128,21 +129,31 @@ double friction_coefficient(double normal_load_mass, double driving_mass) {
   return driving_mass / normal_load_mass;
 }
 
-RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& request) {
-  if (request.resolution < 0 || !std::isfinite(request.resolution))
-    throw InputError("--resolution: must be a length >= 0 in metres");
-  if (request.sensor_noise < 0 || !std::isfinite(request.sensor_noise))
-    throw InputError("--sensor-noise: must be a length >= 0 in metres");
-  if (request.points_per_decade < 1 || request.points_per_decade > 100)
-    throw InputError("--points: must be between 1 and 100 per decade");
-  RecordSpectrum result;
-  result.samples = record.displacement.size();
-  result.dt = record.dt;
-  result.duration = static_cast<double>(result.samples) * record.dt;
-  result.sliding = fit_sliding(record);
-  result.quantization_variance = request.resolution * request.resolution / 12;
-  result.sensor_noise_variance = request.sensor_noise * request.sensor_noise;
+Estimator parse_estimator(const std::string& name) {
+  if (name == "auto") return Estimator::automatic;
+  if (name == "welch") return Estimator::welch;
+  if (name == "streaming") return Estimator::streaming;
+  throw InputError("--estimator: unknown estimator '" + name + "'" +
+                   io::did_you_mean(name, {"auto", "welch", "streaming"}) + " (known: auto, welch, streaming)");
+}
 
+const char* to_string(Estimator estimator) {
+  switch (estimator) {
+    case Estimator::automatic:
+      return "auto";
+    case Estimator::welch:
+      return "welch";
+    case Estimator::streaming:
+      return "streaming";
+  }
+  return "?";
+}
+
+namespace {
+
+/// The streaming estimator's points: 12 segments per point, a cascade of segment lengths.
+std::vector<AnalysisPoint> streaming_points(const Record& record, const AnalysisRequest& request,
+                                            const std::vector<double>& xi, RecordSpectrum& result) {
   EstimatorConfig config;
   config.dt = record.dt;
   config.omega_min = request.omega_min > 0 ? request.omega_min : lowest_omega(record, request);
@@ -151,40 +162,116 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
   config.input = SampleKind::value;
   const auto too_short = [&] {
     return InputError("the record (" + std::to_string(result.samples) +
-                      " samples) is too short for a spectrum point in the band: the lowest point needs 12 "
-                      "segments; record longer or raise --omega-min");
+                      " samples) is too short for the streaming estimator, whose lowest point needs 12 "
+                      "segments; use --estimator welch");
   };
-  // Half of Nyquist is the default top (the estimator's own); a record too short for any
-  // point below it would otherwise surface as an empty band.
   if (request.omega_min <= 0 && config.omega_min >= 0.25 * std::numbers::pi / record.dt) throw too_short();
   SpectrumEstimator estimator(config, 1);
-  const std::vector<double> xi = sliding_fluctuation(record, result.sliding);
   estimator.push(xi.data(), xi.size());
   result.accumulator = estimator.merged();
+  std::vector<AnalysisPoint> points;
+  for (const SpectrumPoint& e : result.accumulator.spectrum(PointValue::bin_average)) {
+    AnalysisPoint p{e.omega, e.C, e.standard_error, 0, e.n_avg, e.bandwidth, false};
+    p.dof = 2 * e.C * e.C / (e.standard_error * e.standard_error);
+    p.lower = e.C - 2 * e.standard_error, p.upper = e.C + 2 * e.standard_error;
+    p.segment_samples = std::size_t(std::llround(2 * std::numbers::pi / (e.bin_spacing * record.dt)));
+    points.push_back(p);
+  }
+  if (points.empty()) throw too_short();
+  return points;
+}
 
-  const std::vector<SpectrumPoint> estimate = result.accumulator.spectrum(PointValue::bin_average);
-  if (estimate.empty()) throw too_short();
+std::vector<AnalysisPoint> welch_points(const Record& record, const AnalysisRequest& request,
+                                        const std::vector<double>& xi, RecordSpectrum& result) {
+  WelchRequest welch;
+  welch.omega_min = request.omega_min;
+  welch.omega_max = request.omega_max;
+  welch.points_per_decade = request.points_per_decade;
+  result.welch = welch_spectrum(xi, record.dt, welch);
+  std::vector<AnalysisPoint> points;
+  for (const WelchPoint& w : result.welch.points) {
+    AnalysisPoint p{w.omega,
+                    w.C,
+                    w.standard_error,
+                    0,
+                    double(result.welch.segments * w.bins),
+                    double(w.bins) * result.welch.bin_spacing,
+                    false};
+    p.dof = w.dof;
+    p.lower = w.lower, p.upper = w.upper;
+    p.segment_samples = result.welch.segment_samples;
+    p.leaky = w.leaky;
+    result.leaky_points += w.leaky ? 1 : 0;
+    points.push_back(p);
+  }
+  if (points.empty())
+    throw InputError("no spectrum point between --omega-min and --omega-max (the record's bins are " +
+                     io::format_number(result.welch.bin_spacing) + " rad/s apart)");
+  return points;
+}
+
+}  // namespace
+
+std::vector<double> expected_points(const RecordSpectrum& spectrum,
+                                    const std::function<double(double)>& true_spectrum) {
+  if (spectrum.estimator == Estimator::welch) return welch_expected(spectrum.welch, true_spectrum);
+  std::vector<double> values;
+  for (const SpectrumPoint& e : spectrum.accumulator.expected(true_spectrum)) values.push_back(e.C);
+  return values;
+}
+
+RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& request) {
+  if (request.resolution < 0 || !std::isfinite(request.resolution))
+    throw InputError("--resolution: must be a length >= 0 in metres");
+  if (request.sensor_noise < 0 || !std::isfinite(request.sensor_noise))
+    throw InputError("--sensor-noise: must be a length >= 0 in metres");
+  if (request.points_per_decade < 1 || request.points_per_decade > 100)
+    throw InputError("--points: must be between 1 and 100 per decade");
+  if (request.omega_min > 0 && request.omega_max > 0 && request.omega_min >= request.omega_max)
+    throw InputError("--omega-min must be below --omega-max");
+  RecordSpectrum result;
+  result.samples = record.displacement.size();
+  result.dt = record.dt;
+  result.duration = static_cast<double>(result.samples) * record.dt;
+  result.sliding = fit_sliding(record);
+  result.quantization_variance = request.resolution * request.resolution / 12;
+  result.sensor_noise_variance = request.sensor_noise * request.sensor_noise;
+
+  result.estimator = request.estimator;
+  if (request.estimator == Estimator::automatic) {
+    const bool long_record = result.samples > kWelchLargestRecord;
+    result.estimator = long_record ? Estimator::streaming : Estimator::welch;
+    result.estimator_reason = long_record ? "automatic: over " + std::to_string(kWelchLargestRecord) +
+                                                " samples, the streaming estimator's cascade guards the low band"
+                                          : "automatic: up to " + std::to_string(kWelchLargestRecord) +
+                                                " samples, Welch reaches down to 9 x 2 pi / T";
+  } else {
+    result.estimator_reason = "--estimator";
+  }
+  const std::vector<double> xi = sliding_fluctuation(record, result.sliding);
+  result.points = result.estimator == Estimator::welch ? welch_points(record, request, xi, result)
+                                                       : streaming_points(record, request, xi, result);
+
   // White noise of variance q^2/12 (+ sigma^2) per sample (docs/model.md §3: C = s^2 dt / 2 pi),
   // through the same bins and window as the estimate so that the two compare point by point.
   const double white =
       (result.quantization_variance + result.sensor_noise_variance) * record.dt / (2 * std::numbers::pi);
-  const std::vector<SpectrumPoint> floor = result.accumulator.expected([white](double) { return white; });
+  const std::vector<double> floor = expected_points(result, [white](double) { return white; });
 
   bool floor_reached = false;
-  result.usable_low = estimate.front().omega;
-  result.usable_high = estimate.back().omega;
-  for (std::size_t k = 0; k < estimate.size(); ++k) {
-    const SpectrumPoint& e = estimate[k];
-    const double noise = floor[k].C;
-    result.points.push_back(
-        {e.omega, e.C, e.standard_error, noise, e.n_avg, e.bandwidth, e.C < noise + 2 * e.standard_error});
-    if (!floor_reached && noise > kFloorShareOfUsable * e.C && white > 0) {
+  result.usable_low = result.points.front().omega;
+  result.usable_high = result.points.back().omega;
+  for (std::size_t k = 0; k < result.points.size(); ++k) {
+    AnalysisPoint& p = result.points[k];
+    p.noise_floor = floor[k];
+    p.below_floor = p.C_x < p.noise_floor + 2 * p.standard_error;
+    if (!floor_reached && p.noise_floor > kFloorShareOfUsable * p.C_x && white > 0) {
       floor_reached = true;
       result.usable_high_set_by_floor = true;
-      result.usable_high = k > 0 ? estimate[k - 1].omega : 0;
+      result.usable_high = k > 0 ? result.points[k - 1].omega : 0;
     }
   }
-  result.top_to_floor = white > 0 ? estimate.back().C / floor.back().C : 0;
+  result.top_to_floor = white > 0 ? result.points.back().C_x / floor.back() : 0;
   return result;
 }
 
@@ -248,9 +335,7 @@ std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Paramet
         sum += theory(std::abs(omega - k * sampling_rate)) + theory(omega + k * sampling_rate);
       return sum;
     };
-    std::vector<double> model;
-    for (const SpectrumPoint& e : spectrum.accumulator.expected(sampled)) model.push_back(e.C);
-    return model;
+    return expected_points(spectrum, sampled);
   };
   if (model_order(params, order) == 2) return aliased(SecondOrderTheory(params));
   return aliased(LumpedTheory(params));

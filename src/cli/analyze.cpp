@@ -19,7 +19,8 @@ struct AnalysisCommands::Options {
   // analyze
   std::string file;
   RecordFormat format;
-  std::string units;                     // empty: from the header, else m
+  std::string units;  // empty: from the header, else m
+  std::string estimator = "auto";
   std::string resolution, sensor_noise;  // lengths, in the record's unit or with their own
   AnalysisRequest request;
   std::vector<double> slope_band;  // LO HI [rad/s]
@@ -98,6 +99,12 @@ Parameters build_parameters(const std::string& case_name, const std::vector<std:
 
 std::string number(double x) { return io::format_number(x); }
 
+/// What sets the top of the band when the floor does not: the --omega-max, else the estimator.
+std::string top_of(const RecordSpectrum& s) {
+  if (s.estimator == Estimator::welch) return "the bin below Nyquist, or --omega-max";
+  return "half of Nyquist, or --omega-max";
+}
+
 /// What was asked of analyze beyond the spectrum, and what came of it.
 struct Findings {
   std::optional<double> mu;
@@ -132,7 +139,13 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
       << "  # sigma [m]; floor = q^2/12 + sigma^2, white\n"
       << "# top_to_floor = " << number(s.top_to_floor) << "  # C_x / floor at the highest point\n"
       << "# usable_band = " << number(s.usable_low) << " .. " << number(s.usable_high) << "  # [rad/s], top set by "
-      << (s.usable_high_set_by_floor ? "the floor reaching 10% of C_x" : "half of Nyquist") << "\n";
+      << (s.usable_high_set_by_floor ? "the floor reaching 10% of C_x" : top_of(s)) << "\n"
+      << "# estimator = " << to_string(s.estimator) << "  # " << s.estimator_reason << "\n";
+  if (s.estimator == Estimator::welch)
+    out << "# welch = Hann window, 50% overlap, " << s.welch.segments << " segments of " << s.welch.segment_samples
+        << " samples, first differences divided by 4 sin^2(omega dt/2); bins " << number(s.welch.bin_spacing)
+        << " rad/s apart\n# leaky_points = " << s.leaky_points
+        << "  # points the window's leakage may bias high (spectrum steeper than the window allows)\n";
   if (f.slope)
     out << "# slope = " << number(f.slope->slope) << "  # +- " << number(f.slope->slope_error)
         << ", C_x ~ omega^slope over " << number(f.slope->omega_low) << " .. " << number(f.slope->omega_high)
@@ -146,19 +159,24 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
         << " points, chi2/dof " << number(f.alpha->chi2_per_dof) << ", theory order " << f.alpha->theory_order << "\n"
         << "# alpha_fit_ok = " << (f.alpha_verdict.ok ? "true" : "false  # " + f.alpha_verdict.reason) << "\n";
   out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, mean over the bin's frequencies; stderr [m^2 s] from "
-         "the scatter between segments; floor [m^2 s] quantization noise q^2/12 seen through the estimator; "
-         "below_floor 1 when C_x < floor + 2 stderr; n_avg; bandwidth [rad/s]; C_v = omega^2 C_x [m^2/s]";
+         "the scatter between segments (streaming) or chi-square statistics (welch); floor [m^2 s] quantization noise "
+         "q^2/12 seen through the estimator; "
+         "below_floor 1 when C_x < floor + 2 stderr; n_avg; bandwidth [rad/s]; C_v = omega^2 C_x [m^2/s]; dof "
+         "equivalent degrees of freedom (stderr = C_x sqrt(2/dof)); segment FFT length [samples]; leaky 1 when "
+         "window leakage may bias the point; C_low, C_high [m^2 s] the error bar, a 95.4% interval (chi-square "
+         "for welch)";
   if (f.slope) out << "; fit [m^2 s] the fitted power law inside its band";
   if (f.model)
     out << "; theory [m^2 s] the model's " << (f.model_order == 2 ? "second" : "first")
         << "-order theory seen through the estimator (no floor)";
-  out << "\n# omega\tC_x\tstderr\tfloor\tbelow_floor\tn_avg\tbandwidth\tC_v" << (f.slope ? "\tfit" : "")
-      << (f.model ? "\ttheory" : "") << "\n";
+  out << "\n# omega\tC_x\tstderr\tfloor\tbelow_floor\tn_avg\tbandwidth\tC_v\tdof\tsegment\tleaky\tC_low\tC_high"
+      << (f.slope ? "\tfit" : "") << (f.model ? "\ttheory" : "") << "\n";
   for (std::size_t k = 0; k < s.points.size(); ++k) {
     const AnalysisPoint& p = s.points[k];
     out << number(p.omega) << "\t" << number(p.C_x) << "\t" << number(p.standard_error) << "\t" << number(p.noise_floor)
         << "\t" << (p.below_floor ? 1 : 0) << "\t" << number(p.n_avg) << "\t" << number(p.bandwidth) << "\t"
-        << number(velocity_spectrum(p.omega, p.C_x));
+        << number(velocity_spectrum(p.omega, p.C_x)) << "\t" << number(p.dof) << "\t" << p.segment_samples << "\t"
+        << (p.leaky ? 1 : 0) << "\t" << number(p.lower) << "\t" << number(p.upper);
     if (f.slope) {
       const bool inside = p.omega >= f.slope->omega_low && p.omega <= f.slope->omega_high;
       out << "\t" << (inside ? number(f.slope->amplitude * std::pow(p.omega, f.slope->slope)) : "nan");
@@ -190,7 +208,17 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
   doc["top_to_floor"] = s.top_to_floor;
   doc["usable_band"] = {{"omega_low", s.usable_low},
                         {"omega_high", s.usable_high},
-                        {"top_set_by", s.usable_high_set_by_floor ? "noise floor" : "half of Nyquist"}};
+                        {"top_set_by", s.usable_high_set_by_floor ? "noise floor" : top_of(s)}};
+  doc["estimator"] = {{"name", to_string(s.estimator)}, {"reason", s.estimator_reason}};
+  if (s.estimator == Estimator::welch) {
+    doc["estimator"]["window"] = "hann";
+    doc["estimator"]["overlap"] = 0.5;
+    doc["estimator"]["prewhitening"] = "first differences, divided by 4 sin^2(omega dt / 2)";
+    doc["estimator"]["segment_samples"] = s.welch.segment_samples;
+    doc["estimator"]["segments"] = s.welch.segments;
+    doc["estimator"]["bin_spacing"] = s.welch.bin_spacing;
+    doc["estimator"]["leaky_points"] = s.leaky_points;
+  }
   if (f.slope)
     doc["slope_fit"] = {{"omega_low", f.slope->omega_low},
                         {"omega_high", f.slope->omega_high},
@@ -225,7 +253,16 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
                                     {"floor", p.noise_floor},
                                     {"below_floor", p.below_floor},
                                     {"n_avg", p.n_avg},
-                                    {"bandwidth", p.bandwidth}};
+                                    {"bandwidth", p.bandwidth},
+                                    {"dof", p.dof},
+                                    {"segment_samples", p.segment_samples},
+                                    {"leaky", p.leaky},
+                                    {"C_low", p.lower},
+                                    {"C_high", p.upper}};
+    if (s.estimator == Estimator::welch) {
+      point["first_bin"] = s.welch.points[k].first_bin;
+      point["bins"] = s.welch.points[k].bins;
+    }
     if (f.model) point["theory"] = f.model_values[k];
     doc["points"].push_back(point);
   }
@@ -236,6 +273,7 @@ int command_analyze(Options o) {
   o.figure.check();
   io::check_output_prefix(o.out);
   if (!o.units.empty()) o.format.unit = parse_length_unit(o.units);
+  o.request.estimator = parse_estimator(o.estimator);
   Findings f;
   if (o.normal_mass > 0 || o.driving_mass > 0) f.mu = friction_coefficient(o.normal_mass, o.driving_mass);
   if (!o.fit.empty() && o.fit != "alpha")
@@ -290,6 +328,9 @@ int command_analyze(Options o) {
     std::cerr << "slidespec: warning: no usable band: the sensor floor lies above the spectrum everywhere; likely "
                  "cause: --resolution or --sensor-noise in the wrong unit (a bare number is in "
               << to_string(record.unit) << ", the record's unit; write e.g. 0.5um)\n";
+  if (s.leaky_points > 0)
+    std::cerr << "slidespec: warning: " << s.leaky_points << " points may be biased high by the window's leakage "
+              << "(the spectrum is steeper than a prewhitened Hann window allows there; column leaky)\n";
   for (const auto& [name, verdict] : {std::pair{"slope", &f.slope_verdict}, std::pair{"alpha", &f.alpha_verdict}})
     if (!verdict->ok) std::cerr << "slidespec: " << name << " fit FAILED: " << verdict->reason << "\n";
   const int status = f.ok() ? 0 : kFitFailedStatus;
@@ -298,7 +339,13 @@ int command_analyze(Options o) {
             << "; v = " << s.sliding.v << " +- " << s.sliding.v_error << " m/s";
   if (f.mu) std::cerr << ", mu = M'/M = " << *f.mu;
   std::cerr << "\nslidespec: usable band " << s.usable_low << " .. " << s.usable_high << " rad/s (top set by "
-            << (s.usable_high_set_by_floor ? "the sensor floor" : "half of Nyquist") << ")\n";
+            << (s.usable_high_set_by_floor ? "the sensor floor" : top_of(s)) << ")\nslidespec: estimator "
+            << to_string(s.estimator) << " (" << s.estimator_reason << ")";
+  if (s.estimator == Estimator::welch)
+    std::cerr << ": " << s.welch.segments << " segments of " << s.welch.segment_samples << " samples, dof "
+              << short_number(s.points.front().dof) << " at the lowest point, " << short_number(s.points.back().dof)
+              << " at the highest";
+  std::cerr << "\n";
   if (s.top_to_floor > 0 && s.top_to_floor < kWhiteFloorShortfall)
     std::cerr << "slidespec: warning: the highest point lies at " << s.top_to_floor
               << " of the white q^2/12 floor: the quantization error is not white (a steady ramp read "
@@ -392,8 +439,12 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
   analyze_->add_option("--sensor-noise", o.sensor_noise,
                        "rms sensor noise before quantization (record's unit, or 0.25um): adds sigma^2 to the floor");
   analyze_->add_option("--omega-min", o.request.omega_min, "lowest omega [rad/s] (default: the record allows)");
-  analyze_->add_option("--omega-max", o.request.omega_max, "highest omega [rad/s] (default: half of Nyquist)");
+  analyze_->add_option("--omega-max", o.request.omega_max,
+                       "highest omega [rad/s] (default: Nyquist for welch, half of it for streaming)");
   analyze_->add_option("--points", o.request.points_per_decade, "points per decade (default 8)");
+  analyze_->add_option("--estimator", o.estimator,
+                       "auto (default: welch up to 1e7 samples, streaming beyond) | welch (Hann, 50% overlap, "
+                       "8 segments, from 9 x 2 pi / T to Nyquist) | streaming (the run's estimator)");
   analyze_->add_option("--fit-slope", o.slope_band, "fit C_x ~ omega^-n over LO HI [rad/s]")->expected(2);
   analyze_->add_option("--compare-case", o.compare_case, "overlay this model case's exact theory");
   analyze_->add_option("--set", o.overrides, "override a parameter of the compared case, KEY=VALUE");

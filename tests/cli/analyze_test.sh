@@ -11,7 +11,7 @@ grep -q "^t (s),x (um)$" "$work/rec.csv" || fail "synth: no t (s),x (um) header"
   --compare-case reference --set alpha=0.4 --fit alpha --fit-band 30 100 --normal-mass 2 --driving-mass 1 \
   --out "$work/an" 2> "$work/an.err" || fail "analyze failed: $(cat "$work/an.err")"
 for ext in tsv json png; do [ -s "$work/an.$ext" ] || fail "analyze wrote no .$ext"; done
-grep -q "^# omega	C_x	stderr	floor	below_floor	n_avg	bandwidth	C_v	fit	theory$" "$work/an.tsv" || fail "analyze table header"
+grep -q "^# omega	C_x	stderr	floor	below_floor	n_avg	bandwidth	C_v	dof	segment	leaky	C_low	C_high	fit	theory$" "$work/an.tsv" || fail "analyze table header"
 grep -q "^# mu = 0.5 " "$work/an.tsv" || fail "mu = M'/M not reported"
 grep -q '"alpha_fit"' "$work/an.json" || fail "no alpha fit in the JSON"
 grep -q "alpha = " "$work/an.err" || fail "no alpha in the summary"

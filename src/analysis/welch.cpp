@@ -1,0 +1,282 @@
+// The short-record estimator: Welch's average of Hann-windowed periodograms of half-overlapping
+// segments, taken of the first differences and divided by their exact transfer function
+// (prewhitening), with FFTW's real transforms. Method, error bars and leakage: docs/analysis.md.
+#include <fftw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <memory>
+#include <mutex>
+#include <numbers>
+
+#include "io/tables.hpp"
+#include "slidespec/analysis.hpp"
+
+namespace slidespec {
+
+namespace {
+
+// Eight half-overlapping segments: the textbook choice (Welch 1967), error bars of ~35% at the
+// lowest points, and the lowest point, bin 2 of a segment, at 9 x 2 pi / T.
+constexpr int kTargetSegments = 8;
+// The fewest segments a lower --omega-min may buy: below this the error bar is ~60% and the
+// chi-square distribution of a point is too skewed for a symmetric error bar.
+constexpr int kFewestSegments = 4;
+// Bin 1 of a segment shares its window with the segment mean removed; bin 2 is the first clean one.
+constexpr std::size_t kLowestBin = 2;
+// Leakage is flagged where the window's far side lobes carry more than this share of a
+// point's standard error into it.
+constexpr double kLeakageShareOfError = 0.3;
+// The Hann side lobes fall as omega^-6; a difference spectrum falling faster than omega^-4
+// over an octave either side is within reach of them.
+constexpr double kSteepestDifferenceSlope = -4;
+// The Hann kernel's main lobe: the two bins either side are the window's smoothing, not leakage.
+constexpr std::size_t kMainLobeBins = 2;
+
+/// FFTW's planner is not thread-safe; plans are made under this lock, executed outside it.
+std::mutex& planner_lock() {
+  static std::mutex lock;
+  return lock;
+}
+
+struct FftwFree {
+  void operator()(void* p) const { fftw_free(p); }
+};
+struct PlanFree {
+  void operator()(fftw_plan_s* p) const {
+    const std::lock_guard guard(planner_lock());
+    fftw_destroy_plan(p);
+  }
+};
+
+/// The largest length <= n whose prime factors are 2, 3, 5 and 7 (FFTW's fast kernels), even.
+std::size_t fft_friendly(std::size_t n) {
+  for (std::size_t m = n - n % 2; m >= 2; m -= 2) {
+    std::size_t r = m;
+    for (const std::size_t p : {2, 3, 5, 7})
+      while (r % p == 0) r /= p;
+    if (r == 1) return m;
+  }
+  return 2;
+}
+
+/// The Hann power kernel averaged over one bin at offset d (in bins), normalised to unit sum
+/// over all offsets: |sinc(f) / (1 - f^2)|^2 / 1.5 integrated over [d - 1/2, d + 1/2].
+double hann_bin_kernel(std::size_t d) {
+  const auto power = [](double f) {
+    if (std::fabs(f) < 1e-9) return 1.0;
+    if (std::fabs(std::fabs(f) - 1) < 1e-9) return 0.25;
+    const double s = std::sin(std::numbers::pi * f) / (std::numbers::pi * f) / (1 - f * f);
+    return s * s;
+  };
+  if (d > 20) {  // side lobes: sin^2 averages to 1/2 over a bin
+    const double f = static_cast<double>(d);
+    return 0.5 / (std::numbers::pi * std::numbers::pi * f * f * (f * f - 1) * (f * f - 1)) / 1.5;
+  }
+  constexpr int kSteps = 64;  // Simpson's rule
+  const double a = static_cast<double>(d) - 0.5, h = 1.0 / kSteps;
+  double sum = power(a) + power(a + 1);
+  for (int i = 1; i < kSteps; ++i) sum += (i % 2 ? 4 : 2) * power(a + i * h);
+  return sum * h / 3 / 1.5;
+}
+
+// An error bar spans two standard deviations either side, as a chi-square interval.
+constexpr double kBarSigmas = 2;
+
+/// The chi-square quantile with `dof` degrees of freedom at the normal deviate z
+/// (Wilson-Hilferty: within 1% for dof >= 3).
+double chi_square_quantile(double dof, double z) {
+  const double a = 2 / (9 * dof);
+  return dof * std::pow(std::max(0.0, 1 - a + z * std::sqrt(a)), 3);
+}
+
+}  // namespace
+
+std::size_t welch_segment_samples(std::size_t samples, double dt, double omega_min) {
+  const std::size_t differences = samples - 1;
+  std::size_t length = fft_friendly(2 * differences / (kTargetSegments + 1));
+  if (omega_min > 0) {
+    // Bin 2 at or below omega_min, if the record holds enough segments for it.
+    const double wanted = kLowestBin * 2 * std::numbers::pi / (omega_min * dt);
+    const std::size_t longest = fft_friendly(2 * differences / (kFewestSegments + 1));
+    if (wanted > static_cast<double>(longest)) {
+      const double reachable = kLowestBin * 2 * std::numbers::pi / (static_cast<double>(longest) * dt);
+      throw InputError("--omega-min " + io::format_number(omega_min) + ": the record (" + std::to_string(samples) +
+                       " samples, T = " + io::format_number(static_cast<double>(samples) * dt) +
+                       " s) reaches down to " + io::format_number(reachable) + " rad/s (bin 2 of " +
+                       std::to_string(kFewestSegments) +
+                       " half-overlapping segments); a lower omega needs a longer record");
+    }
+    if (wanted > static_cast<double>(length)) {
+      length = std::size_t(std::ceil(wanted));
+      length += length % 2;
+      // Round up to a fast length that still fits the record.
+      for (std::size_t m = length; m <= longest; m += 2)
+        if (fft_friendly(m) == m) {
+          length = m;
+          break;
+        }
+      length = std::min(length, longest);
+    }
+  }
+  return length;
+}
+
+WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const WelchRequest& request) {
+  if (!(dt > 0)) throw InputError("welch: the sampling interval must be > 0");
+  constexpr std::size_t kFewestSamples = 64;
+  if (x.size() < kFewestSamples)
+    throw InputError("the record (" + std::to_string(x.size()) +
+                     " samples) is too short for a spectrum: need at least " + std::to_string(kFewestSamples));
+  WelchSpectrum out;
+  out.dt = dt;
+  const std::size_t length =
+      request.segment_samples > 0 ? request.segment_samples : welch_segment_samples(x.size(), dt, request.omega_min);
+  const std::size_t differences = x.size() - 1;
+  if (length < 8 || length > differences) throw InputError("welch: segment of " + std::to_string(length) + " samples");
+  const std::size_t hop = length / 2;
+  const std::size_t segments = (differences - length) / hop + 1;
+  out.segment_samples = length;
+  out.segments = segments;
+  const std::size_t bins = length / 2 + 1;
+
+  std::vector<double> window(length);
+  double window_power = 0;
+  for (std::size_t j = 0; j < length; ++j) {
+    window[j] = 0.5 - 0.5 * std::cos(2 * std::numbers::pi * double(j) / double(length));
+    window_power += window[j] * window[j];
+  }
+
+  const std::unique_ptr<double, FftwFree> in(fftw_alloc_real(length));
+  const std::unique_ptr<fftw_complex, FftwFree> spectrum(fftw_alloc_complex(bins));
+  std::unique_ptr<fftw_plan_s, PlanFree> plan;
+  {
+    const std::lock_guard guard(planner_lock());
+    // FFTW_ESTIMATE: the same plan, hence bitwise the same numbers, on every run.
+    plan.reset(fftw_plan_dft_r2c_1d(static_cast<int>(length), in.get(), spectrum.get(), FFTW_ESTIMATE));
+  }
+  std::vector<double> periodogram(bins, 0.0);
+  for (std::size_t s = 0; s < segments; ++s) {
+    const double* segment = x.data() + s * hop;
+    // The segment's mean difference is its mean slope: removing it removes each segment's trend.
+    double mean = 0;
+    for (std::size_t j = 0; j < length; ++j) mean += segment[j + 1] - segment[j];
+    mean /= double(length);
+    for (std::size_t j = 0; j < length; ++j) in.get()[j] = window[j] * (segment[j + 1] - segment[j] - mean);
+    fftw_execute(plan.get());
+    for (std::size_t k = 0; k < bins; ++k)
+      periodogram[k] += spectrum.get()[k][0] * spectrum.get()[k][0] + spectrum.get()[k][1] * spectrum.get()[k][1];
+  }
+  // docs/model.md §3: C = dt / (2 pi) |sum w x e^{-i omega t}|^2 / sum w^2, of the differences.
+  const double scale = dt / (2 * std::numbers::pi * window_power * double(segments));
+  for (double& p : periodogram) p *= scale;
+
+  // Variance of a point relative to C^2: segments overlapping by half share rho_s of their
+  // power; neighbouring bins of one window share rho_b(d) (Hann: 4/9, 1/36).
+  const auto overlap = [&](std::size_t shift) {
+    double sum = 0;
+    for (std::size_t j = 0; j + shift < length; ++j) sum += window[j] * window[j + shift];
+    return sum * sum / (window_power * window_power);
+  };
+  const double rho_s = overlap(hop);
+  const double segment_factor = (1 + 2 * rho_s * double(segments - 1) / double(segments)) / double(segments);
+  std::vector<double> rho_b(4, 0.0);
+  for (std::size_t d = 0; d < rho_b.size(); ++d) {
+    std::complex<double> sum = 0;
+    for (std::size_t j = 0; j < length; ++j)
+      sum += window[j] * window[j] * std::polar(1.0, -2 * std::numbers::pi * double(d * j) / double(length));
+    rho_b[d] = std::norm(sum) / (window_power * window_power);
+  }
+  std::vector<double> point_differences;  // each point's mean difference spectrum
+  std::vector<double> kernel(bins);
+  for (std::size_t d = 0; d < bins; ++d) kernel[d] = hann_bin_kernel(d);
+
+  const double bin_spacing = 2 * std::numbers::pi / (double(length) * dt);
+  const double nyquist = std::numbers::pi / dt;
+  if (request.omega_max > nyquist * (1 + 1e-12))
+    throw InputError("--omega-max " + io::format_number(request.omega_max) + ": above the Nyquist frequency " +
+                     io::format_number(nyquist) + " rad/s of the sampling");
+  const double ratio = std::pow(10.0, 1.0 / request.points_per_decade);
+  std::size_t first = kLowestBin;
+  // The lowest point: the bin at or just below omega_min.
+  if (request.omega_min > 0)
+    first = std::max(first, std::size_t(std::floor(request.omega_min / bin_spacing * (1 + 1e-12))));
+  const std::size_t top = bins - 2;  // the Nyquist bin is real: one degree of freedom, left out
+  for (std::size_t k = first; k <= top;) {
+    std::size_t end = std::max(k + 1, std::size_t(std::ceil(double(k) * ratio)));
+    end = std::min(end, top + 1);
+    if (top + 1 - end < (end - k) / 2) end = top + 1;  // a short remainder joins the last point
+    WelchPoint p;
+    p.first_bin = k;
+    p.bins = end - k;
+    double sum_omega = 0, sum_d = 0, sum_c = 0;
+    for (std::size_t j = k; j < end; ++j) {
+      const double omega = double(j) * bin_spacing;
+      const double transfer = 4 * std::pow(std::sin(omega * dt / 2), 2);
+      sum_omega += omega;
+      sum_d += periodogram[j];
+      sum_c += periodogram[j] / transfer;
+    }
+    const double m = double(p.bins);
+    p.omega = sum_omega / m;
+    if (request.omega_max > 0 && p.omega > request.omega_max) break;
+    p.C = sum_c / m;
+    double bin_factor = 0;
+    for (std::size_t i = 0; i < p.bins; ++i)
+      for (std::size_t j = 0; j < p.bins; ++j) {
+        const std::size_t d = i > j ? i - j : j - i;
+        bin_factor += d < rho_b.size() ? rho_b[d] : 0.0;
+      }
+    bin_factor /= m * m;
+    const double relative_variance = segment_factor * bin_factor;
+    p.dof = 2 / relative_variance;
+    p.standard_error = p.C * std::sqrt(relative_variance);
+    p.lower = p.C * p.dof / chi_square_quantile(p.dof, kBarSigmas);
+    p.upper = p.C * p.dof / chi_square_quantile(p.dof, -kBarSigmas);
+    // What the far side lobes carry into the point's centre bin from the rest of the
+    // (difference) spectrum, relative to that bin's own level.
+    const std::size_t centre = k + p.bins / 2;
+    double leaked = 0;
+    for (std::size_t j = 1; j < bins; ++j) {
+      const std::size_t d = j > centre ? j - centre : centre - j;
+      if (d > kMainLobeBins) leaked += periodogram[j] * kernel[d];
+    }
+    p.leakage = periodogram[centre] > 0 ? leaked / periodogram[centre] : 0;
+    p.leaky = p.leakage > kLeakageShareOfError * std::sqrt(relative_variance);
+    point_differences.push_back(sum_d / m);
+    out.points.push_back(p);
+    k = end;
+  }
+  // Power the window cannot see (trends inside a segment) leaks with the side lobes' own
+  // omega^-6 and hides from the sum above; it shows as a difference spectrum as steep as that.
+  std::vector<bool> steep(out.points.size(), false);
+  for (std::size_t k = 0; k < out.points.size(); ++k) {
+    std::size_t low = k, high = k;
+    while (low > 0 && out.points[low].omega > out.points[k].omega / 2) --low;
+    while (high + 1 < out.points.size() && out.points[high].omega < 2 * out.points[k].omega) ++high;
+    if (high == low || !(point_differences[low] > 0 && point_differences[high] > 0)) continue;
+    const double slope = std::log(point_differences[high] / point_differences[low]) /
+                         std::log(out.points[high].omega / out.points[low].omega);
+    steep[k] = slope < kSteepestDifferenceSlope;
+  }
+  // The leaked power reaches past the steep part: an octave above a steep point is suspect too.
+  for (std::size_t k = 0; k < out.points.size(); ++k)
+    for (std::size_t j = k + 1; j-- > 0 && out.points[j].omega >= out.points[k].omega / 2;)
+      out.points[k].leaky = out.points[k].leaky || steep[j];
+  out.bin_spacing = bin_spacing;
+  return out;
+}
+
+std::vector<double> welch_expected(const WelchSpectrum& spectrum, const std::function<double(double)>& true_spectrum) {
+  std::vector<double> values;
+  for (const WelchPoint& p : spectrum.points) {
+    double sum = 0;
+    for (std::size_t j = p.first_bin; j < p.first_bin + p.bins; ++j)
+      sum += true_spectrum(double(j) * spectrum.bin_spacing);
+    values.push_back(sum / double(p.bins));
+  }
+  return values;
+}
+
+}  // namespace slidespec
