@@ -317,6 +317,19 @@ PYBIND11_MODULE(_core, m) {
       "The named cases: (name, description, [(key, value) changed from the reference]).");
   m.def("parameter_keys", &parameter_keys, "Every settable parameter key (KEY_l for level l).");
   m.def(
+      "parameter_table",
+      [] {
+        py::list table;
+        for (const ParameterInfo& info : parameter_table())
+          table.append(py::dict(py::arg("key") = info.key, py::arg("kind") = info.kind, py::arg("unit") = info.unit,
+                                py::arg("allowed") = info.allowed, py::arg("per_level") = info.per_level,
+                                py::arg("doc") = info.doc, py::arg("words") = info.words,
+                                py::arg("reference") = info.reference));
+        return table;
+      },
+      "The model's parameters, one dict each: key, kind (count|real|word|levels), unit, allowed, per_level, doc, "
+      "words, reference.");
+  m.def(
       "describe",
       [](const std::string& case_name, const Overrides& overrides) { return describe(build(case_name, overrides)); },
       "Every (key, value text) of a case with overrides; ValueError names a bad key.");

@@ -1,6 +1,7 @@
 // Model parameters, the named cases of docs/model.md §2, and their validation.
 #pragma once
 
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -15,50 +16,55 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-enum class ChainEnds { open, ring };
-enum class Renewal { poisson, periodic };
+/// Levels of a tree, as `touching` lists them (ascending).
+using LevelList = std::vector<int>;
 
-const char* to_string(ChainEnds chain);
-const char* to_string(Renewal renewal);
+// The word-valued parameters' types: enum class ChainEnds { open, ring }, ... (parameters.def).
+#define SLIDESPEC_WORDS(Type, ...)      \
+  enum class Type { __VA_ARGS__ };      \
+  const char* to_string(Type value);    \
+  /** The words in the enum's order. */ \
+  const std::vector<std::string>& words(Type);
+#include "slidespec/parameters.def"
+
+/// The values a parameter may take: low < x (or low <= x when low_included), x <= high.
+struct Range {
+  double low, high;
+  bool low_included;
+};
+/// The ranges parameters.def names.
+namespace ranges {
+inline constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+inline constexpr Range any{-kUnbounded, kUnbounded, true};
+inline constexpr Range positive{0, kUnbounded, false};
+inline constexpr Range non_negative{0, kUnbounded, true};
+constexpr Range at_least(double low) { return {low, kUnbounded, true}; }
+constexpr Range between(double low, double high) { return {low, high, true}; }
+}  // namespace ranges
 
 /// One level of blocks on blocks (docs/model.md §6, docs/hierarchy.md): every block of
-/// the level above carries N of these on springs, chained to their siblings.
+/// the level above carries N of these on springs, chained to their siblings. Its fields
+/// are the per-level rows of parameters.def.
 struct Level {
-  int N = 10;          ///< blocks per parent
-  double m = 1e-8;     ///< mass [kg]
-  double k0 = 1e3;     ///< spring to the parent [N/m]
-  double k1 = 10;      ///< spring to a neighbouring sibling [N/m]
-  double eta0 = 8e4;   ///< damping rate to the parent [1/s]
-  double a = 1e-4;     ///< mean renewal distance, if touching [m]
-  double alpha = 1.0;  ///< noise strength, if touching [-]
-  ChainEnds chain = ChainEnds::open;
+#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, scope, shown, doc) \
+  SLIDESPEC_PARAMETER_IN_LEVEL_##scope(type key = reference;)
+#define SLIDESPEC_PARAMETER_IN_LEVEL_level(field) field
+#define SLIDESPEC_PARAMETER_IN_LEVEL_model(field)
+#include "slidespec/parameters.def"
+#undef SLIDESPEC_PARAMETER_IN_LEVEL_level
+#undef SLIDESPEC_PARAMETER_IN_LEVEL_model
 };
 
 /// The spring-block model of docs/model.md §1 in SI units, optionally with deeper levels
-/// of blocks on blocks (§6). The flat fields N, m, k0, ... are level 1.
+/// of blocks on blocks (§6). Its fields are the rows of parameters.def, with the reference
+/// case's values; the per-level fields N, m, k0, ... are level 1.
 /// Exactly one of `v` and `eta1` is an input; the other is derived from
 /// v = (F_drive - F_kin) / (eta1 * sum of the touching blocks' masses), which is
 /// v = (F_drive - F_kin) / (N m eta1) for one level. Use ParameterBuilder to get a consistent set.
 struct Parameters {
-  int N = 30;             ///< number of miniblocks
-  double M = 1.0;         ///< big block mass [kg]
-  double m = 1e-5;        ///< miniblock mass [kg]
-  double k0 = 1e4;        ///< miniblock-block spring [N/m]
-  double k1 = 1e2;        ///< miniblock-miniblock spring [N/m]
-  double eta0 = 0.8e4;    ///< miniblock-block damping rate [1/s]
-  double eta1 = 0.0;      ///< miniblock-substrate damping rate [1/s] (derived when v is given)
-  double v = 0.5e-3;      ///< mean sliding speed [m/s]
-  double a = 1e-3;        ///< mean renewal distance [m]
-  double alpha = 1.0;     ///< noise strength [-]
-  double F_drive = 10.0;  ///< driving force [N]
-  double F_kin = 5.0;     ///< total kinetic friction N f_kin [N]
-  ChainEnds chain = ChainEnds::open;
-  Renewal renewal = Renewal::poisson;
-  int levels = 1;                ///< levels of blocks below the big block
+#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, scope, shown, doc) type key = reference;
+#include "slidespec/parameters.def"
   std::vector<Level> sublevels;  ///< levels 2..levels
-  /// Levels that touch the substrate (eta1, a share of F_kin, random forces), ascending;
-  /// empty means the lowest level only.
-  std::vector<int> touching;
 
   /// Level l in 1..levels (level 1 from the flat fields).
   Level level(int l) const;
@@ -108,6 +114,26 @@ struct Case {
 
 const std::vector<Case>& cases();
 
+/// One row of parameters.def, for whoever lists, parses or documents the parameters.
+struct ParameterInfo {
+  std::string key;
+  std::string kind;                  ///< "count", "real", "word" or "levels" (a list of level numbers)
+  Range range;                       ///< checked by ParameterBuilder::build()
+  std::string allowed;               ///< the range or the words in words: "> 0", "open or ring", ...
+  std::string unit;                  ///< SI unit, "" for none
+  bool per_level;                    ///< KEY_l sets level l of a tree
+  std::string doc;                   ///< one line
+  std::vector<std::string> words;    ///< a word-valued key's words
+  std::string reference;             ///< the reference case's value, as describe() writes it
+  bool (*shown)(const Parameters&);  ///< whether describe() lists the key
+};
+
+/// Every row of parameters.def, in display order.
+const std::vector<ParameterInfo>& parameter_table();
+
+/// The row of KEY or KEY_l; nullptr for an unknown key.
+const ParameterInfo* find_parameter(const std::string& key);
+
 /// Every parameter key a user may set, in display order. Per-level keys are written
 /// KEY_l (N_2, m_2, k0_2, k1_2, eta0_2, a_2, alpha_2, chain_2; KEY_1 is KEY).
 const std::vector<std::string>& parameter_keys();
@@ -126,10 +152,11 @@ class ParameterBuilder {
   Parameters build() const;
 
  private:
+  /// Whether the user set `key` (a case's own keys do not count).
+  bool given(const std::string& key) const;
   void build_levels(Parameters& p) const;
   Parameters params_;
-  bool user_set_v_ = false;
-  bool user_set_eta1_ = false;
+  std::vector<std::string> given_;
   // Deeper levels as set so far ("N_2" before or after "levels"); unset keys follow the
   // level above scaled to a ten times smaller contact (docs/hierarchy.md).
   std::vector<std::vector<std::pair<std::string, std::string>>> level_keys_;

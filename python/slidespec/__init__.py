@@ -30,7 +30,7 @@ import numpy as np
 from . import _core
 
 __version__ = _core.version
-__all__ = ["Parameters", "Result", "Analysis", "cases", "omegas", "theory", "eq1", "long_time_motion", "run", "resume",
+__all__ = ["Parameters", "parameter_table", "Result", "Analysis", "cases", "omegas", "theory", "eq1", "long_time_motion", "run", "resume",
            "read", "analyze", "synth", "PrecisionWarning", "ModelWarning"]
 
 
@@ -46,19 +46,33 @@ class ModelWarning(UserWarning):
 # ---------------------------------------------------------------------------------------
 # Parameters
 
-_COUNT_KEYS = re.compile(r"^(N|levels)(_\d+)?$")
-_TEXT_KEYS = re.compile(r"^(chain|renewal|touching)(_\d+)?$")
+_PARAMETERS = {row["key"]: row for row in _core.parameter_table()}
+
+
+def parameter_table():
+    """The model's parameters (docs/model.md §2), one dict each, in display order: key,
+    kind ("count", "real", "word" or "levels"), unit (SI, "" for none), allowed (its range
+    or words), per_level (KEY_l sets level l of a tree), doc, words, reference (the
+    reference case's value, as text)."""
+    return [dict(row) for row in _PARAMETERS.values()]
+
+
+def _kind(key):
+    """The kind of KEY or KEY_l (None for a key that is not a parameter)."""
+    row = _PARAMETERS.get(key) or _PARAMETERS.get(re.sub(r"_\d+$", "", key))
+    return row["kind"] if row else None
 
 
 def _typed(key, value):
     """A parameter value as Python meets it: int for counts, str for names, else float."""
     if not isinstance(value, str):
         return value
-    if _TEXT_KEYS.match(key):
-        return value
-    if _COUNT_KEYS.match(key):
+    kind = _kind(key)
+    if kind == "count":
         return int(float(value))
-    return float(value)
+    if kind == "real":
+        return float(value)
+    return value
 
 
 def _text(key, value):
@@ -92,14 +106,15 @@ class Parameters(Mapping):
         p["alpha"], p["eta1"]         # every key, derived ones too
         p.to_dict()                   # {key: value}, JSON-serialisable
 
-    Keys and units (docs/model.md): N miniblocks; M block mass [kg]; m miniblock mass [kg];
-    k0 miniblock-block spring [N/m]; k1 miniblock-miniblock spring [N/m]; eta0
-    miniblock-block damping rate [1/s]; eta1 miniblock-substrate damping rate [1/s]; v mean
-    sliding speed [m/s]; a mean renewal distance [m]; alpha noise strength [-]; F_drive
-    driving force [N]; F_kin total kinetic friction [N]; chain "open"|"ring"; renewal
-    "poisson"|"periodic"; levels, touching and KEY_l for blocks on blocks (docs/hierarchy.md).
+    Keys and units (docs/model.md §2; parameter_table() gives them as data; blocks on
+    blocks in docs/hierarchy.md):
+    {keys}
     Give v or eta1; the other is derived. A bad key or value raises ValueError naming it.
     """
+
+    __doc__ = __doc__.replace("{keys}", "\n    ".join(
+        f"{row['key']}: {row['doc']}" + (f" [{row['unit']}]" if row["unit"] else "")
+        + (f" (KEY_l for level l)" if row["per_level"] else "") for row in _PARAMETERS.values()))
 
     def __init__(self, case="reference", /, **overrides):
         self._case = str(case)

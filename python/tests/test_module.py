@@ -130,6 +130,23 @@ def test_second_order_theory_is_the_command_line():
         ss.theory(p, 1.0, order=3)
 
 
+def test_parameter_table_gives_every_key_with_its_unit_and_type():
+    table = ss.parameter_table()
+    keys = [row["key"] for row in table]
+    assert keys + [row["key"] + "_l" for row in table if row["per_level"]] == _core.parameter_keys()
+    units = {row["key"]: row["unit"] for row in table}
+    assert units["M"] == "kg" and units["k0"] == "N/m" and units["v"] == "m/s" and units["alpha"] == ""
+    # Each value comes back typed by its row's kind, including per-level keys of a tree.
+    values = ss.Parameters("hierarchical").to_dict()
+    kinds = {"count": int, "real": float, "word": str, "levels": str}
+    for key, value in values.items():
+        row = next(r for r in table if key in (r["key"], r["key"] + "_2"))
+        assert isinstance(value, kinds[row["kind"]]), (key, value)
+        if row["kind"] == "word":
+            assert value in row["words"]
+    assert "M: big block mass [kg]" in ss.Parameters.__doc__
+
+
 @pytest.mark.parametrize("overrides", [{"alpha": -1}, {"nonsense": 3}, {"N": 2.5}, {"chain": "loop"},
                                        {"F_kin": 20}, {"v": 1e-3, "eta1": 5}])
 def test_bad_parameters_raise_the_command_lines_message(overrides):

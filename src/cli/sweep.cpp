@@ -12,7 +12,10 @@ namespace slidespec::cli {
 
 namespace {
 
-bool integer_key(const std::string& key) { return key == "N" || key == "levels" || key.rfind("N_", 0) == 0; }
+bool integer_key(const std::string& key) {
+  const ParameterInfo* info = find_parameter(key);
+  return info && info->kind == "count";
+}
 
 double parse_value(const std::string& text, const std::string& word) {
   const std::optional<double> value = io::parse_number(text);

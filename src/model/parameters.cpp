@@ -10,17 +10,42 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <type_traits>
 
 #include "io/suggest.hpp"
 
 namespace slidespec {
 
-const char* to_string(ChainEnds chain) { return chain == ChainEnds::open ? "open" : "ring"; }
-const char* to_string(Renewal renewal) { return renewal == Renewal::poisson ? "poisson" : "periodic"; }
+namespace {
+
+// "open, ring" (the enum's words as the preprocessor writes them) -> {"open", "ring"}.
+std::vector<std::string> split_words(const std::string& list) {
+  std::vector<std::string> split;
+  std::stringstream words(list);
+  for (std::string word; std::getline(words, word, ',');) split.push_back(word.substr(word.find_first_not_of(' ')));
+  return split;
+}
+
+}  // namespace
+
+#define SLIDESPEC_WORDS(Type, ...)                                          \
+  const std::vector<std::string>& words(Type) {                             \
+    static const std::vector<std::string> list = split_words(#__VA_ARGS__); \
+    return list;                                                            \
+  }                                                                         \
+  const char* to_string(Type value) { return words(value)[static_cast<std::size_t>(value)].c_str(); }
+#include "slidespec/parameters.def"
+
+#define SLIDESPEC_PARAMETER_IN_LEVEL_level(statement) statement
+#define SLIDESPEC_PARAMETER_IN_LEVEL_model(statement)
 
 Level Parameters::level(int l) const {
-  if (l == 1) return {N, m, k0, k1, eta0, a, alpha, chain};
-  return sublevels.at(static_cast<std::size_t>(l - 2));
+  if (l != 1) return sublevels.at(static_cast<std::size_t>(l - 2));
+  Level first;
+#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, scope, shown, doc) \
+  SLIDESPEC_PARAMETER_IN_LEVEL_##scope(first.key = key;)
+#include "slidespec/parameters.def"
+  return first;
 }
 
 bool Parameters::touches(int l) const {
@@ -125,13 +150,6 @@ const std::vector<Case>& cases() {
   return all;
 }
 
-const std::vector<std::string>& parameter_keys() {
-  static const std::vector<std::string> keys = {
-      "N",     "M",       "m",      "k0",       "k1",  "eta0", "eta1", "v",    "a",      "alpha", "F_drive", "F_kin",
-      "chain", "renewal", "levels", "touching", "N_l", "m_l",  "k0_l", "k1_l", "eta0_l", "a_l",   "alpha_l", "chain_l"};
-  return keys;
-}
-
 namespace {
 
 // "_l", built by appending: GCC 12 warns falsely (-Wrestrict) on "_" + std::to_string(l).
@@ -139,12 +157,6 @@ std::string level_suffix(int l) {
   std::string suffix = "_";
   suffix += std::to_string(l);
   return suffix;
-}
-
-// Keys that every level has; KEY_l sets level l's.
-const std::vector<std::string>& level_key_names() {
-  static const std::vector<std::string> names = {"N", "m", "k0", "k1", "eta0", "a", "alpha", "chain"};
-  return names;
 }
 
 std::string trim(const std::string& s) {
@@ -173,30 +185,157 @@ int parse_count(const std::string& key, const std::string& text) {
   return static_cast<int>(value);
 }
 
-ChainEnds parse_chain(const std::string& key, const std::string& value) {
-  const std::string t = trim(value);
-  if (t == "open") return ChainEnds::open;
-  if (t == "ring") return ChainEnds::ring;
-  throw InputError("parameter " + key + ": '" + value + "' is not open or ring");
+// "a or b", "a, b or c".
+std::string either(const std::vector<std::string>& words) {
+  std::string text;
+  for (std::size_t k = 0; k < words.size(); ++k) {
+    text += k == 0 ? "" : k + 1 == words.size() ? " or " : ", ";
+    text += words[k];
+  }
+  return text;
+}
+
+// One parse, text and range check per type of member (parameters.def's `type` column).
+void parse(const std::string& key, const std::string& text, double& value) { value = parse_real(key, text); }
+void parse(const std::string& key, const std::string& text, int& value) { value = parse_count(key, text); }
+void parse(const std::string& key, const std::string& text, LevelList& levels) {
+  levels.clear();
+  std::stringstream list(text);
+  for (std::string item; std::getline(list, item, ',');) levels.push_back(parse_count(key, item));
+  std::sort(levels.begin(), levels.end());
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+}
+template <class Word>  // the word types of parameters.def
+void parse(const std::string& key, const std::string& text, Word& value) {
+  const std::vector<std::string>& list = words(Word{});
+  const auto found = std::find(list.begin(), list.end(), trim(text));
+  if (found == list.end()) throw InputError("parameter " + key + ": '" + text + "' is not " + either(list));
+  value = static_cast<Word>(found - list.begin());
+}
+
+std::string text(double value) {  // the shortest text that reads back as value
+  char digits[32];
+  return std::string(digits, std::to_chars(digits, digits + sizeof digits, value).ptr);
+}
+std::string text(int value) { return std::to_string(value); }
+std::string text(const LevelList& levels) {
+  std::string list;
+  for (int l : levels) {
+    if (!list.empty()) list += ',';
+    list += std::to_string(l);
+  }
+  return list;
+}
+template <class Word>  // the word types of parameters.def
+std::string text(Word value) {
+  return to_string(value);
+}
+
+std::string bound(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+std::string allowed(const Range& range, bool count) {
+  if (std::isfinite(range.high)) return "between " + bound(range.low) + " and " + bound(range.high);
+  if (!std::isfinite(range.low)) return "";
+  if (count && range.low_included) return "at least " + bound(range.low);
+  return (range.low_included ? ">= " : "> ") + bound(range.low);
+}
+
+bool inside(const Range& range, double value) {
+  return (range.low_included ? value >= range.low : value > range.low) && value <= range.high;
+}
+
+// Inputs are kept within 1e-100..1e100 so that products and ratios of a few of them (the
+// landmarks, the stepper's coefficients) stay far from overflow and underflow.
+constexpr double kSmallest = 1e-100, kLargest = 1e100;
+
+void check_magnitude(const std::string& key, double value) {
+  const double size = std::fabs(value);
+  if (size != 0 && !(size >= kSmallest && size <= kLargest))
+    throw InputError("parameter " + key + ": " + bound(value) +
+                     " is outside 1e-100..1e100 (its derived "
+                     "quantities would not be representable)");
+}
+
+void check(const ParameterInfo& row, const std::string& key, double value) {
+  if (!inside(row.range, value))
+    throw InputError("parameter " + key + ": must be " + row.allowed + " (got " + std::to_string(value) + ")");
+  check_magnitude(key, value);
+}
+void check(const ParameterInfo& row, const std::string& key, int value) {
+  if (!inside(row.range, value))
+    throw InputError("parameter " + key + ": must be " + row.allowed + " (got " + std::to_string(value) + ")");
+}
+template <class Value>
+void check(const ParameterInfo&, const std::string&, const Value&) {}  // words and level lists: parsed is valid
+
+template <class T>
+const char* kind() {
+  if constexpr (std::is_same_v<T, int>) return "count";
+  if constexpr (std::is_same_v<T, double>) return "real";
+  if constexpr (std::is_same_v<T, LevelList>) return "levels";
+  return "word";
+}
+
+template <class T>
+std::vector<std::string> words_of() {
+  if constexpr (std::is_enum_v<T>)
+    return words(T{});
+  else
+    return {};
+}
+
+// parameters.def's `shown` column.
+bool always(const Parameters&) { return true; }
+bool in_trees(const Parameters& p) { return p.levels > 1; }
+
+template <class T>
+ParameterInfo row(const char* key, Range range, const char* unit, bool per_level, const char* doc,
+                  bool (*shown)(const Parameters&)) {
+  ParameterInfo info{key, kind<T>(), range, "", unit, per_level, doc, words_of<T>(), "", shown};
+  info.allowed = info.words.empty() ? allowed(range, info.kind == "count") : either(info.words);
+  return info;
+}
+
+// The rows without their reference values (parameter_table() adds those, by building the
+// reference case, which needs the rows).
+const std::vector<ParameterInfo>& rows() {
+  static const std::vector<ParameterInfo> table = {
+#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, scope, shown, doc) \
+  row<type>(#key, ranges::range, unit, #scope == std::string("level"), doc, shown),
+#include "slidespec/parameters.def"
+  };
+  return table;
+}
+
+const ParameterInfo& table_row(const std::string& key) {
+  for (const ParameterInfo& info : rows())
+    if (info.key == key) return info;
+  throw std::logic_error("parameters.def has no row " + key);
+}
+
+/// visit(row, member) for every row of parameters.def, in its order.
+template <class Model, class Visit>
+void for_each_parameter(Model& p, Visit&& visit) {
+#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, scope, shown, doc) visit(table_row(#key), p.key);
+#include "slidespec/parameters.def"
+}
+
+/// visit(row, member) for every per-level row, on one level.
+template <class LevelT, class Visit>
+void for_each_level_parameter(LevelT& level, Visit&& visit) {
+#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, scope, shown, doc) \
+  SLIDESPEC_PARAMETER_IN_LEVEL_##scope(visit(table_row(#key), level.key);)
+#include "slidespec/parameters.def"
 }
 
 void set_level_key(Level& level, const std::string& name, const std::string& key, const std::string& value) {
-  if (name == "N")
-    level.N = parse_count(key, value);
-  else if (name == "m")
-    level.m = parse_real(key, value);
-  else if (name == "k0")
-    level.k0 = parse_real(key, value);
-  else if (name == "k1")
-    level.k1 = parse_real(key, value);
-  else if (name == "eta0")
-    level.eta0 = parse_real(key, value);
-  else if (name == "a")
-    level.a = parse_real(key, value);
-  else if (name == "alpha")
-    level.alpha = parse_real(key, value);
-  else
-    level.chain = parse_chain(key, value);
+  for_each_level_parameter(level, [&](const ParameterInfo& info, auto& member) {
+    if (info.key == name) parse(key, value, member);
+  });
 }
 
 /// Splits "KEY_l" into a per-level key name and l >= 1; l = 0 when it is not one.
@@ -205,7 +344,10 @@ std::pair<std::string, int> split_level_key(const std::string& key) {
   if (underscore == std::string::npos || underscore + 1 == key.size()) return {key, 0};
   const std::string name = key.substr(0, underscore), suffix = key.substr(underscore + 1);
   if (suffix.find_first_not_of("0123456789") != std::string::npos || suffix.size() > 3) return {key, 0};
-  if (std::find(level_key_names().begin(), level_key_names().end(), name) == level_key_names().end()) return {key, 0};
+  const auto& table = rows();
+  const bool per_level = std::any_of(table.begin(), table.end(),
+                                     [&](const ParameterInfo& info) { return info.per_level && info.key == name; });
+  if (!per_level) return {key, 0};
   return {name, std::stoi(suffix)};
 }
 
@@ -228,8 +370,7 @@ ParameterBuilder::ParameterBuilder(const std::string& case_name) {
   for (const Case& c : cases()) {
     if (c.name != case_name) continue;
     for (const auto& [key, value] : c.changes) set(key, value);
-    user_set_v_ = false;
-    user_set_eta1_ = false;
+    given_.clear();
     return;
   }
   std::string names;
@@ -247,7 +388,6 @@ ParameterBuilder& ParameterBuilder::set(const std::string& assignment) {
 }
 
 ParameterBuilder& ParameterBuilder::set(const std::string& key, const std::string& value) {
-  Parameters& p = params_;
   const auto [name, l] = split_level_key(key);
   if (l == 1) return set(name, value);
   if (l >= 2) {
@@ -255,87 +395,37 @@ ParameterBuilder& ParameterBuilder::set(const std::string& key, const std::strin
     set_level_key(check, name, key, value);  // a malformed value fails here, naming the key
     if (level_keys_.size() < static_cast<std::size_t>(l - 1)) level_keys_.resize(static_cast<std::size_t>(l - 1));
     level_keys_[static_cast<std::size_t>(l - 2)].emplace_back(name, value);
+    given_.push_back(key);
     return *this;
   }
-  if (key == "levels")
-    p.levels = parse_count(key, value);
-  else if (key == "touching") {
-    p.touching.clear();
-    std::stringstream list(value);
-    for (std::string item; std::getline(list, item, ',');) p.touching.push_back(parse_count(key, item));
-    std::sort(p.touching.begin(), p.touching.end());
-    p.touching.erase(std::unique(p.touching.begin(), p.touching.end()), p.touching.end());
-  } else if (key == "N")
-    p.N = parse_count(key, value);
-  else if (key == "M")
-    p.M = parse_real(key, value);
-  else if (key == "m")
-    p.m = parse_real(key, value);
-  else if (key == "k0")
-    p.k0 = parse_real(key, value);
-  else if (key == "k1")
-    p.k1 = parse_real(key, value);
-  else if (key == "eta0")
-    p.eta0 = parse_real(key, value);
-  else if (key == "eta1") {
-    p.eta1 = parse_real(key, value);
-    user_set_eta1_ = true;
-  } else if (key == "v") {
-    p.v = parse_real(key, value);
-    user_set_v_ = true;
-  } else if (key == "a")
-    p.a = parse_real(key, value);
-  else if (key == "alpha")
-    p.alpha = parse_real(key, value);
-  else if (key == "F_drive")
-    p.F_drive = parse_real(key, value);
-  else if (key == "F_kin")
-    p.F_kin = parse_real(key, value);
-  else if (key == "chain")
-    p.chain = parse_chain(key, value);
-  else if (key == "renewal") {
-    const std::string t = trim(value);
-    if (t == "poisson")
-      p.renewal = Renewal::poisson;
-    else if (t == "periodic")
-      p.renewal = Renewal::periodic;
-    else
-      throw InputError("parameter renewal: '" + value + "' is not poisson or periodic");
-  } else {
-    std::string known;
-    for (const auto& k : parameter_keys()) known += (known.empty() ? "" : " ") + k;
-    throw InputError("unknown parameter '" + key + "'" + io::did_you_mean(key, parameter_keys()) + " (known: " + known +
+  bool known = false;
+  for_each_parameter(params_, [&](const ParameterInfo& info, auto& member) {
+    if (info.key != key) return;
+    parse(key, value, member);
+    known = true;
+  });
+  if (!known) {
+    std::string keys;
+    for (const auto& k : parameter_keys()) keys += (keys.empty() ? "" : " ") + k;
+    throw InputError("unknown parameter '" + key + "'" + io::did_you_mean(key, parameter_keys()) + " (known: " + keys +
                      ")");
   }
+  given_.push_back(key);
   return *this;
 }
 
+bool ParameterBuilder::given(const std::string& key) const {
+  return std::find(given_.begin(), given_.end(), key) != given_.end();
+}
+
 namespace {
-
-// Inputs are kept within 1e-100..1e100 so that products and ratios of a few of them (the
-// landmarks, the stepper's coefficients) stay far from overflow and underflow.
-constexpr double kSmallest = 1e-100, kLargest = 1e100;
-
-std::string format_real(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
-
-void check_magnitude(const std::string& key, double value) {
-  const double size = std::fabs(value);
-  if (size != 0 && !(size >= kSmallest && size <= kLargest))
-    throw InputError("parameter " + key + ": " + format_real(value) +
-                     " is outside 1e-100..1e100 (its derived "
-                     "quantities would not be representable)");
-}
 
 /// Every derived rate and landmark a run or the theory uses must be a normal number.
 void check_derived(const Parameters& p) {
   const Landmarks l = landmarks(p);
   auto normal = [](const char* what, double value, bool zero_allowed) {
     if (!std::isfinite(value) || (!(zero_allowed && value == 0) && !std::isnormal(value)))
-      throw InputError(std::string("parameters: derived ") + what + " = " + format_real(value) +
+      throw InputError(std::string("parameters: derived ") + what + " = " + bound(value) +
                        " is not a representable number; bring the parameters it depends on closer to 1");
   };
   normal("omega_c = sqrt(N k0 / M)", l.omega_c, false);
@@ -354,58 +444,38 @@ void check_derived(const Parameters& p) {
 
 Parameters ParameterBuilder::build() const {
   Parameters p = params_;
-  auto positive = [](const std::string& key, double value) {
-    if (!(value > 0)) throw InputError("parameter " + key + ": must be > 0 (got " + std::to_string(value) + ")");
-    check_magnitude(key, value);
-  };
-  auto non_negative = [](const std::string& key, double value) {
-    if (!(value >= 0)) throw InputError("parameter " + key + ": must be >= 0 (got " + std::to_string(value) + ")");
-    check_magnitude(key, value);
-  };
-  if (user_set_v_ && user_set_eta1_) throw InputError("parameters v and eta1: give one of them, the other is derived");
-  if (p.N < 1) throw InputError("parameter N: must be at least 1 (got " + std::to_string(p.N) + ")");
+  if (given("v") && given("eta1")) throw InputError("parameters v and eta1: give one of them, the other is derived");
+  // Of v and eta1 the one not given is derived below, and checked there.
+  const std::string derived = given("eta1") ? "v" : "eta1";
+  // Keys of a bounded range first: an unbounded one's rule relates it to others (F_drive >
+  // F_kin), so where both are wrong the bounded key's message is the one that helps.
+  for (const bool bounded : {true, false})
+    for_each_parameter(p, [&](const ParameterInfo& info, const auto& value) {
+      if (info.key != derived && bounded == (info.range.low > -ranges::kUnbounded)) check(info, info.key, value);
+    });
   if (p.chain == ChainEnds::ring && p.N < 3)
     throw InputError("parameter chain: a ring needs N >= 3 (got N = " + std::to_string(p.N) + ")");
-  positive("M", p.M);
-  positive("m", p.m);
-  positive("k0", p.k0);
-  non_negative("k1", p.k1);
-  non_negative("eta0", p.eta0);
-  positive("a", p.a);
-  non_negative("alpha", p.alpha);
-  non_negative("F_kin", p.F_kin);
   build_levels(p);
   for (int l = 2; l <= p.levels; ++l) {
     const Level level = p.level(l);
-    const std::string suffix = level_suffix(l);
     if (level.chain == ChainEnds::ring && level.N < 3)
-      throw InputError("parameter chain" + suffix + ": a ring needs N" + suffix + " >= 3 (got " +
+      throw InputError("parameter chain" + level_suffix(l) + ": a ring needs N" + level_suffix(l) + " >= 3 (got " +
                        std::to_string(level.N) + ")");
-    positive("m" + suffix, level.m);
-    positive("k0" + suffix, level.k0);
-    non_negative("k1" + suffix, level.k1);
-    non_negative("eta0" + suffix, level.eta0);
-    positive("a" + suffix, level.a);
-    non_negative("alpha" + suffix, level.alpha);
   }
   // Substrate damping acts on the touching blocks, at one rate eta1 for all of them.
   double touching_mass = 0;
   for (int l = 1; l <= p.levels; ++l)
     if (p.touches(l)) touching_mass += static_cast<double>(p.blocks(l)) * p.level(l).m;
-  check_magnitude("F_drive", p.F_drive);
   if (!(p.F_drive > p.F_kin))
     throw InputError("parameters F_drive, F_kin: F_drive must exceed F_kin for steady sliding (got " +
                      std::to_string(p.F_drive) + " <= " + std::to_string(p.F_kin) + ")");
-  if (user_set_eta1_) {
-    positive("eta1", p.eta1);
+  if (given("eta1"))
     p.v = (p.F_drive - p.F_kin) / (touching_mass * p.eta1);
-  } else {
-    positive("v", p.v);
+  else
     p.eta1 = (p.F_drive - p.F_kin) / (touching_mass * p.v);
-  }
   if (!std::isfinite(p.v) || !std::isfinite(p.eta1) || !(p.v > 0) || !(p.eta1 > 0))
     throw InputError("parameters v, eta1: the derived value is not a finite positive number");
-  check_magnitude(user_set_eta1_ ? "v (derived from eta1)" : "eta1 (derived from v)", user_set_eta1_ ? p.v : p.eta1);
+  check_magnitude(derived == "v" ? "v (derived from eta1)" : "eta1 (derived from v)", derived == "v" ? p.v : p.eta1);
   check_magnitude("F_drive - F_kin", p.F_drive - p.F_kin);
   check_derived(p);
   return p;
@@ -433,9 +503,10 @@ void ParameterBuilder::build_levels(Parameters& p) const {
     if (l < 1 || l > p.levels)
       throw InputError("parameter touching: level " + std::to_string(l) + " is not in 1.." + std::to_string(p.levels));
   for (int l = 2; l <= p.levels; ++l)
-    if (p.level(l).N < 1)
-      throw InputError("parameter N_" + std::to_string(l) + ": must be at least 1 (got " +
-                       std::to_string(p.level(l).N) + ")");
+    for_each_level_parameter(
+        p.sublevels[static_cast<std::size_t>(l - 2)],
+        [&](const ParameterInfo& info, const auto& value) { check(info, info.key + level_suffix(l), value); });
+  if (p.touching.empty()) p.touching = {p.levels};  // the lowest level, said explicitly
   long long total = 0;
   for (int l = 1; l <= p.levels; ++l) {
     total += p.blocks(l);
@@ -475,47 +546,46 @@ std::vector<std::string> read_parameter_file(const std::string& path) {
 }
 
 std::vector<std::pair<std::string, std::string>> describe(const Parameters& p) {
-  auto num = [](double x) {  // shortest text that reads back as x
-    char text[32];
-    return std::string(text, std::to_chars(text, text + sizeof text, x).ptr);
-  };
-  std::vector<std::pair<std::string, std::string>> described = {{"N", std::to_string(p.N)},
-                                                                {"M", num(p.M)},
-                                                                {"m", num(p.m)},
-                                                                {"k0", num(p.k0)},
-                                                                {"k1", num(p.k1)},
-                                                                {"eta0", num(p.eta0)},
-                                                                {"eta1", num(p.eta1)},
-                                                                {"v", num(p.v)},
-                                                                {"a", num(p.a)},
-                                                                {"alpha", num(p.alpha)},
-                                                                {"F_drive", num(p.F_drive)},
-                                                                {"F_kin", num(p.F_kin)},
-                                                                {"chain", to_string(p.chain)},
-                                                                {"renewal", to_string(p.renewal)}};
-  if (p.levels > 1) {
-    described.emplace_back("levels", std::to_string(p.levels));
-    std::string touching;
-    for (int l = 1; l <= p.levels; ++l)
-      if (p.touches(l)) {
-        if (!touching.empty()) touching += ',';
-        touching += std::to_string(l);
-      }
-    described.emplace_back("touching", touching);
-    for (int l = 2; l <= p.levels; ++l) {
-      const Level level = p.level(l);
-      const std::string suffix = level_suffix(l);
-      described.emplace_back("N" + suffix, std::to_string(level.N));
-      described.emplace_back("m" + suffix, num(level.m));
-      described.emplace_back("k0" + suffix, num(level.k0));
-      described.emplace_back("k1" + suffix, num(level.k1));
-      described.emplace_back("eta0" + suffix, num(level.eta0));
-      described.emplace_back("a" + suffix, num(level.a));
-      described.emplace_back("alpha" + suffix, num(level.alpha));
-      described.emplace_back("chain" + suffix, to_string(level.chain));
-    }
-  }
+  std::vector<std::pair<std::string, std::string>> described;
+  for_each_parameter(p, [&](const ParameterInfo& info, const auto& value) {
+    if (info.shown(p)) described.emplace_back(info.key, text(value));
+  });
+  for (int l = 2; l <= p.levels; ++l)
+    for_each_level_parameter(p.sublevels[static_cast<std::size_t>(l - 2)],
+                             [&](const ParameterInfo& info, const auto& value) {
+                               described.emplace_back(info.key + level_suffix(l), text(value));
+                             });
   return described;
+}
+
+const std::vector<ParameterInfo>& parameter_table() {
+  static const std::vector<ParameterInfo> table = [] {
+    std::vector<ParameterInfo> with_reference = rows();
+    const Parameters reference = ParameterBuilder("reference").build();
+    for_each_parameter(reference, [&](const ParameterInfo& info, const auto& value) {
+      with_reference[static_cast<std::size_t>(&info - rows().data())].reference = text(value);
+    });
+    return with_reference;
+  }();
+  return table;
+}
+
+const ParameterInfo* find_parameter(const std::string& key) {
+  const std::string name = split_level_key(key).first;
+  for (const ParameterInfo& info : parameter_table())
+    if (info.key == name) return &info;
+  return nullptr;
+}
+
+const std::vector<std::string>& parameter_keys() {
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> all;
+    for (const ParameterInfo& info : parameter_table()) all.push_back(info.key);
+    for (const ParameterInfo& info : parameter_table())
+      if (info.per_level) all.push_back(info.key + "_l");
+    return all;
+  }();
+  return keys;
 }
 
 }  // namespace slidespec

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "slidespec/parameters.hpp"
 
@@ -87,3 +89,64 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(Parameters, UnknownCaseIsRefused) { EXPECT_THROW(ParameterBuilder("slow"), InputError); }
 
 TEST(Parameters, K1ZeroIsAllowed) { EXPECT_NO_THROW(ParameterBuilder().set("k1=0").build()); }
+
+// docs/model.md §2's table, generated from parameters.def: the docs list every key with
+// its unit, range and reference value, and nothing the table does not have.
+std::string markdown_parameter_table() {
+  std::ostringstream out;
+  out << "| key | meaning | unit | allowed | reference |\n|---|---|---|---|---|\n";
+  for (const ParameterInfo& row : parameter_table()) {
+    std::ostringstream reference;
+    if (row.kind == "real")
+      reference << std::stod(row.reference);  // 6 digits: eta1 is 3.33333e+07, not all 17
+    else
+      reference << row.reference;
+    out << "| `" << row.key << "`" << (row.per_level ? ", `" + row.key + "_l`" : "") << " | " << row.doc << " | "
+        << (row.unit.empty() ? "–" : row.unit) << " | " << (row.allowed.empty() ? "–" : row.allowed) << " | "
+        << reference.str() << " |\n";
+  }
+  return out.str();
+}
+
+TEST(ParameterTable, DocsTableIsGenerated) {
+  std::ifstream file(SLIDESPEC_SOURCE_DIR "/docs/model.md");
+  ASSERT_TRUE(file) << "cannot read docs/model.md";
+  const std::string docs{std::istreambuf_iterator<char>(file), {}};
+  const std::string begin = "<!-- generated from include/slidespec/parameters.def -->\n";
+  const std::string end = "<!-- end of the generated table -->";
+  const auto first = docs.find(begin), last = docs.find(end);
+  ASSERT_NE(first, std::string::npos) << "docs/model.md lacks the line " << begin;
+  ASSERT_NE(last, std::string::npos) << "docs/model.md lacks the line " << end;
+  const std::string expected = markdown_parameter_table();
+  EXPECT_EQ(docs.substr(first + begin.size(), last - first - begin.size()), expected)
+      << "docs/model.md §2's table differs from parameters.def; put this table between the two lines:\n"
+      << expected;
+}
+
+TEST(ParameterTable, EveryKeyParsesAndDescribesItsReferenceValue) {
+  // Setting each key to its reference value (as text) rebuilds the reference case exactly.
+  const auto reference = describe(ParameterBuilder("reference").build());
+  for (const ParameterInfo& row : parameter_table()) {
+    if (row.key == "eta1") continue;  // derived from v: giving it too is refused
+    ParameterBuilder builder;
+    builder.set(row.key, row.reference);
+    EXPECT_EQ(describe(builder.build()), reference) << row.key;
+  }
+}
+
+TEST(ParameterTable, RangesAreChecked) {
+  for (const ParameterInfo& row : parameter_table()) {
+    if (row.kind != "real" && row.kind != "count") continue;
+    if (!std::isfinite(row.range.low)) continue;
+    const double outside = row.range.low_included ? row.range.low - 1 : row.range.low;
+    std::ostringstream text;
+    text << outside;
+    try {
+      ParameterBuilder().set(row.key, text.str()).build();
+      ADD_FAILURE() << row.key << "=" << outside << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("parameter " + row.key + ": must be " + row.allowed), std::string::npos)
+          << e.what();
+    }
+  }
+}
