@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages slidespec needs (only those missing), then configures and
 # builds into build/. Idempotent: with everything in place it only runs an incremental build.
-# Also makes the Python module importable by /usr/bin/python3 (docs/python.md).
+# Also makes the Python module importable by /usr/bin/python3; pip installs it elsewhere
+# (docs/python.md).
 # Extra CMake options: SLIDESPEC_CMAKE_ARGS="-DSLIDESPEC_BUILD_BENCHMARKS=OFF" tools/setup.sh
 # The MPI build (OpenMPI, into build-mpi/, the executable only): SLIDESPEC_MPI=ON tools/setup.sh
 set -euo pipefail
@@ -11,7 +12,8 @@ packages=(cmake ninja-build g++ pkg-config git
           libeigen3-dev libxsimd-dev libfftw3-dev librandom123-dev
           libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev zlib1g-dev
           python3 python3-numpy python3-matplotlib
-          python3-dev pybind11-dev python3-tqdm python3-pytest)
+          python3-dev pybind11-dev python3-tqdm python3-pytest
+          python3-venv python3-pip python3-setuptools python3-wheel)
 mpi=${SLIDESPEC_MPI:-OFF}
 [ "$mpi" = "ON" ] && packages+=(libopenmpi-dev openmpi-bin)
 missing=()
