@@ -12,8 +12,10 @@ namespace slidespec {
 enum class SimdPath { automatic, scalar, sse2, avx2, avx512 };
 
 const char* to_string(SimdPath path);
-/// Parses scalar|sse2|avx2|avx512|auto; throws InputError.
+/// Parses a compiled path's name or "auto"; throws InputError.
 SimdPath parse_simd_path(const std::string& name);
+/// The names parse_simd_path takes, from the path table: "scalar|sse2|...|auto".
+std::string simd_path_names();
 /// The paths this CPU can run, narrowest first (scalar is always there).
 std::vector<SimdPath> available_simd_paths();
 /// `automatic` becomes the widest available path; an unavailable path is an InputError.

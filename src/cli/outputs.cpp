@@ -16,10 +16,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct File {
-  std::string path;
-  std::string option;  // the option that named it, for the message
-};
+using File = NamedFile;
+
+// The name with control characters shown as '?', for a one-line message.
+std::string printable(std::string name) {
+  for (char& c : name)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  return name;
+}
 
 // The longest name the atomic writer derives from an output: PATH.tmp.XXXXXX.png.
 constexpr std::size_t kLongestSuffix = 20;
@@ -40,17 +44,6 @@ bool valid_utf8(const std::string& s) {
   return true;
 }
 
-std::vector<std::string> given(const CLI::App& command, const std::string& name) {
-  const CLI::Option* option = command.get_option_no_throw(name);
-  if (option == nullptr || option->count() == 0) return {};
-  return option->results();
-}
-
-std::string one(const CLI::App& command, const std::string& name, const std::string& fallback) {
-  const auto values = given(command, name);
-  return values.empty() ? fallback : values.back();
-}
-
 void check_name(const File& f) {
   if (!valid_utf8(f.path)) throw InputError(f.option + ": the file name '" + f.path + "' is not valid UTF-8");
   if (f.path.size() + kLongestSuffix >= PATH_MAX)
@@ -68,7 +61,12 @@ void check_input(const File& f) {
 }
 
 void check_output(const File& f) {
+  if (f.path.empty()) throw InputError(f.option + ": empty output name");
   check_name(f);
+  for (const char c : f.path)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      throw InputError(f.option + ": the output name '" + printable(f.path) +
+                       "' holds a control character (a newline, a tab...); choose another name");
   const std::string name = fs::path(f.path).filename().string();
   const long most =
       ::pathconf(fs::path(f.path).parent_path().empty() ? "." : fs::path(f.path).parent_path().c_str(), _PC_NAME_MAX);
@@ -79,6 +77,12 @@ void check_output(const File& f) {
   std::error_code error;
   if (fs::is_directory(f.path, error))
     throw InputError(f.option + ": " + f.path + " is a directory, not a file it could write");
+  const fs::path parent = fs::path(f.path).parent_path();
+  const std::string directory = parent.empty() ? "." : parent.string();
+  if (!fs::is_directory(directory, error))
+    throw InputError(f.option + " " + f.path + ": directory " + directory + " does not exist");
+  if (::access(directory.c_str(), W_OK) != 0)
+    throw InputError(f.option + " " + f.path + ": directory " + directory + " is not writable");
 }
 
 bool same_file(const std::string& a, const std::string& b) {
@@ -87,60 +91,6 @@ bool same_file(const std::string& a, const std::string& b) {
   const fs::path x = fs::weakly_canonical(a, error);
   const fs::path y = fs::weakly_canonical(b, error);
   return !error && x == y;
-}
-
-std::vector<File> with_extensions(const std::string& prefix, const std::string& option,
-                                  std::initializer_list<const char*> extensions) {
-  std::vector<File> files;
-  for (const char* extension : extensions) files.push_back({prefix + extension, option});
-  return files;
-}
-
-/// The chosen command's inputs and outputs, as its own code names them.
-void files_of(const CLI::App& command, std::vector<File>& inputs, std::vector<File>& outputs) {
-  const std::string name = command.get_name();
-  for (const std::string& path : given(command, "--params")) inputs.push_back({path, "--params"});
-  auto add_outputs = [&](const std::vector<File>& files) { outputs.insert(outputs.end(), files.begin(), files.end()); };
-  if (name == "theory") {
-    for (const std::string& path : given(command, "--omega-file")) inputs.push_back({path, "--omega-file"});
-    const std::string out = one(command, "--out", "");
-    if (!out.empty()) add_outputs(with_extensions(out, "--out", {".tsv"}));
-  } else if (name == "run") {
-    const std::string resume = one(command, "--resume", "");
-    if (!resume.empty()) inputs.push_back({resume + ".state", "--resume"});
-    const std::string out = one(command, "--out", resume.empty() ? "spectrum" : resume);
-    add_outputs(with_extensions(out, "--out", {".tsv", ".json", ".png"}));
-    // A resumed run saves its progress over the state it continues: that is its purpose.
-    const std::string save = one(command, "--save-state", "");
-    for (const File& state : {File{out + ".state", "--out"}, File{save, "--save-state"}})
-      if (!state.path.empty() && (resume.empty() || !same_file(state.path, resume + ".state")))
-        outputs.push_back(state);
-  } else if (name == "merge") {
-    for (const std::string& path : given(command, "parts")) inputs.push_back({path, "merge"});
-    add_outputs(with_extensions(one(command, "--out", "spectrum"), "--out", {".tsv", ".json", ".png"}));
-  } else if (name == "sweep") {
-    const std::string out = one(command, "--out", "spectrum");
-    const std::string sweep = one(command, "values", "");
-    const auto equals = sweep.find('=');
-    if (equals != std::string::npos) {
-      std::stringstream list(sweep.substr(equals + 1));
-      for (std::string value; std::getline(list, value, ',');)
-        add_outputs(
-            with_extensions(out + "_" + sweep.substr(0, equals) + "=" + value, "--out", {".tsv", ".json", ".state"}));
-    }
-    outputs.push_back({out + ".png", "--out"});
-  } else if (name == "plot") {
-    for (const std::string& path : given(command, "tables")) inputs.push_back({path, "plot"});
-    outputs.push_back({one(command, "--out", ""), "--out"});
-  } else if (name == "analyze") {
-    for (const std::string& path : given(command, "file")) inputs.push_back({path, "analyze"});
-    add_outputs(with_extensions(one(command, "--out", "analysis"), "--out", {".tsv", ".json", ".png"}));
-  } else if (name == "synth") {
-    add_outputs(with_extensions(one(command, "--out", "record"), "--out", {".csv"}));
-  } else if (name == "paper") {
-    const std::string directory = one(command, "--out-dir", ".");
-    check_name({directory, "--out-dir"});
-  }
 }
 
 }  // namespace
@@ -158,18 +108,34 @@ void require_whole_numbers(CLI::App& app) {
       if (CLI::Option* option = command->get_option_no_throw(name)) option->check(whole);
 }
 
-void check_files(const CLI::App& app) {
-  for (const CLI::App* command : app.get_subcommands()) {
-    std::vector<File> inputs, outputs;
-    files_of(*command, inputs, outputs);
-    for (const File& f : inputs) check_input(f);
-    for (const File& f : outputs) check_output(f);
-    for (const File& out : outputs)
-      for (const File& in : inputs)
-        if (same_file(out.path, in.path))
-          throw InputError(out.option + ": the output " + out.path + " would replace the input " + in.path + " (" +
-                           in.option + "); choose another output name");
+void Files::outputs_of(const std::string& prefix, const std::string& option,
+                       std::initializer_list<std::string> extensions) {
+  if (prefix.empty()) throw InputError(option + ": empty output prefix");
+  for (const std::string& extension : extensions) output(prefix + extension, option);
+  prefixes.push_back({prefix, option});
+}
+
+void refuse_empty_values(const CLI::App& command) {
+  for (const CLI::Option* option : command.get_options()) {
+    if (option->count() == 0 || option->get_expected_min() == 0) continue;  // not given, or a flag
+    for (const std::string& value : option->results())
+      if (value.empty()) throw InputError(option->get_name() + ": empty value; give one or leave the option out");
   }
+}
+
+void check_files(const Files& files) {
+  for (const File& f : files.inputs) check_input(f);
+  for (const File& f : files.outputs) check_output(f);
+  std::error_code error;
+  for (const File& prefix : files.prefixes)
+    if (fs::is_directory(prefix.path, error))
+      throw InputError(prefix.option + " " + prefix.path + ": is a directory; give a prefix such as " + prefix.path +
+                       "/spectrum");
+  for (const File& out : files.outputs)
+    for (const File& in : files.inputs)
+      if (in.path != "-" && same_file(out.path, in.path))
+        throw InputError(out.option + ": the output " + out.path + " would replace the input " + in.path + " (" +
+                         in.option + "); choose another output name");
 }
 
 }  // namespace slidespec::cli

@@ -1,17 +1,45 @@
-// The files a command reads and writes, checked before it starts any work.
+// The files a command reads and writes, checked by one rule before it starts any work.
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <initializer_list>
+#include <string>
+#include <vector>
 
 namespace slidespec::cli {
+
+/// A file a command reads or writes, and the option that named it (for messages).
+struct NamedFile {
+  std::string path;
+  std::string option;
+};
+
+/// Everything a command will read and write, known before it does any work.
+struct Files {
+  std::vector<NamedFile> inputs;   ///< files it reads ("-" is standard input)
+  std::vector<NamedFile> outputs;  ///< every file it may write: all formats, sub-runs, states
+  /// Output prefixes it writes under: each is locked (PREFIX.lock) while the command runs.
+  std::vector<NamedFile> prefixes;
+
+  void input(const std::string& path, const std::string& option) { inputs.push_back({path, option}); }
+  void output(const std::string& path, const std::string& option) { outputs.push_back({path, option}); }
+  /// PREFIX + each extension as outputs, and PREFIX among the locked prefixes.
+  void outputs_of(const std::string& prefix, const std::string& option, std::initializer_list<std::string> extensions);
+};
 
 /// Counting options (--realizations, --seed, --threads, --points) of every command take
 /// plain decimal digits only: "-1" would otherwise wrap to 2^64-1.
 void require_whole_numbers(CLI::App& app);
 
-/// After parsing: every input of the chosen command is a readable file (not a directory),
-/// every file name is valid UTF-8 and short enough for the file system, no output is a
-/// directory, and no output would replace an input. Throws InputError naming both files.
-void check_files(const CLI::App& app);
+/// Every option given an empty value ("--out ''", "--resume ''") is refused: an empty
+/// name or number means nothing, and would otherwise read as the option not given.
+void refuse_empty_values(const CLI::App& command);
+
+/// The one rule for a command's files, before any work: every input is a readable file
+/// (not a directory); every name is valid UTF-8 without control characters and short
+/// enough for the file system; no output is empty, a directory, in a directory that does
+/// not exist or is not writable, no output prefix a directory, or the same file as an input (compared by resolved path
+/// and by inode). Throws InputError naming the file and the option.
+void check_files(const Files& files);
 
 }  // namespace slidespec::cli

@@ -1,6 +1,7 @@
 #include "io/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -151,6 +152,46 @@ void OutputSet::commit() {
   remove_backups();
   for (const Pending& p : pending_) sync_directory(p.path);
   pending_.clear();
+}
+
+OutputLock::OutputLock(const std::vector<std::string>& prefixes) {
+  for (const std::string& prefix : prefixes) {
+    const std::string path = prefix + ".lock";
+    bool duplicate = false;
+    for (const Held& h : held_) duplicate = duplicate || h.path == path;
+    if (duplicate) continue;
+    // A lock taken on a file another holder has just removed would lock nothing: take it
+    // again until the locked file is the one at `path`.
+    for (int attempt = 0;; ++attempt) {
+      const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+      if (fd < 0) throw InputError(prefix + ": cannot create the lock file " + path + ": " + std::strerror(errno));
+      if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        ::close(fd);
+        throw InputError(prefix + ": another slidespec is writing this output prefix (" + path +
+                         " is locked); wait for it or choose another --out");
+      }
+      struct stat opened {
+      }, named{};
+      if (::fstat(fd, &opened) == 0 && ::stat(path.c_str(), &named) == 0 && opened.st_ino == named.st_ino &&
+          opened.st_dev == named.st_dev) {
+        held_.push_back({path, fd});
+        break;
+      }
+      ::close(fd);
+      if (attempt > 100) throw InputError(prefix + ": cannot lock " + path);
+    }
+  }
+}
+
+OutputLock::~OutputLock() {
+  for (const Held& h : held_) {
+    ::unlink(h.path.c_str());
+    ::close(h.fd);
+  }
+}
+
+void remove_durably(const std::string& path) {
+  if (::unlink(path.c_str()) == 0) sync_directory(path);
 }
 
 void check_output_prefix(const std::string& prefix) {

@@ -42,6 +42,29 @@ class OutputSet {
   std::vector<Pending> pending_;
 };
 
+/// While alive, holds an exclusive lock on PREFIX.lock for each prefix (flock, released
+/// by the kernel if the process dies), so two commands never write one output prefix at
+/// once. A prefix already locked throws InputError naming it. The lock files are removed
+/// when the locks are released.
+class OutputLock {
+ public:
+  explicit OutputLock(const std::vector<std::string>& prefixes);
+  OutputLock(const OutputLock&) = delete;
+  OutputLock& operator=(const OutputLock&) = delete;
+  ~OutputLock();
+
+ private:
+  struct Held {
+    std::string path;
+    int fd;
+  };
+  std::vector<Held> held_;
+};
+
+/// Removes `path` (a finished run's state) and flushes its directory, so the removal
+/// itself is durable; a file already gone is fine.
+void remove_durably(const std::string& path);
+
 /// The whole of a file (a saved run state, say); InputError "WHAT: cannot read PATH".
 std::string read_file(const std::string& path, const std::string& what);
 

@@ -68,6 +68,12 @@ SimdPath parse_simd_path(const std::string& name) {
   throw InputError("--simd: '" + name + "' is not one of " + names + "auto");
 }
 
+std::string simd_path_names() {
+  std::string names;
+  for (const simd::CompiledPath& p : simd::compiled_paths()) names += std::string(p.name) + "|";
+  return names + "auto";
+}
+
 std::vector<SimdPath> available_simd_paths() {
   std::vector<SimdPath> paths;
   for (const simd::CompiledPath& p : simd::compiled_paths())

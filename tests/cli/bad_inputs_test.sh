@@ -19,6 +19,15 @@ cp p.json sw.png
 cp part.state part2.tsv
 cp part.state stale.state
 printf '1\n10\n' > om.tsv
+# Inputs named as some command's outputs would be: figures in every format, sweep sub-runs,
+# paper outputs, links to an input.
+for f in fig.pdf fig.svg swp.pdf 'sw_alpha=0.6.json' 'sw_alpha=0.6.state' an.svg syn.csv; do cp p.json "$f"; done
+cp part.state pt3.svg
+cp rec.tsv an.svg
+cp table.tsv tab.svg
+mkdir d6 && cp rec.tsv d6/fig6.tsv && cp rec.tsv d6/fig6_record.csv
+ln -s p.json link.json
+ln p.json hard.tsv
 long=$(printf 'n%.0s' $(seq 1 300))
 odd=$(printf 'odd\xff')
 
@@ -58,6 +67,37 @@ merge-over-part|part2.tsv|merge part2.tsv --out part2
 resume-over-record|rec.tsv|analyze rec.tsv --out rec --no-plot --points 4
 analyze-over-record-abs|rec.tsv|analyze $work/rec.tsv --out ./rec --no-plot
 run-out-state-over-state|part.state|run --out part --params p.json --realizations 8 --resume part
+run-pdf-over-params|fig.pdf|run --params fig.pdf --out fig --format pdf
+run-svg-over-params|fig.svg|run --params fig.svg --out fig --format svg
+sweep-pdf-over-params|swp.pdf|sweep alpha=0.5 --params swp.pdf --out swp --format pdf
+sweep-range-run-over-params|sw_alpha=0.6.json|sweep alpha=0.5:0.6:0.1 --params sw_alpha=0.6.json --out sw
+sweep-run-state-over-params|sw_alpha=0.6.state|sweep alpha=0.6 --params sw_alpha=0.6.state --out sw
+merge-svg-over-part|pt3.svg|merge pt3.svg --out pt3 --format svg
+analyze-svg-over-record|an.svg|analyze an.svg --out an --format svg
+synth-over-params|syn.csv|synth --params syn.csv --out syn
+paper-fig6-over-record|d6/fig6.tsv|paper fig6 --record d6/fig6.tsv --out-dir d6
+plot-svg-over-table|tab.svg|plot tab.svg -o tab.svg
+symlink-out-over-params|p.json|run --params p.json --out link --no-plot
+hardlink-out-over-params|p.json|theory --params p.json --out hard
+# empty, control characters, conflicting and ignored options
+run-empty-out|--out|run --out '' --no-plot
+theory-empty-out|--out|theory --out ''
+sweep-empty-out|--out|sweep alpha=1 --out ''
+merge-empty-out|--out|merge part.state --out ''
+analyze-empty-out|--out|analyze rec.tsv --out ''
+synth-empty-out|--out|synth --out ''
+paper-empty-dir|--out-dir|paper fig2 --out-dir ''
+run-empty-resume|--resume|run --resume ''
+run-empty-save-state|--save-state|run --save-state '' --no-plot
+theory-empty-omega|--omega|theory --omega ''
+run-empty-params|--params|run --params '' --no-plot
+run-newline-out|control character|run --out \$'a\nb' --no-plot
+theory-tab-out|control character|theory --out \$'a\tb'
+sweep-newline-out|control character|sweep alpha=1 --out \$'s\nw' --no-plot
+run-realizations-and-precision|--precision|run --realizations 8 --precision 0.1 --no-plot
+sweep-realizations-and-precision|--precision|sweep alpha=1 --realizations 8 --precision 0.1 --no-plot
+run-duration-zero|--duration|run --duration 0 --no-plot
+run-duration-and-precision|--precision|run --duration 5 --precision 0.1 --no-plot
 # directories, missing files, unreadable names
 params-directory|directory|run --params adir
 record-directory|directory|analyze adir

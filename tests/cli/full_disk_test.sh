@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # A run whose outputs do not fit on the disk changes none of the files of its set: the
 # older run's table, JSON and picture stay as they were, together, and no temporary remains.
+# The finished run is not lost: its state stays, and the command slidespec prints writes
+# its outputs once there is room.
 # Needs a small tmpfs (root, and mount allowed); otherwise skipped with a message.
 source "$(dirname "$0")/common.sh"
 
@@ -12,19 +14,27 @@ if ! mount -t tmpfs -o size=320k tmpfs "$disk" 2> /dev/null; then
 fi
 trap 'umount "$disk"; rm -rf "$work"' EXIT
 
-band="--omega-min 100 --omega-max 1000 --realizations 8"
+band="--omega-min 100 --omega-max 1000 --precision 0.2"
 "$bin" run $band --seed 4 --out "$disk/out" --quiet || fail "the first run failed"
 for ext in tsv json png; do [ -s "$disk/out.$ext" ] || fail "the first run wrote no .$ext"; done
 before=$(cd "$disk" && sha256sum out.tsv out.json out.png)
-# Fill the disk but for a few KiB: enough for one new table, not for the set.
-size=$(du -b "$disk/out.tsv" | cut -f1)
-head -c $(( 320 * 1024 - $(du -sb "$disk" | cut -f1) - 2 * size )) /dev/zero > "$disk/filler" 2> /dev/null
+# Fill the disk but for room for the run's state and a little: not for the output set.
+"$bin" run $band --seed 5 --out "$work/sized" --quiet --no-plot --save-state "$work/sized.state" || fail "sizing run"
+room=$(( ($(du -b "$work/sized.state" | cut -f1) / 4096 + 2) * 4096 ))
+head -c $(( 320 * 1024 - $(du -sb "$disk" | cut -f1) - room )) /dev/zero > "$disk/filler" 2> /dev/null
 "$bin" run $band --seed 5 --out "$disk/out" --quiet 2> "$work/err"
 status=$?
 [ $status -ne 0 ] || fail "a run on a full disk reported success"
 [ $status -ne 2 ] || fail "a full disk is not bad input (exit 2): $(cat "$work/err")"
 [ "$before" = "$(cd "$disk" && sha256sum out.tsv out.json out.png)" ] || fail "the older run's set was changed"
-leftover=$(ls "$disk" | grep -v -e '^out\.\(tsv\|json\|png\)$' -e '^filler$')
+leftover=$(ls "$disk" | grep -v -e '^out\.\(tsv\|json\|png\|state\)$' -e '^filler$')
 [ -z "$leftover" ] || fail "temporaries left on the full disk: $leftover"
-[ $failures -eq 0 ] && echo "full_disk: a full disk changed no file of the set ($(head -c 120 "$work/err"))"
+finish=$(sed -n 's/.*write its outputs with: slidespec //p' "$work/err")
+[ -s "$disk/out.state" ] || fail "the finished run's state is not on the disk: $(cat "$work/err")"
+[ -n "$finish" ] || fail "no command to finish the job: $(cat "$work/err")"
+rm "$disk/filler"
+"$bin" $finish --quiet || fail "'$finish' failed once there was room"
+cmp -s "$disk/out.tsv" "$work/sized.tsv" || fail "the finished run's table differs from an undisturbed run's"
+[ -e "$disk/out.state" ] && fail "the state stayed after its outputs were written"
+[ $failures -eq 0 ] && echo "full_disk: a full disk changed no file of the set and lost no run ($(head -c 120 "$work/err"))"
 exit $((failures > 0))
