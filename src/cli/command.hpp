@@ -13,6 +13,10 @@
 
 namespace slidespec::cli {
 
+/// Exit status of a result that is not what it claims (not stationary, inf or nan where
+/// a number is claimed): the outputs are written and say so (README).
+inline constexpr int kNotWhatItClaims = 3;
+
 /// Where this process stands: its place among MPI ranks and the default thread count.
 struct Context {
   const Communicator* communicator = nullptr;  ///< null without MPI (one process)

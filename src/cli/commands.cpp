@@ -1,6 +1,7 @@
 // The model commands (cases, theory), the options they share with the simulating
 // commands, and the list of every command.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -32,7 +33,7 @@ Parameters ModelOptions::build() const {
 std::string ModelOptions::label(const Parameters& p) const { return io::run_label(case_name, p); }
 
 void ModelOptions::add_inputs(Files& files) const {
-  if (!parameter_file.empty()) files.input(parameter_file, "--params");
+  if (!parameter_file.empty()) files.json_input(parameter_file, "--params");
 }
 
 std::string with_default(const std::string& help, double value) {
@@ -128,17 +129,27 @@ class TheoryCommand final : public Command {
              "C_eq1 [m^2 s] the paper's Eq. (1)"
           << (second ? ", C_x2 [m^2 s] second-order theory (docs/model.md §7)" : "") << "\n"
           << "# omega\tC_x\tC_eq1" << (second ? "\tC_x2" : "") << "\n";
+    std::size_t not_numbers = 0;  // values beyond a double's range or not computed (inf, nan)
+    double first_omega = 0;
     for (size_t k = 0; k < omegas.size(); ++k) {
-      table << io::format_number(omegas[k]) << "\t" << io::format_number(spectrum[k]) << "\t"
-            << io::format_number(eq1_asymptote(p, omegas[k]));
-      if (second) table << "\t" << io::format_number((*second)(omegas[k]));
+      const double eq1 = eq1_asymptote(p, omegas[k]);
+      const double c2 = second ? (*second)(omegas[k]) : 0;
+      table << io::format_number(omegas[k]) << "\t" << io::format_number(spectrum[k]) << "\t" << io::format_number(eq1);
+      if (second) table << "\t" << io::format_number(c2);
       table << "\n";
+      if (!std::isfinite(spectrum[k]) || !std::isfinite(eq1) || !std::isfinite(c2)) {
+        if (not_numbers++ == 0) first_omega = omegas[k];
+      }
     }
     if (out_.empty())
       std::cout << table.str();
     else
       io::write_atomically(out_ + ".tsv", table.str());
-    return 0;
+    if (not_numbers == 0) return 0;
+    std::cerr << "slidespec: warning: " << not_numbers
+              << " row(s) hold inf or nan (the first at omega = " << io::format_number(first_omega)
+              << " rad/s): beyond the range of a double or of the solve; not a spectrum there (exit status 3)\n";
+    return kNotWhatItClaims;
   }
 
  private:
@@ -192,7 +203,7 @@ class AnalysisCommand final : public Command {
       for (const std::string& path : given("file")) files.input(path, "analyze");
       files.outputs_of(one("--out", "analysis"), "--out", {".tsv", ".json", "." + one("--format", "png")});
     } else {
-      for (const std::string& path : given("--params")) files.input(path, "--params");
+      for (const std::string& path : given("--params")) files.json_input(path, "--params");
       files.outputs_of(one("--out", "record"), "--out", {".csv"});
     }
     return files;

@@ -3,11 +3,17 @@
 #include <climits>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "io/atomic_file.hpp"
 #include "slidespec/parameters.hpp"
 
 namespace slidespec::cli {
@@ -57,6 +63,8 @@ void check_input(const File& f) {
   const fs::file_status status = fs::status(f.path, error);
   if (!fs::exists(status)) throw InputError(f.option + ": " + f.path + " does not exist");
   if (fs::is_directory(status)) throw InputError(f.option + ": " + f.path + " is a directory, not a file");
+  if (fs::is_character_file(status) || fs::is_block_file(status))
+    throw InputError(f.option + ": " + f.path + " is a device, not a file (use '-' where standard input is meant)");
   if (::access(f.path.c_str(), R_OK) != 0) throw InputError(f.option + ": " + f.path + " is not readable");
 }
 
@@ -85,6 +93,29 @@ void check_output(const File& f) {
     throw InputError(f.option + " " + f.path + ": directory " + directory + " is not writable");
 }
 
+// A parameter file is a few hundred bytes; this ends a read of an endless stream.
+constexpr std::size_t kMostJsonBytes = std::size_t{1} << 20;
+
+void check_json_input(const File& f) {
+  const std::string text = io::read_file(f.path, f.option, kMostJsonBytes);
+  std::vector<std::set<std::string>> keys;  // of each object open at this point
+  std::string twice;
+  auto note_keys = [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using Event = nlohmann::json::parse_event_t;
+    if (event == Event::object_start) keys.emplace_back();
+    if (event == Event::object_end && !keys.empty()) keys.pop_back();
+    if (event == Event::key && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second && twice.empty())
+      twice = parsed.get<std::string>();
+    return true;
+  };
+  try {
+    (void)nlohmann::json::parse(text, note_keys);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(f.option + ": " + f.path + " is not valid JSON (" + e.what() + ")");
+  }
+  if (!twice.empty()) throw InputError(f.option + ": " + f.path + " gives the key '" + twice + "' twice");
+}
+
 bool same_file(const std::string& a, const std::string& b) {
   std::error_code error;
   if (fs::exists(a, error) && fs::exists(b, error)) return fs::equivalent(a, b, error);
@@ -96,16 +127,28 @@ bool same_file(const std::string& a, const std::string& b) {
 }  // namespace
 
 void require_whole_numbers(CLI::App& app) {
-  const CLI::Validator whole(
-      [](std::string& value) -> std::string {
-        if (value.empty() || value.size() > 19 || value.find_first_not_of("0123456789") != std::string::npos)
-          return "expected a whole number 0 or more, got '" + value + "'";
-        return "";
-      },
-      "WHOLE");
-  for (CLI::App* command : app.get_subcommands([](CLI::App*) { return true; }))
-    for (const char* name : {"--realizations", "--seed", "--threads", "--points"})
-      if (CLI::Option* option = command->get_option_no_throw(name)) option->check(whole);
+  // The largest each counting option's type holds: 2^64 - 1 for counts of realizations
+  // and seeds, 2^31 - 1 for threads and points per decade.
+  auto whole_up_to = [](const std::string& largest) {
+    return CLI::Validator(
+        [largest](std::string& value) -> std::string {
+          if (value.empty() || value.find_first_not_of("0123456789") != std::string::npos)
+            return "expected a whole number from 0 to " + largest + ", got '" + value + "'";
+          const std::string digits = value.substr(std::min(value.find_first_not_of('0'), value.size() - 1));
+          if (digits.size() > largest.size() || (digits.size() == largest.size() && digits > largest))
+            return "'" + value + "' is above " + largest + ", the largest allowed";
+          return "";
+        },
+        "WHOLE");
+  };
+  const std::string most_u64 = std::to_string(std::numeric_limits<std::uint64_t>::max());
+  const std::string most_int = std::to_string(std::numeric_limits<int>::max());
+  for (CLI::App* command : app.get_subcommands([](CLI::App*) { return true; })) {
+    for (const char* name : {"--realizations", "--seed"})
+      if (CLI::Option* option = command->get_option_no_throw(name)) option->check(whole_up_to(most_u64));
+    for (const char* name : {"--threads", "--points"})
+      if (CLI::Option* option = command->get_option_no_throw(name)) option->check(whole_up_to(most_int));
+  }
 }
 
 void Files::outputs_of(const std::string& prefix, const std::string& option,
@@ -125,6 +168,7 @@ void refuse_empty_values(const CLI::App& command) {
 
 void check_files(const Files& files) {
   for (const File& f : files.inputs) check_input(f);
+  for (const File& f : files.json_inputs) check_json_input(f);
   for (const File& f : files.outputs) check_output(f);
   std::error_code error;
   for (const File& prefix : files.prefixes)

@@ -21,7 +21,14 @@ struct Files {
   /// Output prefixes it writes under: each is locked (PREFIX.lock) while the command runs.
   std::vector<NamedFile> prefixes;
 
+  /// Of the inputs, the JSON files (parameter files): held to strict JSON and a size cap.
+  std::vector<NamedFile> json_inputs;
+
   void input(const std::string& path, const std::string& option) { inputs.push_back({path, option}); }
+  void json_input(const std::string& path, const std::string& option) {
+    input(path, option);
+    json_inputs.push_back({path, option});
+  }
   void output(const std::string& path, const std::string& option) { outputs.push_back({path, option}); }
   /// PREFIX + each extension as outputs, and PREFIX among the locked prefixes.
   void outputs_of(const std::string& prefix, const std::string& option, std::initializer_list<std::string> extensions);
@@ -36,10 +43,11 @@ void require_whole_numbers(CLI::App& app);
 void refuse_empty_values(const CLI::App& command);
 
 /// The one rule for a command's files, before any work: every input is a readable file
-/// (not a directory); every name is valid UTF-8 without control characters and short
+/// (not a directory, not a device); every name is valid UTF-8 without control characters and short
 /// enough for the file system; no output is empty, a directory, in a directory that does
 /// not exist or is not writable, no output prefix a directory, or the same file as an input (compared by resolved path
-/// and by inode). Throws InputError naming the file and the option.
+/// and by inode); a JSON input is at most 1 MiB of strict JSON (no trailing data, no key
+/// twice in an object). Throws InputError naming the file and the option.
 void check_files(const Files& files);
 
 }  // namespace slidespec::cli

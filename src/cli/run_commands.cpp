@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <functional>
@@ -28,8 +29,7 @@ namespace slidespec::cli {
 
 namespace {
 
-/// Exit status of a run that finished but is not one stationary process (README).
-constexpr int kNotStationary = 3;
+constexpr int kNotStationary = kNotWhatItClaims;
 /// Exit status of a run whose outputs could not all be written (its state is kept).
 constexpr int kNotWritten = 1;
 
@@ -70,7 +70,15 @@ struct RequestOptions {
     command.add_option("--points", request.points_per_decade,
                        with_default("points per decade", defaults.points_per_decade));
     command.add_option("--realizations", request.realizations, "realizations per sub-band")
-        ->excludes(command.get_option("--precision"));
+        ->excludes(command.get_option("--precision"))
+        ->check(CLI::Validator(
+            [](std::string& count) {
+              // 0 reads as "no fixed count": the run would go to a precision instead.
+              return count.find_first_not_of('0') == std::string::npos && !count.empty()
+                         ? std::string("need at least 1 (leave the option out to run to a precision)")
+                         : std::string();
+            },
+            "N>0"));
   }
   /// The request with its SIMD path checked on this CPU and its default thread count.
   RunRequest resolved(const Context& context) const {
@@ -128,6 +136,18 @@ int exit_status(const RunOutcome& outcome) {
   if (!outcome.result.complete && stop_requested) return 128 + stop_signal;
   if (!outcome.written) return kNotWritten;
   return outcome.result.stationary ? 0 : kNotStationary;
+}
+
+/// A point whose estimate, error or theory is inf or nan claims no number: the run is
+/// then marked as not what it claims (stationary = false with the reason, exit status 3).
+void mark_if_not_numbers(RunResult& result) {
+  for (const RunPoint& point : result.points)
+    if (!std::isfinite(point.C_x) || !std::isfinite(point.standard_error) || !std::isfinite(point.theory)) {
+      result.stationary = false;
+      result.stationarity = "the point at omega = " + io::format_number(point.omega) +
+                            " rad/s holds inf or nan: beyond the range of a double";
+      return;
+    }
 }
 
 /// Writes PREFIX.tsv, .json (and the figure) for a session's result as one set and says
@@ -201,6 +221,7 @@ RunOutcome run_and_write(const Context& context, RunSession& session, const RunO
     if (!options.save_state.empty()) io::write_atomically(options.save_state, session.save());
   }
   RunOutcome outcome{session.result(), true};
+  mark_if_not_numbers(outcome.result);
   outcome.written = write_outputs(context, session, outcome.result, options, out);
   if (writes && finished) {
     // A resumed part of a run (--realizations-range) and a state asked for by --save-state
@@ -373,6 +394,7 @@ class MergeCommand final : public Command {
     }
     RunSession whole = RunSession::merge(std::move(parts));
     RunOutcome outcome{whole.result(), true};
+    mark_if_not_numbers(outcome.result);
     outcome.written = write_outputs(context_, whole, outcome.result, options_, options_.out);
     return exit_status(outcome);
   }

@@ -204,12 +204,18 @@ void check_output_prefix(const std::string& prefix) {
   if (::access(dir.c_str(), W_OK) != 0) throw InputError("--out " + prefix + ": directory " + dir + " is not writable");
 }
 
-std::string read_file(const std::string& path, const std::string& what) {
+std::string read_file(const std::string& path, const std::string& what, std::size_t most_bytes) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(what + ": cannot read " + path);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
+  std::string bytes;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    bytes.append(chunk, static_cast<std::size_t>(in.gcount()));
+    if (bytes.size() > most_bytes)
+      throw InputError(what + ": " + path + " is longer than " + std::to_string(most_bytes) +
+                       " bytes, the most this file may hold");
+  }
+  return bytes;
 }
 
 }  // namespace slidespec::io

@@ -1,10 +1,14 @@
 // Output files appear whole or not at all.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
 namespace slidespec::io {
+
+/// The largest run state read (bytes): far above any run's, far below a machine's memory.
+inline constexpr std::size_t kMostStateBytes = std::size_t{1} << 30;
 
 /// Writes `content` to a temporary file beside `path`, flushes it to disk and renames it
 /// over `path`, so a reader (or an interrupt) never sees a half-written file.
@@ -65,8 +69,9 @@ class OutputLock {
 /// itself is durable; a file already gone is fine.
 void remove_durably(const std::string& path);
 
-/// The whole of a file (a saved run state, say); InputError "WHAT: cannot read PATH".
-std::string read_file(const std::string& path, const std::string& what);
+/// The whole of a file (a saved run state, say); InputError "WHAT: cannot read PATH", or
+/// naming the limit when it holds more than `most_bytes` (so an endless stream ends).
+std::string read_file(const std::string& path, const std::string& what, std::size_t most_bytes = kMostStateBytes);
 
 /// Throws InputError naming the problem if files PREFIX.* cannot be created: checked
 /// before any computation starts, so a bad --out fails in a second, not after an hour.

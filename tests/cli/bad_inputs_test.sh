@@ -28,6 +28,10 @@ cp table.tsv tab.svg
 mkdir d6 && cp rec.tsv d6/fig6.tsv && cp rec.tsv d6/fig6_record.csv
 ln -s p.json link.json
 ln p.json hard.tsv
+# Parameter files that are not strict JSON, or endless.
+printf '{"alpha": 0.5, "alpha": 0.7}' > dup.json
+printf '{"alpha": 0.5} trailing' > trail.json
+head -c 1100000 /dev/zero | tr '\0' ' ' > big.json
 long=$(printf 'n%.0s' $(seq 1 300))
 odd=$(printf 'odd\xff')
 
@@ -98,6 +102,20 @@ run-realizations-and-precision|--precision|run --realizations 8 --precision 0.1 
 sweep-realizations-and-precision|--precision|sweep alpha=1 --realizations 8 --precision 0.1 --no-plot
 run-duration-zero|--duration|run --duration 0 --no-plot
 run-duration-and-precision|--precision|run --duration 5 --precision 0.1 --no-plot
+run-realizations-zero|--realizations|run --realizations 0 --no-plot
+# strict, bounded parameter files; devices
+params-duplicate-key|twice|run --params dup.json --no-plot
+params-trailing-data|not valid JSON|theory --params trail.json
+params-too-big|longer than|theory --params big.json
+synth-params-duplicate|twice|synth --params dup.json
+params-dev-zero|device|theory --params /dev/zero
+merge-dev-zero|device|merge /dev/zero
+omega-file-dev-zero|device|theory --omega-file /dev/zero
+record-dev-zero|device|analyze /dev/zero --no-plot
+# counts beyond their type, with the allowed range in the message
+seed-20-digits|18446744073709551615|run --seed 99999999999999999999 --no-plot
+seed-just-above|18446744073709551615|run --seed 18446744073709551616 --no-plot
+threads-above-int|2147483647|run --threads 2147483648 --no-plot
 # directories, missing files, unreadable names
 params-directory|directory|run --params adir
 record-directory|directory|analyze adir

@@ -138,6 +138,12 @@ status=$?
 grep -q "^# stationary = false" "$work/stalled.tsv" || fail "stalled run not marked stationary = false"
 grep -q '"stationary": false' "$work/stalled.json" || fail "stalled run's JSON not marked stationary: false"
 grep -q "^# stationary = true" "$work/short.tsv" || fail "a healthy run not marked stationary = true"
+# A theory row beyond a double's range is not reported as success: exit 3 and a warning.
+"$bin" theory --omega 1e-300,1 > "$work/tiny.tsv" 2> "$work/tiny.err"
+status=$?
+[ $status -eq 3 ] || fail "theory with an inf row exited $status, expected 3"
+grep -q "inf or nan" "$work/tiny.err" || fail "theory with an inf row gave no warning: $(cat "$work/tiny.err")"
+"$bin" theory --omega 1,10 > /dev/null || fail "theory on ordinary omegas did not exit 0"
 
 [ $failures -eq 0 ] && echo "cli: all checks passed"
 exit $((failures > 0))

@@ -1,0 +1,247 @@
+#!/usr/bin/env bash
+# An adversarial user's sweep over every command, option class, input file and signal.
+# Each attack either must be refused (exit 2, one line, nothing touched: "refuse") or
+# must work ("work": exit 0, its outputs there), or is a signal scenario. It counts
+# crashes (a signal or "failed:"), hangs (over 30 s), inputs lost (an input's bytes
+# changed), finished work lost (a run that finished or was interrupted and cannot be
+# brought back bitwise) and nonsense accepted (a refusal expected, exit 0 seen).
+# Usage: SLIDESPEC=build/slidespec tools/adversarial_sweep.sh   (not part of ctest: ~10 min)
+set -u
+bin=$(realpath "${SLIDESPEC:?set SLIDESPEC to the slidespec executable}")
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work" || exit 1
+
+attacks=0 crashes=0 hangs=0 inputs_lost=0 work_lost=0 nonsense=0 other=0
+report() { echo "  $1: $2"; }
+
+# Inputs lying around.
+echo '{"alpha": 0.5}' > p.json
+"$bin" synth --duration 5 --sample-interval 0.01 --out rec > /dev/null 2>&1
+"$bin" theory --out table > /dev/null 2>&1
+band="--omega-min 100 --omega-max 1000"
+"$bin" run $band --realizations-range 0:8 --save-state part.state --out part --no-plot --quiet
+mkdir adir
+cp p.json fig.pdf; cp p.json fig.svg; cp rec.csv an.svg; cp part.state pt.svg; cp table.tsv tab.svg
+cp p.json 'sw_alpha=0.6.json'; cp p.json 'sw_alpha=0.6.state'; cp p.json syn.csv
+mkdir d6; cp rec.csv d6/fig6.tsv
+ln -s p.json link.json; ln p.json hard.tsv
+printf '{"alpha": 0.5, "alpha": 0.7}' > dup.json
+printf '{"alpha": 0.5} trailing' > trail.json
+printf '{"alpha": 0.5' > cut.json
+printf '[1, 2]' > list.json
+printf '{"alpha": true}' > bool.json
+printf '{"alpha": 1e999}' > inf.json
+head -c 2000000 /dev/zero | tr '\0' ' ' > big.json
+printf 'garbage' > junk.state
+head -c 1876 /dev/urandom > random.state
+printf '1\n10\n' > om.tsv
+printf '1\n-1\n' > om_bad.tsv
+printf '# nothing\n' > om_empty.tsv
+snapshot() { find . -path ./scratch -prune -o -print0 | sort -z | xargs -0 sha256sum 2> /dev/null; }
+
+classify() {  # KIND NAME STATUS STDERR-FILE BEFORE
+  local kind=$1 name=$2 status=$3 err=$4 before=$5
+  attacks=$((attacks + 1))
+  if [ "$status" -eq 124 ]; then hangs=$((hangs + 1)); report HANG "$name"; return; fi
+  if [ "$status" -ge 128 ] || grep -q "failed:\|Sanitizer\|terminate called\|Traceback" "$err"; then
+    crashes=$((crashes + 1)); report CRASH "$name: $status $(head -c 200 "$err")"; return
+  fi
+  if [ "$kind" = refuse ]; then
+    if [ "$status" -eq 0 ]; then nonsense=$((nonsense + 1)); report NONSENSE "$name"; return; fi
+    if [ "$before" != "$(snapshot)" ]; then inputs_lost=$((inputs_lost + 1)); report CHANGED "$name"; return; fi
+    if [ "$status" -ne 2 ] || [ "$(wc -l < "$err")" -ne 1 ]; then
+      other=$((other + 1)); report UNCLEAR "$name: $status $(head -c 200 "$err")"
+    fi
+  else
+    if [ "$status" -ne 0 ]; then other=$((other + 1)); report FAILED "$name: $status $(head -c 200 "$err")"; fi
+    if [ "$before" != "$(snapshot | grep -v ' ./scratch')" ] && [ "$kind" = work-keep ]; then
+      inputs_lost=$((inputs_lost + 1)); report CHANGED "$name"
+    fi
+  fi
+}
+
+attack() {  # KIND NAME ARGS...
+  local kind=$1 name=$2; shift 2
+  mkdir -p scratch
+  local before
+  before=$(snapshot)
+  (cd scratch && timeout 30 "$bin" "$@" > ../stdout 2> ../stderr < /dev/null)
+  classify "$kind" "$name" $? stderr "$before"
+  rm -rf scratch
+}
+
+# From scratch/, the inputs are one level up.
+P=../p.json
+R=../rec.csv
+T=../table.tsv
+S=../part
+
+# 1. Every numeric option of every command, with every class of bad number.
+for value in '' nan -nan inf -inf -1 0 1e999 -1e999 abc 1e-320 0x10 ' 5' '5 ' 1,5 1.5.5 '+' '-' 99999999999999999999999; do
+  for opt in --omega-min --omega-max --precision --work-budget; do
+    for cmd in run sweep paper; do
+      extra=""
+      [ $cmd = sweep ] && extra="alpha=0.5"
+      [ $cmd = paper ] && extra="fig2"
+      case "$value" in 1e-320 | 0x10 | ' 5' | '5 ') continue ;; esac
+      attack refuse "$cmd $opt '$value'" $cmd $extra $opt "$value" --no-plot
+    done
+  done
+  for opt in --points --realizations --seed --threads; do
+    # A seed or thread count of 0 means something (seed 0; all cores).
+    [ "$value" = 0 ] && { [ $opt = --seed ] || [ $opt = --threads ]; } && continue
+    attack refuse "run $opt '$value'" run $opt "$value" --no-plot
+  done
+  attack refuse "theory --omega-min '$value'" theory --omega-min "$value"
+  attack refuse "synth --duration '$value'" synth --duration "$value"
+  attack refuse "analyze --dt '$value'" analyze $R --dt "$value" --no-plot
+done 2> /dev/null
+
+# 2. Every parameter with out-of-range values, through --set, a file and a sweep.
+for key in N M m k0 k1 eta0 eta1 v a alpha F_drive F_kin levels; do
+  for value in -1 nan inf 1e308 word ''; do
+    attack refuse "--set $key=$value" theory --set "$key=$value"
+  done
+  echo "{\"$key\": \"nope\"}" > "bad_$key.json"
+  attack refuse "--params $key word" run --params "../bad_$key.json" --no-plot
+  attack refuse "sweep $key bad" sweep "$key=1,nope" --no-plot
+done
+
+# 3. Outputs over inputs, every command and format; links; devices; empty and odd names.
+attack refuse "run pdf over params" run --params ../fig.pdf --out ../fig --format pdf
+attack refuse "run svg over params" run --params ../fig.svg --out ../fig --format svg
+attack refuse "sweep sub-run over params" sweep alpha=0.5:0.6:0.1 --params '../sw_alpha=0.6.json' --out ../sw
+attack refuse "sweep state over params" sweep alpha=0.6 --params '../sw_alpha=0.6.state' --out ../sw
+attack refuse "merge svg over part" merge ../pt.svg --out ../pt --format svg
+attack refuse "analyze svg over record" analyze ../an.svg --out ../an --format svg
+attack refuse "synth over params" synth --params ../syn.csv --out ../syn
+attack refuse "paper fig6 over record" paper fig6 --record ../d6/fig6.tsv --out-dir ../d6
+attack refuse "plot over table" plot ../tab.svg -o ../tab.svg
+attack refuse "symlink over params" run --params ../p.json --out ../link --no-plot
+attack refuse "hard link over params" theory --params ../p.json --out ../hard
+attack refuse "theory over omega file" theory --omega-file ../om.tsv --out ../om
+attack refuse "save-state over params" run --params $P --save-state $P --no-plot
+attack refuse "resume over stale" run $band --out ../part
+for cmd in "run" "theory" "sweep alpha=1" "merge ../part.state" "analyze $R" "synth"; do
+  for out in '' ../adir ../nowhere/x $'a\nb' $'a\tb' "$(printf 'n%.0s' $(seq 300))" $'odd\xff' ../adir/; do
+    flags=--no-plot
+    case "$cmd" in theory | synth) flags="" ;; esac
+    # shellcheck disable=SC2086
+    attack refuse "$cmd --out '$out'" $cmd --out "$out" $flags
+  done
+done
+for input in /dev/zero /dev/null ../adir ../none ''; do
+  attack refuse "run --params $input" run --params "$input" --no-plot
+  attack refuse "merge $input" merge "$input"
+  attack refuse "analyze $input" analyze "$input" --no-plot
+  attack refuse "theory --omega-file $input" theory --omega-file "$input"
+  attack refuse "plot $input" plot "$input" -o x.png
+done
+for f in dup trail cut list bool inf big; do attack refuse "params $f.json" run --params "../$f.json" --no-plot; done
+for f in junk random; do
+  attack refuse "merge $f.state" merge "../$f.state"
+  cp "$f.state" "r_$f.state"
+  attack refuse "resume $f.state" run --resume "../r_$f"
+done
+attack refuse "omega file bad" theory --omega-file ../om_bad.tsv
+attack refuse "omega file empty" theory --omega-file ../om_empty.tsv
+
+# 4. Conflicting, ignored or meaningless options.
+attack refuse "realizations with precision" run --realizations 8 --precision 0.1 --no-plot
+attack refuse "range with precision" run --realizations-range 0:8 --precision 0.1 --no-plot
+attack refuse "duration with precision" run --duration 5 --precision 0.1 --no-plot
+attack refuse "duration zero" run --duration 0 --no-plot
+attack refuse "empty resume" run --resume ''
+attack refuse "empty save-state" run --save-state '' --no-plot
+attack refuse "empty omega" theory --omega ''
+attack refuse "omega and file" theory --omega 1 --omega-file ../om.tsv
+attack refuse "record with fig2" paper fig2 --record $R
+attack refuse "unknown figure" paper fig9
+attack refuse "unknown case" run --case slow --no-plot
+attack refuse "unknown simd" run --simd neon --no-plot
+attack refuse "unknown format" run --format bmp --no-plot
+attack refuse "bad size" run --size 0x0
+attack refuse "bad size word" run --size big
+attack refuse "bad dpi" run --dpi 0
+attack refuse "huge dpi" run --dpi 1e9
+attack refuse "unknown units" analyze $R --units km --no-plot
+attack refuse "unknown units cm" analyze $R --units cm --no-plot
+attack refuse "units inch" analyze $R --units inch --no-plot
+attack refuse "resolution unit" analyze $R --resolution 1furlong --no-plot
+attack refuse "theory order 3" theory --order 3
+attack refuse "resume other seed" run --resume $S --seed 9 --no-plot
+attack refuse "checkpoint zero" run --checkpoint-every 0 --no-plot
+attack refuse "unknown command" wobble
+attack refuse "unknown option" run --bogus
+attack refuse "misspelled option" run --omega-mni 1
+attack refuse "plot no tables" plot -o x.png
+attack refuse "plot bad extension" plot $T -o x.bmp
+attack refuse "sweep no values" sweep alpha
+attack refuse "sweep empty list" sweep alpha=
+attack refuse "sweep bad range" sweep alpha=1:0:0.1
+attack refuse "sweep zero step" sweep alpha=0:1:0
+attack refuse "sweep unknown key" sweep speed=1,2
+attack refuse "merge overlap" merge ../part.state ../part.state --out x
+attack refuse "range unaligned" run --realizations-range 3:8 --no-plot
+attack refuse "tree too big" run --case hierarchical --set N_2=100000 --no-plot
+
+# 5. Things that must work (and leave the inputs alone).
+attack work-keep "theory" theory --out t
+attack work-keep "theory list" theory --omega 1,2,3
+attack work-keep "theory order 2" theory --order 2 --omega-min 1 --omega-max 100
+attack work-keep "run" run $band --realizations 8 --out r --no-plot --quiet
+attack work-keep "run pdf" run $band --realizations 8 --out r --format pdf --quiet
+attack work-keep "run params" run $band --realizations 8 --params $P --out r --no-plot --quiet
+attack work-keep "sweep" sweep alpha=0.3,0.6 $band --realizations 8 --no-plot --quiet
+attack work-keep "merge" merge ../part.state --out m --no-plot --quiet
+attack work-keep "synth" synth --duration 5 --sample-interval 0.01
+attack work-keep "analyze" analyze $R --no-plot --quiet
+attack work-keep "plot" plot $T -o x.svg
+attack work-keep "cases" cases
+
+# 6. Signals: an interrupt at any moment leaves a run that resumes to the undisturbed result.
+"$bin" run --omega-min 10 --omega-max 1000 --precision 0.1 --seed 5 --out whole --no-plot --quiet
+for delay in 0.05 0.2 0.5 1 1.5 2; do
+  for sig in INT TERM KILL; do
+    attacks=$((attacks + 1))
+    rm -f cut.*
+    "$bin" run --omega-min 10 --omega-max 1000 --precision 0.1 --seed 5 --out cut --no-plot --quiet \
+      --checkpoint-every 0.1 2> /dev/null &
+    pid=$!
+    sleep $delay
+    kill -s $sig $pid 2> /dev/null
+    wait $pid 2> /dev/null
+    status=$?
+    if [ -e cut.state ]; then
+      timeout 120 "$bin" run --resume cut --no-plot --quiet 2> /dev/null
+      status=$?
+    fi
+    if [ $status -ne 0 ] && [ ! -e cut.tsv ]; then
+      # Killed before its first checkpoint: nothing to resume, and nothing finished was lost.
+      [ "$sig" = KILL ] && continue
+      work_lost=$((work_lost + 1))
+      report LOST "$sig after $delay s: status $status"
+    elif ! cmp -s cut.tsv whole.tsv; then
+      work_lost=$((work_lost + 1))
+      report LOST "$sig after $delay s: resumed table differs"
+    fi
+  done
+done
+# A SIGKILL while the figure is drawn (a slow plotter), then the resume.
+printf '#!/bin/sh\necho $$ > plotting\nsleep 60\n' > slow.sh
+chmod +x slow.sh
+for k in 1 2 3; do
+  attacks=$((attacks + 1))
+  rm -f cut.* plotting
+  SLIDESPEC_PYTHON=$work/slow.sh "$bin" run --omega-min 10 --omega-max 1000 --precision 0.1 --seed 5 --out cut --quiet &
+  pid=$!
+  for _ in $(seq 600); do [ -s plotting ] && break; sleep 0.05; done
+  kill -9 $pid; wait $pid 2> /dev/null
+  kill "$(cat plotting)" 2> /dev/null
+  "$bin" run --resume cut --no-plot --quiet 2> /dev/null
+  cmp -s cut.tsv whole.tsv || { work_lost=$((work_lost + 1)); report LOST "SIGKILL while drawing ($k)"; }
+done
+
+echo "adversarial sweep: $attacks attacks: crashes $crashes, hangs $hangs, inputs lost $inputs_lost," \
+  "finished work lost $work_lost, nonsense accepted $nonsense; other (unclear message or failed work) $other"
