@@ -473,6 +473,26 @@ def _warn_outside_first_order(p):
                       "hold here", ModelWarning, stacklevel=3)
 
 
+_MOST_U64 = 2**64 - 1
+_MOST_INT = 2**31 - 1
+
+
+def _whole(name, value, largest):
+    """A count or seed as the command line takes it: an int (not bool, not float) in 0..largest."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name}: expected a whole number (int), got {type(value).__name__} {value!r}")
+    if not 0 <= int(value) <= largest:
+        raise ValueError(f"{name}: {value} is outside 0..{largest}")
+    return int(value)
+
+
+def _real(name, value):
+    """A real number as the command line takes it: int or float (not bool, not text)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name}: expected a number, got {type(value).__name__} {value!r}")
+    return float(value)
+
+
 def run(params, *, omega_min=0.1, omega_max=1e5, points=8, precision=None, duration=None,
         realizations=None, seed=1, threads=0, simd="auto", progress=False):
     """Simulates the spectrum C_x(omega) with error bars, beside the exact theory: `slidespec run`.
@@ -498,17 +518,19 @@ def run(params, *, omega_min=0.1, omega_max=1e5, points=8, precision=None, durat
     """
     if precision is not None and duration is not None:
         raise ValueError("precision excludes duration: a fixed duration sets the work, not a target")
+    if realizations is not None and precision is not None:
+        raise ValueError("precision excludes realizations: a fixed count sets the work, not a target")
+    if duration is not None and not _real("duration", duration) > 0:
+        raise ValueError(f"duration: need a positive number of seconds (got {duration!r})")
+    if realizations is not None and _whole("realizations", realizations, _MOST_U64) == 0:
+        raise ValueError("realizations: need at least 1 (leave it out to run to a precision)")
     p = _as_parameters(params)
-    request = {"omega_min": float(omega_min), "omega_max": float(omega_max),
-               "points_per_decade": int(points), "precision": float(0.05 if precision is None else precision),
+    request = {"omega_min": _real("omega_min", omega_min), "omega_max": _real("omega_max", omega_max),
+               "points_per_decade": _whole("points", points, _MOST_INT),
+               "precision": _real("precision", 0.05 if precision is None else precision),
                "duration": float(duration or 0), "realizations": int(realizations or 0),
-               "seed": int(seed)}
-    if request["realizations"] < 0:
-        raise ValueError("realizations: must be a positive number")
-    if int(seed) < 0:
-        raise ValueError("seed: must be a whole number >= 0")
-    if int(threads) < 0:
-        raise ValueError("threads: must be 0 (all cores) or more")
+               "seed": _whole("seed", seed, _MOST_U64)}
+    _whole("threads", threads, _MOST_INT)
     handle = _core.new_run(*p._args(), request)
     _warn_outside_first_order(p)
     return _drive(handle, threads, simd, progress)
@@ -718,7 +740,8 @@ def synth(params="reference", *, sample_interval=1e-3, duration=1000.0, resoluti
     sensor_noise: rms white noise before quantization [m]; seed. Returns (t, x): times [s]
     and positions x = v t + xi [m], numpy arrays."""
     p = _as_parameters(params)
-    sensor = {"sample_interval": float(sample_interval), "duration": float(duration),
-              "resolution": float(resolution), "sensor_noise": float(sensor_noise), "seed": int(seed)}
+    sensor = {"sample_interval": _real("sample_interval", sample_interval), "duration": _real("duration", duration),
+              "resolution": _real("resolution", resolution), "sensor_noise": _real("sensor_noise", sensor_noise),
+              "seed": _whole("seed", seed, _MOST_U64)}
     step, start, x = _core.synthesize(*p._args(), sensor)
     return start + step * np.arange(x.size), x

@@ -309,6 +309,31 @@ def test_precision_excludes_duration_as_on_the_command_line():
         ss.run("reference", omega_min=1, omega_max=10, precision=0.1, duration=10)
 
 
+@pytest.mark.parametrize("kwargs, error, word", [
+    ({"seed": 1.5}, TypeError, "seed"),
+    ({"seed": "1"}, TypeError, "seed"),
+    ({"seed": True}, TypeError, "seed"),
+    ({"seed": 2**64}, ValueError, "18446744073709551615"),
+    ({"seed": -1}, ValueError, "seed"),
+    ({"threads": 1.5}, TypeError, "threads"),
+    ({"points": 8.0}, TypeError, "points"),
+    ({"realizations": 2.5}, TypeError, "realizations"),
+    ({"realizations": 0}, ValueError, "realizations"),
+    ({"realizations": 8, "precision": 0.1}, ValueError, "precision excludes realizations"),
+    ({"duration": 0}, ValueError, "duration"),
+    ({"omega_min": "1"}, TypeError, "omega_min"),
+])
+def test_run_checks_types_as_the_command_line(kwargs, error, word):
+    request = {"omega_min": 100, "omega_max": 1000, **kwargs}
+    with pytest.raises(error, match=word):
+        ss.run("reference", **request)
+
+
+def test_synth_checks_types_as_the_command_line():
+    with pytest.raises(TypeError, match="seed"):
+        ss.synth(seed=2.5, duration=1.0)
+
+
 def test_bad_records():
     with pytest.raises(ValueError, match="gap"):
         ss.analyze([0, 1, 2, 4, 5], [0.0, 1, 2, 3, 4])

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -209,7 +210,14 @@ class AnalysisCommand final : public Command {
     return files;
   }
 
-  int run() override { return commands_->run().value_or(0); }
+  int run() override {
+    // A sampling interval of 0 reads as "from the time column": refused when given.
+    for (const std::string& dt : given("--dt"))
+      if (const auto seconds = io::parse_number(dt); !seconds || !(*seconds > 0) || !std::isnormal(*seconds))
+        throw InputError("--dt: need a positive sampling interval in seconds, at least " +
+                         io::format_number(std::numeric_limits<double>::min()) + " (got " + dt + ")");
+    return commands_->run().value_or(0);
+  }
 
  private:
   std::vector<std::string> given(const std::string& name) const {

@@ -60,8 +60,17 @@ struct RequestOptions {
                        with_default("target relative standard error at every point", defaults.precision));
     command.add_option("--seed", request.seed, with_default("random seed", static_cast<double>(defaults.seed)));
     command.add_option("--threads", request.threads, "threads (default, or 0: all cores)");
-    command.add_option("--work-budget", request.work_budget,
-                       with_default("most realization-steps a run may plan", kDefaultWorkBudget));
+    command
+        .add_option("--work-budget", request.work_budget,
+                    with_default("most realization-steps a run may plan", kDefaultWorkBudget))
+        ->check(CLI::Validator(
+            [](const std::string& text) {
+              // 0 reads as "the default budget": refused rather than silently replaced.
+              const auto steps = io::parse_number(text);
+              return steps && *steps > 0 ? std::string()
+                                         : "need a positive number of realization-steps (got " + text + ")";
+            },
+            "STEPS>0"));
     command.add_option("--simd", simd, simd_path_names() + " (default auto)");
   }
   /// The output grid's density and a fixed count of realizations (run, sweep).
@@ -314,6 +323,7 @@ class RunCommand final : public Command {
     if (!options.resume.empty()) return resume(options);
     const Parameters p = model_.build();
     RunSession session(p, options.request, model_.label(p));  // validates before any work
+    refuse_duration_raised(p, options.request);
     // A finished run removes its state, so one left behind is an unfinished run (or one
     // whose outputs were never written) that this run would orphan.
     if (std::error_code ignored; std::filesystem::exists(options.out + ".state", ignored))
@@ -326,6 +336,20 @@ class RunCommand final : public Command {
 
  private:
   bool given(const char* name) const { return subcommand().count(name) > 0; }
+
+  /// The plan lengthens a fixed duration to the segments its lowest point needs; a run
+  /// that would simulate more than was asked is refused, naming the least it can be.
+  void refuse_duration_raised(const Parameters& p, const RunRequest& request) const {
+    if (!given("--duration")) return;
+    const std::vector<SubBand> plan = plan_sub_bands(p, request);
+    if (plan.empty() || plan.front().duration <= kDurationRoundingSlack * request.duration) return;
+    throw InputError("--duration: " + io::format_number(request.duration) + " s is shorter than the " +
+                     io::format_number(plan.front().duration) +
+                     " s the lowest point (omega = " + io::format_number(request.omega_min) +
+                     " rad/s) needs; ask for at least that, or raise --omega-min");
+  }
+  // A duration is rounded up to whole time steps: far below this.
+  static constexpr double kDurationRoundingSlack = 1.01;
   std::string out_prefix() const {
     return !given("--out") && !options_.resume.empty() ? options_.resume : options_.out;
   }

@@ -103,6 +103,11 @@ sweep-realizations-and-precision|--precision|sweep alpha=1 --realizations 8 --pr
 run-duration-zero|--duration|run --duration 0 --no-plot
 run-duration-and-precision|--precision|run --duration 5 --precision 0.1 --no-plot
 run-realizations-zero|--realizations|run --realizations 0 --no-plot
+run-duration-raised|shorter than|run --duration 1 --no-plot
+work-budget-zero|--work-budget|run --work-budget 0 --no-plot
+sweep-work-budget-zero|--work-budget|sweep alpha=1 --work-budget 0 --no-plot
+analyze-dt-zero|--dt|analyze rec.tsv --dt 0 --no-plot --out x
+analyze-dt-subnormal|--dt|analyze rec.tsv --dt 1e-320 --no-plot --out x
 # strict, bounded parameter files; devices
 params-duplicate-key|twice|run --params dup.json --no-plot
 params-trailing-data|not valid JSON|theory --params trail.json
