@@ -7,14 +7,9 @@
 #include <utility>
 #include <vector>
 
-namespace slidespec {
+#include "slidespec/input_error.hpp"
 
-/// Thrown for any bad user input. The message is one line that names the key
-/// (or option) and what is wrong with it; the CLI prints it and exits with status 2.
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+namespace slidespec {
 
 /// Levels of a tree, as `touching` lists them (ascending).
 using LevelList = std::vector<int>;

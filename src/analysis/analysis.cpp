@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "io/suggest.hpp"
+#include "util/suggest.hpp"
 #include "io/tables.hpp"
 #include "slidespec/analysis.hpp"
 #include "slidespec/theory.hpp"
@@ -134,7 +134,7 @@ Estimator parse_estimator(const std::string& name) {
   if (name == "welch") return Estimator::welch;
   if (name == "streaming") return Estimator::streaming;
   throw InputError("--estimator: unknown estimator '" + name + "'" +
-                   io::did_you_mean(name, {"auto", "welch", "streaming"}) + " (known: auto, welch, streaming)");
+                   util::did_you_mean(name, {"auto", "welch", "streaming"}) + " (known: auto, welch, streaming)");
 }
 
 const char* to_string(Estimator estimator) {

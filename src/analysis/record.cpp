@@ -10,7 +10,7 @@
 #include <istream>
 #include <sstream>
 
-#include "io/suggest.hpp"
+#include "util/suggest.hpp"
 #include "slidespec/analysis.hpp"
 
 namespace slidespec {
@@ -37,7 +37,7 @@ double seconds_per(const std::string& name) {
 
 LengthUnit parse_length_unit(const std::string& name, const std::string& option) {
   if (const auto unit = length_unit(name)) return *unit;
-  throw InputError(option + ": unknown unit '" + name + "'" + io::did_you_mean(name, {"m", "mm", "um", "nm"}) +
+  throw InputError(option + ": unknown unit '" + name + "'" + util::did_you_mean(name, {"m", "mm", "um", "nm"}) +
                    " (known: m, mm, um, nm)");
 }
 

@@ -9,7 +9,7 @@
 
 #include "cli/plot.hpp"
 #include "io/atomic_file.hpp"
-#include "io/suggest.hpp"
+#include "util/suggest.hpp"
 #include "io/tables.hpp"
 #include "slidespec/analysis.hpp"
 
@@ -277,7 +277,7 @@ int command_analyze(Options o) {
   Findings f;
   if (o.normal_mass > 0 || o.driving_mass > 0) f.mu = friction_coefficient(o.normal_mass, o.driving_mass);
   if (!o.fit.empty() && o.fit != "alpha")
-    throw InputError("--fit: only 'alpha' can be fitted (got '" + o.fit + "'" + io::did_you_mean(o.fit, {"alpha"}) +
+    throw InputError("--fit: only 'alpha' can be fitted (got '" + o.fit + "'" + util::did_you_mean(o.fit, {"alpha"}) +
                      ")");
   if (!o.fit.empty() && o.compare_case.empty()) throw InputError("--fit alpha needs --compare-case NAME");
   if (!o.compare_case.empty()) f.model = build_parameters(o.compare_case, o.overrides);

@@ -20,7 +20,7 @@
 #include "cli/progress.hpp"
 #include "cli/sweep.hpp"
 #include "io/atomic_file.hpp"
-#include "io/suggest.hpp"
+#include "util/suggest.hpp"
 #include "io/tables.hpp"
 #include "slidespec/simd.hpp"
 #include "slidespec/theory.hpp"
@@ -663,7 +663,7 @@ class PaperCommand final : public Command {
         names.push_back(f.first);
         known += (known.empty() ? "" : ", ") + f.first;
       }
-      throw InputError("paper: unknown figure '" + figure_ + "'" + io::did_you_mean(figure_, names) +
+      throw InputError("paper: unknown figure '" + figure_ + "'" + util::did_you_mean(figure_, names) +
                        " (known: " + known + ")");
     }
     return it;

@@ -2,7 +2,7 @@
 
 #include <cctype>
 
-#include "io/suggest.hpp"
+#include "util/suggest.hpp"
 
 namespace slidespec::cli {
 
@@ -38,14 +38,14 @@ std::string unknown_argument(const CLI::App& app, int argc, const char* const* a
       const std::vector<std::string> known = option_names(scope);
       if (std::find(known.begin(), known.end(), word) != known.end()) continue;
       return (chosen ? chosen->get_name() + ": " : std::string()) + "unknown option '" + word + "'" +
-             io::did_you_mean(word, known) + " (see 'slidespec " + (chosen ? chosen->get_name() + " " : "") +
+             util::did_you_mean(word, known) + " (see 'slidespec " + (chosen ? chosen->get_name() + " " : "") +
              "--help')";
     }
     if (chosen) continue;  // an option's value or a positional argument
     for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; }))
       if (command->get_name() == word) chosen = command;
     if (!chosen)
-      return "unknown command '" + word + "'" + io::did_you_mean(word, commands) + " (see 'slidespec --help')";
+      return "unknown command '" + word + "'" + util::did_you_mean(word, commands) + " (see 'slidespec --help')";
   }
   return "";
 }

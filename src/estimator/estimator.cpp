@@ -14,8 +14,7 @@
 
 #include "estimator/design.hpp"
 #include "estimator/kernels.hpp"
-#include "io/binary.hpp"
-#include "simd/path_table.hpp"
+#include "util/binary.hpp"
 #include "slidespec/parameters.hpp"
 
 namespace slidespec {
@@ -284,7 +283,7 @@ namespace {
 constexpr char kMagic[8] = {'S', 'L', 'S', 'P', 'E', 'C', 'A', 'C'};
 constexpr std::uint32_t kFormatVersion = 1;
 
-using io::put;
+using util::put;
 
 }  // namespace
 
@@ -316,7 +315,7 @@ std::string SpectrumAccumulator::save() const {
 SpectrumAccumulator SpectrumAccumulator::load(const std::string& bytes) {
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw InputError("spectrum accumulator file: not a slidespec spectrum accumulator");
-  io::Reader in(bytes, "spectrum accumulator file");
+  util::Reader in(bytes, "spectrum accumulator file");
   for (std::size_t i = 0; i < sizeof kMagic; ++i) in.get<char>();
   const auto version = in.get<std::uint32_t>();
   if (version != kFormatVersion)
@@ -551,10 +550,10 @@ SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes, S
     for (SimdPath candidate : available_simd_paths())
       if (lane_width(candidate) <= lanes) simd = candidate;
   }
-  const simd::PathTable& path = simd::path_table(simd);
-  s.kernels = path.stream;
+  s.kernels = estimator_detail::stream_kernels(simd);
+  const int width = lane_width(simd);
   s.lane_count = lanes;
-  s.stride = static_cast<std::size_t>((lanes + path.width - 1) / path.width * path.width);
+  s.stride = static_cast<std::size_t>((lanes + width - 1) / width * width);
   s.statistics.assign(static_cast<std::size_t>(lanes), SpectrumAccumulator::Impl(layout));
   s.last_value.assign(s.stride, 0.0);
   s.bands.resize(layout->band_count);

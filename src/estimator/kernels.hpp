@@ -1,5 +1,5 @@
 // The estimator's streaming loops, compiled once per instruction-set path (kernels.inc,
-// through simd/path.cpp.in) and reached through the path's table. Each element's
+// through estimator/path.cpp.in) and reached through stream_kernels(). Each element's
 // arithmetic is the same on every path and nothing contracts to FMA (-ffp-contract=off),
 // so every path gives the same bits.
 #pragma once
@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "estimator/design.hpp"
+#include "slidespec/simd.hpp"
 
 namespace slidespec::estimator_detail {
 
@@ -41,5 +42,8 @@ struct StreamKernels {
   void (*bin_average)(const double* power, const double* factor, int first, int count, std::ptrdiff_t stride,
                       double* q);
 };
+
+/// The loops of resolve_simd_path(path); throws InputError for a path this CPU cannot run.
+const StreamKernels& stream_kernels(SimdPath path);
 
 }  // namespace slidespec::estimator_detail

@@ -12,7 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "slidespec/parameters.hpp"
+#include "slidespec/input_error.hpp"
 
 namespace slidespec::io {
 

@@ -12,7 +12,7 @@
 #include <sstream>
 #include <type_traits>
 
-#include "io/suggest.hpp"
+#include "util/suggest.hpp"
 
 namespace slidespec {
 
@@ -377,7 +377,8 @@ ParameterBuilder::ParameterBuilder(const std::string& case_name) {
   for (const Case& c : cases()) names += (names.empty() ? "" : ", ") + c.name;
   std::vector<std::string> known;
   for (const Case& c : cases()) known.push_back(c.name);
-  throw InputError("unknown case '" + case_name + "'" + io::did_you_mean(case_name, known) + " (known: " + names + ")");
+  throw InputError("unknown case '" + case_name + "'" + util::did_you_mean(case_name, known) + " (known: " + names +
+                   ")");
 }
 
 ParameterBuilder& ParameterBuilder::set(const std::string& assignment) {
@@ -407,8 +408,8 @@ ParameterBuilder& ParameterBuilder::set(const std::string& key, const std::strin
   if (!known) {
     std::string keys;
     for (const auto& k : parameter_keys()) keys += (keys.empty() ? "" : " ") + k;
-    throw InputError("unknown parameter '" + key + "'" + io::did_you_mean(key, parameter_keys()) + " (known: " + keys +
-                     ")");
+    throw InputError("unknown parameter '" + key + "'" + util::did_you_mean(key, parameter_keys()) +
+                     " (known: " + keys + ")");
   }
   given_.push_back(key);
   return *this;

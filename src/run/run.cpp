@@ -373,7 +373,7 @@ bool RunSession::advance(const Control& control) {
           for (const BatchRecord& record : records) put_batch(mine, record);
           records.clear();
           for (const std::string& theirs : comm.all_gather(mine)) {
-            io::Reader in(theirs, "run state from another process");
+            util::Reader in(theirs, "run state from another process");
             while (!in.at_end()) records.push_back(get_batch(in));
           }
         }

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "io/binary.hpp"
+#include "util/binary.hpp"
 #include "slidespec/estimator.hpp"
 #include "slidespec/run.hpp"
 
@@ -60,7 +60,7 @@ struct BandTotals {
 
 std::uint64_t realizations_in(const std::vector<BatchRecord>& batches);
 void put_batch(std::string& bytes, const BatchRecord& batch);
-BatchRecord get_batch(io::Reader& in);
+BatchRecord get_batch(util::Reader& in);
 
 }  // namespace run_detail
 

@@ -43,7 +43,7 @@ std::string open_envelope(const std::string& bytes) {
     throw InputError("run state: not a slidespec run state file");
   if (bytes.size() < kHeaderBytes)
     throw InputError("run state: truncated (" + std::to_string(bytes.size()) + " bytes, less than its header)");
-  io::Reader header(bytes, "run state");
+  util::Reader header(bytes, "run state");
   for (std::size_t i = 0; i < sizeof kStateMagic; ++i) header.get<char>();
   const auto version = header.get<std::uint32_t>();
   const auto length = header.get<std::uint64_t>();
@@ -127,16 +127,16 @@ Parameters rebuild_parameters(const std::vector<std::pair<std::string, std::stri
 namespace run_detail {
 
 void put_batch(std::string& bytes, const BatchRecord& batch) {
-  io::put_bytes(bytes, batch.spectrum.save());
-  io::put<std::uint64_t>(bytes, batch.control.size());
-  io::put<std::uint64_t>(bytes, batch.own_mean.empty() ? 0 : batch.own_mean.front().size());
+  util::put_bytes(bytes, batch.spectrum.save());
+  util::put<std::uint64_t>(bytes, batch.control.size());
+  util::put<std::uint64_t>(bytes, batch.own_mean.empty() ? 0 : batch.own_mean.front().size());
   for (const auto& mean : batch.own_mean)
-    for (double x : mean) io::put<double>(bytes, x);
-  for (double x : batch.control) io::put<double>(bytes, x);
-  for (double x : batch.speed) io::put<double>(bytes, x);
+    for (double x : mean) util::put<double>(bytes, x);
+  for (double x : batch.control) util::put<double>(bytes, x);
+  for (double x : batch.speed) util::put<double>(bytes, x);
 }
 
-BatchRecord get_batch(io::Reader& in) {
+BatchRecord get_batch(util::Reader& in) {
   BatchRecord batch;
   batch.spectrum = SpectrumAccumulator::load(in.get_bytes());
   const auto count = in.get<std::uint64_t>();
@@ -165,26 +165,26 @@ std::string RunSession::save() const {
   const Impl& s = *impl_;
   std::string bytes;
   const auto fields = fingerprint(s.params, s.request);
-  io::put<std::uint64_t>(bytes, fields.size());
-  for (const auto& [key, value] : fields) io::put_bytes(bytes, key), io::put_bytes(bytes, value);
-  io::put<std::int32_t>(bytes, s.request.threads);
-  io::put<std::int32_t>(bytes, static_cast<std::int32_t>(s.request.simd));
-  io::put_bytes(bytes, s.case_name);
-  io::put<double>(bytes, s.wall_seconds);
-  io::put<std::uint64_t>(bytes, s.bands.size());
+  util::put<std::uint64_t>(bytes, fields.size());
+  for (const auto& [key, value] : fields) util::put_bytes(bytes, key), util::put_bytes(bytes, value);
+  util::put<std::int32_t>(bytes, s.request.threads);
+  util::put<std::int32_t>(bytes, static_cast<std::int32_t>(s.request.simd));
+  util::put_bytes(bytes, s.case_name);
+  util::put<double>(bytes, s.wall_seconds);
+  util::put<std::uint64_t>(bytes, s.bands.size());
   for (const BandTotals& totals : s.bands) {
-    io::put<std::uint64_t>(bytes, totals.planned);
-    io::put<std::int32_t>(bytes, totals.rounds);
-    io::put<std::uint8_t>(bytes, totals.finished ? 1 : 0);
-    io::put<std::uint64_t>(bytes, totals.batches.size());
+    util::put<std::uint64_t>(bytes, totals.planned);
+    util::put<std::int32_t>(bytes, totals.rounds);
+    util::put<std::uint8_t>(bytes, totals.finished ? 1 : 0);
+    util::put<std::uint64_t>(bytes, totals.batches.size());
     for (const BatchRecord& batch : totals.batches) put_batch(bytes, batch);
   }
   std::string file(kStateMagic, sizeof kStateMagic);
-  io::put<std::uint32_t>(file, kStateVersion);
-  io::put<std::uint64_t>(file, bytes.size());
-  io::put<std::uint32_t>(file, checksum(file.data(), file.size()));
+  util::put<std::uint32_t>(file, kStateVersion);
+  util::put<std::uint64_t>(file, bytes.size());
+  util::put<std::uint32_t>(file, checksum(file.data(), file.size()));
   file += bytes;
-  io::put<std::uint32_t>(file, checksum(file.data(), file.size()));
+  util::put<std::uint32_t>(file, checksum(file.data(), file.size()));
   return file;
 }
 
@@ -201,7 +201,7 @@ RunSession RunSession::load(const std::string& bytes) {
 
 RunSession RunSession::load_checked(const std::string& file) {
   const std::string bytes = open_envelope(file);
-  io::Reader in(bytes, "run state");
+  util::Reader in(bytes, "run state");
   // Every count is bounded by the bytes that remain before anything is allocated for it.
   std::vector<std::pair<std::string, std::string>> fields(in.get_count(16));
   for (auto& [key, value] : fields) key = in.get_bytes(), value = in.get_bytes();

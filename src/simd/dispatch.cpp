@@ -1,24 +1,21 @@
-// The one run-time choice of an instruction-set path. The compiled paths come from
-// simd/paths.inc, generated from SLIDESPEC_SIMD_PATHS (src/CMakeLists.txt); this file
-// itself is compiled for the baseline CPU and only reads the paths' tables (data) until
-// the CPU is known to run them.
+// The one run-time choice of an instruction-set path: the compiled paths (simd/paths.inc,
+// generated from SLIDESPEC_SIMD_PATHS in src/CMakeLists.txt), which of them this CPU runs,
+// and their widths. It knows no kernel: the stepper and the estimator look theirs up for
+// the path chosen here (stepper::path_kernels, estimator_detail::stream_kernels).
 #include <xsimd/xsimd.hpp>
 
-#include "simd/path_table.hpp"
-#include "slidespec/parameters.hpp"
+#include "slidespec/simd.hpp"
+#include "slidespec/input_error.hpp"
 
 namespace slidespec::simd {
-
-#define SLIDESPEC_SIMD_PATH(name, cpu_runs) extern const PathTable name##_path;
-#include "simd/paths.inc"
-#undef SLIDESPEC_SIMD_PATH
 
 namespace {
 
 struct CompiledPath {
-  const PathTable* table;
+  SimdPath path;
   const char* name;
   bool cpu_runs;
+  int width;  // lanes a kernel call advances together
 };
 
 // Narrowest first, as listed.
@@ -26,7 +23,7 @@ const std::vector<CompiledPath>& compiled_paths() {
   static const std::vector<CompiledPath> paths = [] {
     const auto cpu = xsimd::available_architectures();
     (void)cpu;
-#define SLIDESPEC_SIMD_PATH(name, cpu_runs) {&name##_path, #name, static_cast<bool>(cpu_runs)},
+#define SLIDESPEC_SIMD_PATH(name, cpu_runs, width) {SimdPath::name, #name, static_cast<bool>(cpu_runs), width},
     return std::vector<CompiledPath>{
 #include "simd/paths.inc"
     };
@@ -37,16 +34,11 @@ const std::vector<CompiledPath>& compiled_paths() {
 
 const CompiledPath* find(SimdPath path) {
   for (const CompiledPath& p : compiled_paths())
-    if (p.table->path == path) return &p;
+    if (p.path == path) return &p;
   return nullptr;
 }
 
 }  // namespace
-
-const PathTable& path_table(SimdPath path) {
-  const SimdPath resolved = resolve_simd_path(path);
-  return *find(resolved)->table;
-}
 
 }  // namespace slidespec::simd
 
@@ -62,7 +54,7 @@ SimdPath parse_simd_path(const std::string& name) {
   if (name == "auto") return SimdPath::automatic;
   std::string names;
   for (const simd::CompiledPath& p : simd::compiled_paths()) {
-    if (name == p.name) return p.table->path;
+    if (name == p.name) return p.path;
     names += std::string(p.name) + ", ";
   }
   throw InputError("--simd: '" + name + "' is not one of " + names + "auto");
@@ -77,7 +69,7 @@ std::string simd_path_names() {
 std::vector<SimdPath> available_simd_paths() {
   std::vector<SimdPath> paths;
   for (const simd::CompiledPath& p : simd::compiled_paths())
-    if (p.cpu_runs) paths.push_back(p.table->path);
+    if (p.cpu_runs) paths.push_back(p.path);
   return paths;
 }
 
@@ -89,6 +81,6 @@ SimdPath resolve_simd_path(SimdPath requested) {
   return requested;
 }
 
-int lane_width(SimdPath path) { return simd::path_table(path).width; }
+int lane_width(SimdPath path) { return simd::find(resolve_simd_path(path))->width; }
 
 }  // namespace slidespec

@@ -1,12 +1,13 @@
 // The stepper's kernel, written once (kernel.inc) and compiled per instruction-set path
-// inside that path's namespace (simd/path.cpp.in), which defines Batch, width, load,
+// inside that path's namespace (stepper/path.cpp.in), which defines Batch, width, load,
 // store, broadcast and any_passed (simd/primitives.inc). Each path exports its kernels
-// through its table (simd/path_table.hpp).
+// through its PathKernels; path_kernels() picks them at run time.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 
+#include "slidespec/simd.hpp"
 #include "stepper/exact_step.hpp"
 #include "stepper/renewal.hpp"
 
@@ -29,5 +30,19 @@ struct KernelArgs {
 };
 
 using GroupKernel = void (*)(const KernelArgs&);
+
+/// One path's kernels.
+struct PathKernels {
+  /// The kernel for a state of `dimension` components and `inputs` input classes, or
+  /// nullptr if it was not compiled for that shape.
+  GroupKernel (*group_kernel)(int dimension, int inputs);
+  /// The renewal draws of `lanes` lanes (a multiple of the width) for given counter words:
+  /// the generator's four words and -log of the uniform made of the last two.
+  void (*draw_lanes)(const std::uint32_t (&key)[2], const std::uint64_t* const (&counter)[4], int lanes,
+                     std::uint64_t* const (&words)[4], double* exponential);
+};
+
+/// The kernels of resolve_simd_path(path); throws InputError for a path this CPU cannot run.
+const PathKernels& path_kernels(SimdPath path);
 
 }  // namespace slidespec::stepper

@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "model/linear_structure.hpp"
-#include "simd/path_table.hpp"
+#include "stepper/kernel.hpp"
 
 namespace slidespec::stepper {
 
@@ -109,7 +109,7 @@ RenewalState::RenewalState(const std::vector<model::Contact>& contacts, const st
       double exponential;
       const std::uint64_t* const in[4] = {&counter[0], &counter[1], &counter[2], &counter[3]};
       std::uint64_t* const words[4] = {&out[0], &out[1], &out[2], &out[3]};
-      simd::path_table(SimdPath::scalar).draw_lanes(v.key, in, 1, words, &exponential);
+      path_kernels(SimdPath::scalar).draw_lanes(v.key, in, 1, words, &exponential);
       return ScalarDraw{draw::force_units(static_cast<std::uint32_t>(out[0])), out[1], exponential};
     };
     realization_low_[lane] = realization & 0xffffffffu;

@@ -7,7 +7,6 @@
 #include <thread>
 
 #include "model/linear_structure.hpp"
-#include "simd/path_table.hpp"
 #include "stepper/exact_step.hpp"
 #include "stepper/kernel.hpp"
 #include "stepper/renewal.hpp"
@@ -17,7 +16,7 @@ namespace slidespec {
 namespace {
 // Checked before the renewal state is built, which holds at most three input classes.
 stepper::GroupKernel compiled_kernel(SimdPath path, const stepper::ExactStep& step, const Parameters& p) {
-  const stepper::GroupKernel kernel = simd::path_table(path).group_kernel(step.dimension, step.inputs);
+  const stepper::GroupKernel kernel = stepper::path_kernels(path).group_kernel(step.dimension, step.inputs);
   if (kernel == nullptr)
     throw InputError("parameters levels, touching: the stepper is compiled for up to 3 levels (got " +
                      std::to_string(p.levels) + ")");
@@ -30,7 +29,7 @@ struct Stepper::Impl {
       : params(p),
         config(c),
         path(resolve_simd_path(c.simd)),
-        width(simd::path_table(path).width),
+        width(lane_width(path)),
         first(first_realization),
         count(n),
         padded((n + width - 1) / width * width),

@@ -17,7 +17,6 @@
 
 #include "estimator/design.hpp"
 #include "estimator/kernels.hpp"
-#include "simd/path_table.hpp"
 #include "slidespec/parameters.hpp"
 
 // Every allocation in this binary is counted, so a test can show that push() allocates
@@ -325,7 +324,7 @@ TEST(Estimator, SegmentTransformMatchesTheDefinitionOfTheDft) {
   for (double& w : window) w = uniform(rng);
   const std::size_t start = 37;
   for (SimdPath path : available_simd_paths()) {
-    const estimator_detail::StreamKernels kernels = simd::path_table(path).stream;
+    const estimator_detail::StreamKernels kernels = estimator_detail::stream_kernels(path);
     const int width = lane_width(path);
     for (int lanes : {1, width + 1, 2 * width}) {
       const std::ptrdiff_t stride = (lanes + width - 1) / width * width;

@@ -7,7 +7,7 @@
 status=0
 checked=0
 for object in "$@"; do
-  case "$object" in */simd/path_*.cpp.o) ;; *) continue ;; esac
+  case "$object" in */stepper/path_*.cpp.o | */estimator/path_*.cpp.o) ;; *) continue ;; esac
   path=${object##*/path_}
   path=${path%.cpp.o}
   [ "$path" = scalar ] && continue  # baseline flags: shared code from it is harmless

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "simd/path_table.hpp"
+#include "stepper/kernel.hpp"
 #include "slidespec/simd.hpp"
 #include "stepper/renewal.hpp"
 
@@ -59,7 +59,7 @@ TEST(RenewalDraws, EveryPathGivesRandom123sWordsAndTheLogarithmToAnUlp) {
   const Counters counters;
   const std::uint32_t keys[][2] = {{0u, 0u}, {0xffffffffu, 0xffffffffu}, {0x243f6a88u, 0x85a308d3u}};
   for (SimdPath path : available_simd_paths()) {
-    const auto& table = simd::path_table(path);
+    const auto& table = stepper::path_kernels(path);
     for (const auto& key : keys) {
       std::vector<std::uint64_t> out[4];
       for (auto& w : out) w.assign(kLanes, 0);

@@ -6,9 +6,9 @@
 #include <cstring>
 #include <string>
 
-#include "slidespec/parameters.hpp"
+#include "slidespec/input_error.hpp"
 
-namespace slidespec::io {
+namespace slidespec::util {
 
 template <class T>
 void put(std::string& bytes, T value) {
@@ -63,4 +63,4 @@ class Reader {
   std::size_t position_ = 0;
 };
 
-}  // namespace slidespec::io
+}  // namespace slidespec::util

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-namespace slidespec::io {
+namespace slidespec::util {
 
 /// The known name closest to `word` by edit distance (a swap of neighbours counts one),
 /// when it is close enough to be a typo of it (or differs only in case); else empty.
@@ -13,4 +13,4 @@ std::string closest_name(const std::string& word, const std::vector<std::string>
 /// "; did you mean 'NAME'?" for the closest known name, or "" when none is close.
 std::string did_you_mean(const std::string& word, const std::vector<std::string>& known);
 
-}  // namespace slidespec::io
+}  // namespace slidespec::util

@@ -1,9 +1,9 @@
-#include "io/suggest.hpp"
+#include "util/suggest.hpp"
 
 #include <algorithm>
 #include <cctype>
 
-namespace slidespec::io {
+namespace slidespec::util {
 
 namespace {
 
@@ -49,4 +49,4 @@ std::string did_you_mean(const std::string& word, const std::vector<std::string>
   return best.empty() ? "" : "; did you mean '" + best + "'?";
 }
 
-}  // namespace slidespec::io
+}  // namespace slidespec::util
