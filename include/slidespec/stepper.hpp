@@ -61,6 +61,9 @@ class Stepper {
   std::unique_ptr<Impl> impl_;
 };
 
+/// The threads a run uses when asked for `threads`: every core for 0 (the one default).
+int resolve_threads(int threads);
+
 /// Runs `realizations` realizations from `first` for `steps` steps each on `threads`
 /// threads (0 = all cores), in batches of `batch_size`. `make_sink(first, count)` gives
 /// each batch its sink; `done(batch_index, summaries)` is called as batches finish, in

@@ -13,6 +13,7 @@
 #endif
 #include "cli/suggest.hpp"
 #include "io/atomic_file.hpp"
+#include "slidespec/stepper.hpp"
 
 using namespace slidespec;
 
@@ -22,8 +23,7 @@ int main(int argc, char** argv) {
   cli::MpiWorld mpi(argc, argv);
   if (mpi.size() > 1) context.communicator = &mpi;
   // Ranks on one machine share its cores.
-  context.default_threads =
-      std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / mpi.ranks_on_this_node());
+  context.default_threads = std::max(1, resolve_threads(0) / mpi.ranks_on_this_node());
 #endif
   CLI::App app{"slidespec: power spectra of frictional sliding noise (Xu, Zhou, Persson model)"};
   app.require_subcommand(0, 1);

@@ -14,6 +14,7 @@
 
 #include "run/session.hpp"
 #include "slidespec/estimator.hpp"
+#include "slidespec/stepper.hpp"
 #include "slidespec/theory.hpp"
 
 namespace slidespec {
@@ -302,124 +303,159 @@ bool RunSession::finished() const {
   return std::all_of(impl_->bands.begin(), impl_->bands.end(), [](const BandTotals& b) { return b.finished; });
 }
 
+namespace {
+
+/// The wall time advance() adds to the session: all of it but its checkpoints.
+struct WallClock {
+  double& session_seconds;
+  const std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point last_checkpoint = start;
+
+  double elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); }
+  void add() { session_seconds += elapsed(); }
+};
+
+/// What a sub-band's rounds need beside its totals.
+struct BandWork {
+  StepperConfig stepper;
+  std::int64_t steps;
+  std::size_t expected_points;      // the points its spectrum gives
+  std::uint64_t most_realizations;  // where a precision-driven run stops growing
+};
+
+BandWork band_work(const RunSession::Impl& s, std::size_t b, SimdPath simd) {
+  const SubBand& band = s.plan[b];
+  BandWork work;
+  work.stepper.dt = band.dt;
+  work.stepper.seed = s.request.seed;
+  work.stepper.stream = b;  // sub-bands are independent simulations
+  work.stepper.simd = simd;
+  work.steps = s.steps[b];
+  work.expected_points =
+      log_spaced_omegas(band.omega_low, band.omega_high * (1 + 1e-12), s.request.points_per_decade).size();
+  work.most_realizations = std::max<std::uint64_t>(
+      kInitialRealizations,
+      std::min<std::uint64_t>(kMaxRealizationsPerBand,
+                              static_cast<std::uint64_t>(kMaxStepsPerBand / static_cast<double>(work.steps))));
+  return work;
+}
+
+/// After a complete round: true when the band is finished, else the next round planned
+/// in totals.planned.
+bool plan_next_round(BandTotals& totals, const BandWork& work, const RunRequest& request) {
+  ++totals.rounds;
+  if (request.realizations > 0) return true;
+  const double worst = worst_relative_error(band_spectrum(totals, totals.merged()), work.expected_points);
+  if (worst <= request.precision || totals.realizations >= work.most_realizations) return true;
+  // Standard errors fall as 1/sqrt(realizations): plan the total with a 30% margin, so
+  // that a run stops because it planned enough, not because its error estimate happened
+  // to dip below the target (which would bias the reported error bars low). At most
+  // eight times more per round, so a noisy early estimate cannot run away.
+  const double factor = std::isfinite(worst) ? 1.3 * (worst / request.precision) * (worst / request.precision) : 8.0;
+  const auto wanted =
+      static_cast<std::uint64_t>(std::ceil(static_cast<double>(totals.realizations) * std::min(factor, 8.0)));
+  std::uint64_t round_size = std::max<std::uint64_t>(wanted - totals.realizations, kBatchRealizations);
+  round_size = (round_size + kBatchRealizations - 1) / kBatchRealizations * kBatchRealizations;
+  round_size = std::min(round_size, work.most_realizations - totals.realizations);
+  totals.planned = totals.realizations + round_size;
+  return false;
+}
+
+std::uint64_t batches_of(std::uint64_t realizations) {
+  return (realizations + kBatchRealizations - 1) / kBatchRealizations;
+}
+
+/// Runs this process's share of the band's next `chunk` realizations (a contiguous run of
+/// its batches) and returns its records, fewer when stopped.
+std::vector<BatchRecord> run_chunk(const RunSession::Impl& s, std::size_t b, const BandWork& work, std::uint64_t chunk,
+                                   const RunSession::Control& control, const Communicator& comm) {
+  const BandTotals& totals = s.bands[b];
+  const std::uint64_t chunk_batches = batches_of(chunk);
+  const std::uint64_t share_first = chunk_batches * comm.rank() / comm.size() * kBatchRealizations;
+  const std::uint64_t share_end = std::min(chunk, chunk_batches * (comm.rank() + 1) / comm.size() * kBatchRealizations);
+  if (share_end <= share_first) return {};
+  std::mutex progress_mutex;
+  auto chunk_progress = [&](double f) {
+    if (!control.progress) return;
+    const double in_band = (static_cast<double>(totals.realizations) + f * static_cast<double>(chunk)) /
+                           static_cast<double>(totals.planned);
+    const std::lock_guard<std::mutex> lock(progress_mutex);  // one call at a time (run.hpp)
+    const auto bands = s.plan.size();
+    control.progress((static_cast<double>(b) + in_band) / static_cast<double>(bands),
+                     "sub-band " + std::to_string(b + 1) + "/" + std::to_string(bands) + ", round " +
+                         std::to_string(totals.rounds + 1));
+  };
+  const std::uint64_t chunk_first = s.request.first_realization + totals.realizations;
+  return run_batches_of(s.params, s.plan[b], work.stepper, s.request, chunk_first + share_first,
+                        share_end - share_first, work.steps, comm.size() > 1 ? nullptr : control.stop, chunk_progress);
+}
+
+/// Every process's records of a chunk, in realization order (the shares are contiguous).
+std::vector<BatchRecord> gather_across_ranks(const Communicator& comm, std::vector<BatchRecord> records) {
+  if (comm.size() == 1) return records;
+  std::string mine;
+  for (const BatchRecord& record : records) put_batch(mine, record);
+  records.clear();
+  for (const std::string& theirs : comm.all_gather(mine)) {
+    util::Reader in(theirs, "run state from another process");
+    while (!in.at_end()) records.push_back(get_batch(in));
+  }
+  return records;
+}
+
+/// Saves the session when a periodic checkpoint is due; its time is not the run's.
+void checkpoint_if_due(const RunSession::Control& control, RunSession& session, WallClock& clock) {
+  const auto now = std::chrono::steady_clock::now();
+  if (!control.checkpoint || !(control.checkpoint_every > 0) ||
+      std::chrono::duration<double>(now - clock.last_checkpoint).count() < control.checkpoint_every)
+    return;
+  clock.add();
+  control.checkpoint(session);
+  clock.session_seconds -= clock.elapsed();
+  clock.last_checkpoint = now;
+}
+
+}  // namespace
+
 bool RunSession::advance(const Control& control) {
   Impl& s = *impl_;
-  const auto start = std::chrono::steady_clock::now();
-  auto last_checkpoint = start;
+  WallClock clock{s.wall_seconds};
   const Communicator alone;
   const Communicator& comm = control.communicator ? *control.communicator : alone;
-  const bool fixed = s.request.realizations > 0;
-  const std::uint64_t initial = fixed ? s.request.realizations : kInitialRealizations;
   const SimdPath simd = resolve_simd_path(s.request.simd);
-  auto add_wall_time = [&] {
-    s.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
-  const std::size_t band_count = s.plan.size();
-  std::mutex progress_mutex;
   // With periodic checkpoints a chunk is one batch per thread, so a checkpoint comes at
   // most one batch after it is due (the chunk size changes no number).
-  const int threads =
-      s.request.threads > 0 ? s.request.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const std::uint64_t chunk_batches_per_process =
-      control.checkpoint_every > 0 && control.checkpoint ? static_cast<std::uint64_t>(threads) : kChunkBatches;
-  for (std::size_t b = 0; b < band_count; ++b) {
+  const std::uint64_t batches_per_process = control.checkpoint_every > 0 && control.checkpoint
+                                                ? static_cast<std::uint64_t>(resolve_threads(s.request.threads))
+                                                : kChunkBatches;
+  for (std::size_t b = 0; b < s.plan.size(); ++b) {
     BandTotals& totals = s.bands[b];
-    const SubBand& band = s.plan[b];
-    StepperConfig stepper_config;
-    stepper_config.dt = band.dt;
-    stepper_config.seed = s.request.seed;
-    stepper_config.stream = b;  // sub-bands are independent simulations
-    stepper_config.simd = simd;
-    const std::int64_t steps = s.steps[b];
-    const std::size_t expected_points =
-        log_spaced_omegas(band.omega_low, band.omega_high * (1 + 1e-12), s.request.points_per_decade).size();
-    const std::uint64_t most_realizations = std::max<std::uint64_t>(
-        kInitialRealizations,
-        std::min<std::uint64_t>(kMaxRealizationsPerBand,
-                                static_cast<std::uint64_t>(kMaxStepsPerBand / static_cast<double>(steps))));
-    if (totals.planned == 0) totals.planned = initial;
-
+    const BandWork work = band_work(s, b, simd);
+    if (totals.planned == 0)
+      totals.planned = s.request.realizations > 0 ? s.request.realizations : kInitialRealizations;
     while (!totals.finished) {
-      if (totals.realizations < totals.planned) {
-        if (comm.any(control.stop && control.stop->load())) {
-          add_wall_time();
-          return false;
-        }
-        // This process's share of the chunk: a contiguous run of its batches.
-        const std::uint64_t chunk = std::min(totals.planned - totals.realizations,
-                                             chunk_batches_per_process * kBatchRealizations * comm.size());
-        const std::uint64_t chunk_batches = (chunk + kBatchRealizations - 1) / kBatchRealizations;
-        const std::uint64_t first_batch = chunk_batches * comm.rank() / comm.size();
-        const std::uint64_t end_batch = chunk_batches * (comm.rank() + 1) / comm.size();
-        const std::uint64_t share_first = first_batch * kBatchRealizations;
-        const std::uint64_t share_end = std::min(chunk, end_batch * kBatchRealizations);
-        const std::uint64_t chunk_first = s.request.first_realization + totals.realizations;
-        auto chunk_progress = [&](double f) {
-          if (!control.progress) return;
-          const double in_band = (static_cast<double>(totals.realizations) + f * static_cast<double>(chunk)) /
-                                 static_cast<double>(totals.planned);
-          const std::lock_guard<std::mutex> lock(progress_mutex);  // one call at a time (run.hpp)
-          control.progress((static_cast<double>(b) + in_band) / static_cast<double>(band_count),
-                           "sub-band " + std::to_string(b + 1) + "/" + std::to_string(band_count) + ", round " +
-                               std::to_string(totals.rounds + 1));
-        };
-        std::vector<BatchRecord> records;
-        if (share_end > share_first)
-          records =
-              run_batches_of(s.params, band, stepper_config, s.request, chunk_first + share_first,
-                             share_end - share_first, steps, comm.size() > 1 ? nullptr : control.stop, chunk_progress);
-        if (comm.size() > 1) {
-          std::string mine;
-          for (const BatchRecord& record : records) put_batch(mine, record);
-          records.clear();
-          for (const std::string& theirs : comm.all_gather(mine)) {
-            util::Reader in(theirs, "run state from another process");
-            while (!in.at_end()) records.push_back(get_batch(in));
-          }
-        }
-        const bool whole = records.size() == chunk_batches;
-        totals.realizations += realizations_in(records);
-        for (BatchRecord& record : records) totals.batches.push_back(std::move(record));
-        if (!whole) {
-          add_wall_time();
-          return false;
-        }
-        const auto now = std::chrono::steady_clock::now();
-        if (control.checkpoint && control.checkpoint_every > 0 &&
-            std::chrono::duration<double>(now - last_checkpoint).count() >= control.checkpoint_every) {
-          add_wall_time();
-          control.checkpoint(*this);
-          s.wall_seconds -= std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-          last_checkpoint = now;
-        }
+      if (totals.realizations >= totals.planned) {
+        totals.finished = plan_next_round(totals, work, s.request);
         continue;
       }
-      // A round is complete: stop, or plan the next from what it reached.
-      ++totals.rounds;
-      if (fixed) {
-        totals.finished = true;
-        break;
+      if (comm.any(control.stop && control.stop->load())) {
+        clock.add();
+        return false;
       }
-      const double worst = worst_relative_error(band_spectrum(totals, totals.merged()), expected_points);
-      if (worst <= s.request.precision || totals.realizations >= most_realizations) {
-        totals.finished = true;
-        break;
+      const std::uint64_t chunk =
+          std::min(totals.planned - totals.realizations, batches_per_process * kBatchRealizations * comm.size());
+      std::vector<BatchRecord> records = gather_across_ranks(comm, run_chunk(s, b, work, chunk, control, comm));
+      const bool whole = records.size() == batches_of(chunk);
+      totals.realizations += realizations_in(records);
+      for (BatchRecord& record : records) totals.batches.push_back(std::move(record));
+      if (!whole) {
+        clock.add();
+        return false;
       }
-      // Standard errors fall as 1/sqrt(realizations): plan the total with a 30% margin, so
-      // that a run stops because it planned enough, not because its error estimate happened
-      // to dip below the target (which would bias the reported error bars low). At most
-      // eight times more per round, so a noisy early estimate cannot run away.
-      const double factor =
-          std::isfinite(worst) ? 1.3 * (worst / s.request.precision) * (worst / s.request.precision) : 8.0;
-      const auto wanted =
-          static_cast<std::uint64_t>(std::ceil(static_cast<double>(totals.realizations) * std::min(factor, 8.0)));
-      std::uint64_t round_size = std::max<std::uint64_t>(wanted - totals.realizations, kBatchRealizations);
-      round_size = (round_size + kBatchRealizations - 1) / kBatchRealizations * kBatchRealizations;
-      round_size = std::min(round_size, most_realizations - totals.realizations);
-      totals.planned = totals.realizations + round_size;
+      checkpoint_if_due(control, *this, clock);
     }
   }
-  add_wall_time();
+  clock.add();
   return true;
 }
 
@@ -441,8 +477,7 @@ RunResult RunSession::result() const {
   RunResult result;
   result.sub_bands = s.plan;
   result.simd_path = resolve_simd_path(s.request.simd);
-  result.threads =
-      s.request.threads > 0 ? s.request.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  result.threads = resolve_threads(s.request.threads);
   // Points, with the continuous-time theory seen through the estimator: averaged over
   // exactly the FFT bins each point averages, and smoothed by the window as the estimate
   // is (for a smooth C_x that is the plain mean over the bins; a periodic force spectrum's

@@ -130,14 +130,17 @@ std::vector<RealizationSummary> Stepper::summaries() const {
   return out;
 }
 
+int resolve_threads(int threads) {
+  return threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
 void run_batches(const Parameters& params, const StepperConfig& config, std::uint64_t first, std::uint64_t realizations,
                  std::int64_t steps, int threads, int batch_size,
                  const std::function<IncrementSink(std::uint64_t first, int count)>& make_sink,
                  const std::function<void(std::size_t, std::vector<RealizationSummary>)>& done) {
   if (batch_size < 1) throw InputError("batch size must be at least 1");
   const std::size_t batches = (realizations + batch_size - 1) / batch_size;
-  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = static_cast<int>(std::min<std::size_t>(threads, std::max<std::size_t>(batches, 1)));
+  threads = static_cast<int>(std::min<std::size_t>(resolve_threads(threads), std::max<std::size_t>(batches, 1)));
 
   std::atomic<std::size_t> next_batch{0};
   std::mutex callbacks;  // make_sink and done need not be thread-safe themselves
