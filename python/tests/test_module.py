@@ -90,11 +90,11 @@ def test_read_gives_the_same_result(cli_run, py_run):
     assert table.seed == 3 and table.case == "reference"
     assert abs(table.mean_speed / py_run.mean_speed - 1) < 1e-9
     assert [b["realizations"] for b in table.sub_bands] == [b["realizations"] for b in py_run.sub_bands]
-    # The same table with a '#'-prefixed column line (issue 15's form) reads alike.
+    # The same table with a '#'-prefixed column line reads alike.
     with open(f"{cli_run}.tsv") as f:
         lines = f.read().splitlines()
     column_line = next(i for i, line in enumerate(lines) if line.lstrip("# ").startswith("omega\t"))
-    lines[column_line] = lines[column_line].lstrip("# ")  # the plain form, as before issue 15
+    lines[column_line] = lines[column_line].lstrip("# ")  # the plain column line
     hashed = cli_run.parent / "hashed.tsv"
     hashed.write_text("\n".join(lines) + "\n")
     again = ss.read(hashed)

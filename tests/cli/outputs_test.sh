@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# What users meet first (issue 15): usage and "did you mean", theory at given omegas,
+# What users meet first: usage and "did you mean", theory at given omegas,
 # tables numpy reads as they are, JSON parameters that --params reads back, shortest
 # numbers, run labels, sweep grids and their combined table, figures by extension, and
 # an installed copy that plots.

@@ -1,4 +1,4 @@
-// Peak memory of a run does not grow with its duration (issue 6): the stepper and the
+// Peak memory of a run does not grow with its duration: the stepper and the
 // estimator stream, keeping no trajectory. Each run goes in a child process so that its
 // peak resident set is its own (wait4 reports the child's ru_maxrss).
 #include <gtest/gtest.h>
