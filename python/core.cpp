@@ -173,6 +173,23 @@ class Spectrum {
     f.dt = format["dt"].cast<double>();
     f.unit = parse_length_unit(format["units"].cast<std::string>());
     f.time_tolerance = format["time_tolerance"].cast<double>();
+    if (!format["window"].is_none()) {
+      const auto window = format["window"].cast<std::pair<double, double>>();
+      if (!(window.second > window.first)) throw InputError("window: need (t0, t1) with t0 < t1 [s]");
+      f.window = window;
+    }
+    const std::string resample = format["resample"].cast<std::string>();
+    if (resample == "auto")
+      f.resample = Resampling::automatic;
+    else if (resample == "off")
+      f.resample = Resampling::off;
+    else if (resample == "median")
+      f.resample = Resampling::median;
+    else {
+      f.resample = Resampling::interval;
+      f.resample_interval = format["resample_interval"].cast<double>();
+      if (!(f.resample_interval > 0)) throw InputError("resample: 'auto', 'off', 'median' or an interval > 0 [s]");
+    }
     AnalysisRequest r;
     r.omega_min = request["omega_min"].cast<double>();
     r.omega_max = request["omega_max"].cast<double>();
@@ -182,7 +199,13 @@ class Spectrum {
     r.estimator = parse_estimator(request["estimator"].cast<std::string>());
     const std::vector<double> t = to_vector(time), samples = to_vector(x);
     py::gil_scoped_release release;
-    spectrum_ = analyze_record(record_from_samples(t, samples, f), r);
+    Record record = record_from_samples(t, samples, f);
+    notes_ = record.notes;
+    const std::vector<SteadySegment> steady = steady_segments(record);
+    for (const SteadySegment& segment : steady)
+      segments_.push_back({segment.start, segment.end, segment.mean_speed, segment.hold});
+    if (!f.window) record = longest_steady(record, steady, notes_);
+    spectrum_ = analyze_record(record, r);
     request_ = r;
   }
 
@@ -214,6 +237,12 @@ class Spectrum {
       estimator["leaky_points"] = s.leaky_points;
     }
     d["estimator"] = estimator;
+    d["notes"] = notes_;
+    py::list segments;
+    for (const auto& [start, end, speed, hold] : segments_)
+      segments.append(py::dict(py::arg("start") = start, py::arg("end") = end, py::arg("mean_speed") = speed,
+                               py::arg("hold") = hold));
+    d["segments"] = segments;
     py::list points;
     for (std::size_t k = 0; k < s.points.size(); ++k) {
       const AnalysisPoint& p = s.points[k];
@@ -277,6 +306,8 @@ class Spectrum {
     return theory_order == 2 ? ModelOrder::best : ModelOrder::first;
   }
 
+  std::vector<std::string> notes_;
+  std::vector<std::tuple<double, double, double, bool>> segments_;
   RecordSpectrum spectrum_;
   AnalysisRequest request_;
 };

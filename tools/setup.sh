@@ -13,7 +13,8 @@ packages=(cmake ninja-build g++ pkg-config git
           libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev zlib1g-dev
           python3 python3-numpy python3-matplotlib
           python3-dev pybind11-dev python3-tqdm python3-pytest
-          python3-venv python3-pip python3-setuptools python3-wheel)
+          python3-venv python3-pip python3-setuptools python3-wheel
+          python3-scipy)  # bench/welch_scipy.py: the Welch benchmark's reference
 mpi=${SLIDESPEC_MPI:-OFF}
 [ "$mpi" = "ON" ] && packages+=(libopenmpi-dev openmpi-bin)
 missing=()

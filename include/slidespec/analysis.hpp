@@ -29,6 +29,15 @@ const char* to_string(LengthUnit unit);
 /// Metres in one `unit`.
 double metres_per(LengthUnit unit);
 
+/// What to do with sampling that is not uniform (docs/analysis.md).
+enum class Resampling {
+  automatic,  ///< jitter without a missing sample: interpolate onto the median interval, with a
+              ///< note; a gap (an interval over 1.5 medians) is refused
+  off,        ///< refuse any interval beyond time_tolerance
+  median,     ///< interpolate onto the median interval, gaps included
+  interval,   ///< interpolate onto RecordFormat::resample_interval
+};
+
 /// How to read a record. Without a header line, columns are named by number ("1", "2", ...).
 /// A header name may carry its unit: `t_s`, `time (s)`, `t [ms]`, `x_m`, `x (mm)`,
 /// `position [um]`, or the unit alone (`nm`).
@@ -38,7 +47,19 @@ struct RecordFormat {
   std::string time_column;         ///< empty: a column named t or time (any case, any time unit), or column 1 of 2
   double dt = 0;                   ///< > 0: fixed sampling interval [s], no time column is read
   std::optional<LengthUnit> unit;  ///< overrides the header's unit; neither: metres
-  double time_tolerance = 0.01;    ///< largest |interval - dt| / dt accepted [-]
+  double time_tolerance = 0.01;    ///< largest |interval - median| / median accepted as uniform [-]
+  /// Keep the samples with T0 <= t <= T1, in record time [s] (--window T0:T1).
+  std::optional<std::pair<double, double>> window;
+  /// Sampling irregular beyond time_tolerance (and a rate that changes, with resample_interval).
+  Resampling resample = Resampling::automatic;
+  double resample_interval = 0;  ///< Resampling::interval: the grid's interval [s]
+};
+
+/// A stretch of a record sampled at one rate.
+struct SamplingPart {
+  double start = 0, end = 0;  ///< first and last sample time [s]
+  double interval = 0;        ///< median sampling interval [s]
+  std::size_t samples = 0;
 };
 
 /// A uniformly sampled displacement record x_n = x(t_0 + n dt).
@@ -49,7 +70,32 @@ struct Record {
   std::string column;                ///< the displacement column read
   LengthUnit unit = LengthUnit::m;   ///< the unit the displacement column was read in
   std::string unit_source;           ///< "--units", "header" or "default"
+  std::vector<SamplingPart> parts;   ///< the read window's parts of constant rate (one: steady rate)
+  double jitter = 0;                 ///< largest |interval - median| / median of the samples kept
+  bool resampled = false;            ///< interpolated onto the uniform grid
+  double interpolation_cut = 0;      ///< resampled: omega above which interpolation filters [rad/s]
+  std::vector<std::string> notes;    ///< every choice made about the sampling, in words
 };
+
+/// A stretch of steady sliding (or a hold) found in a record.
+struct SteadySegment {
+  double start = 0, end = 0;  ///< [s], record time
+  double mean_speed = 0;      ///< [m/s]
+  std::size_t samples = 0;
+  bool hold = false;  ///< speed below a tenth of the record's fastest segment
+};
+
+/// Splits a record into stretches of steady speed: the speeds of blocks of about 1/48 of the
+/// record (median of three), grouped while within a factor 1.6 or four scatters (of successive
+/// blocks' speeds) of their group's median (holds together); groups of fewer than three blocks
+/// (a step's transition) belong to no segment. Sorted by start.
+std::vector<SteadySegment> steady_segments(const Record& record);
+/// The samples of `record` with start <= t <= end, as a record of their own.
+Record record_window(const Record& record, double start, double end);
+/// The longest of `segments` when velocity steps or holds split the record, with a note
+/// saying so appended to `notes`; else the record itself.
+Record longest_steady(const Record& record, const std::vector<SteadySegment>& segments,
+                      std::vector<std::string>& notes);
 
 /// Reads CSV, TSV or whitespace-separated text: '#' comments, blank lines, an optional
 /// header. Throws InputError naming `source` and the line for a missing column, a field
@@ -181,6 +227,7 @@ struct RecordSpectrum {
   /// The usable band: from the lowest point (set by the record length) to the highest point
   /// below the first one where the floor exceeds a tenth of C_x (or the highest point).
   double usable_low = 0, usable_high = 0;
+  bool top_set_by_interpolation = false;  ///< a resampled record's band cut where interpolation filters
   bool usable_high_set_by_floor = false;  ///< else by the estimator's top (half of Nyquist)
 };
 
@@ -207,6 +254,30 @@ struct SlopeFit {
 
 /// Throws InputError when the band holds fewer than 3 points.
 SlopeFit fit_slope(const RecordSpectrum& spectrum, double omega_low, double omega_high);
+
+/// C_x = amplitude (omega / pivot)^slope + floor over a band, jointly: what a short record's
+/// band can determine without a model of the machine. The floor (white, the sensor's) is
+/// fitted unless the request gave it (--resolution, --sensor-noise): never taken for motion.
+struct PowerLawFit {
+  double omega_low = 0, omega_high = 0;       ///< the band [rad/s]
+  double pivot = 0;                           ///< geometric centre of the band's points [rad/s]
+  int points = 0, dof = 0;                    ///< points fitted (leaky ones left out); points - parameters
+  double amplitude = 0, amplitude_error = 0;  ///< C_x at the pivot, without the floor [m^2 s]
+  double slope = 0, slope_error = 0;          ///< [-]
+  double floor = 0, floor_error = 0;          ///< white level [m^2 s]; error 0 when given
+  bool floor_given = false;
+  /// Correlations of (amplitude, slope, floor); errors are scaled by sqrt(chi2/dof) when > 1.
+  double correlation[3][3] = {};
+  double chi2_per_dof = 0;
+  std::vector<double> model;      ///< per point of the spectrum (NaN outside the band) [m^2 s]
+  std::vector<double> residuals;  ///< (C_x - model) / sigma per point (NaN outside the band)
+  std::string undetermined;       ///< what the data cannot determine, in words
+};
+
+/// Weighted least squares (weights from the model's level and each point's relative error,
+/// iterated), the slope scanned and (amplitude, floor) solved at each, then refined; throws
+/// InputError when the band holds fewer points than parameters + 1.
+PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, double omega_high);
 
 /// Which theory a model comparison or an alpha fit uses.
 enum class ModelOrder {

@@ -684,7 +684,7 @@ class Analysis(_Table):
 
 def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega_min=0.0,
             omega_max=0.0, points=8, fit_slope=None, compare=None, fit=None, fit_band=None,
-            theory_order=2, time_tolerance=0.01, estimator="auto"):
+            theory_order=2, time_tolerance=0.01, estimator="auto", window=None, resample="auto"):
     """Spectrum, slope and model fit of a sliding-distance record: `slidespec analyze`.
 
     t: sample times [s] (uniform within time_tolerance), or None with dt [s].
@@ -698,6 +698,11 @@ def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega
       usable band within 5 v/a .. omega_c/3, where Eq. (1)'s omega^-4 holds).
     estimator: "auto" (Welch up to 1e7 samples, streaming beyond), "welch" (Hann, 50% overlap,
       8 segments of first differences: 9 x 2 pi / T to Nyquist) or "streaming" (the run's).
+    window: (t0, t1) [s] in record time: only those samples (default: the longest steady
+      segment when velocity steps or holds split the record; the result's segments and notes
+      say which). resample: "auto" (jitter interpolated linearly onto the median interval, a
+      gap refused), "off", "median" or an interval [s] (gaps and rate changes interpolated);
+      the band is cut where interpolation filters it.
     theory_order: 2 (default) compares and fits with the second-order theory where it
       applies (poisson, one touching level, eps <= 0.3), else the first; 1 the first
       order always. The result's theory_order field says which was used.
@@ -709,7 +714,10 @@ def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega
         raise ValueError("fit='alpha' needs compare=Parameters(...)")
     time = np.empty(0) if t is None else np.asarray(t, dtype=float).ravel()
     samples = np.asarray(x, dtype=float).ravel()
-    record = {"dt": float(dt or 0), "units": str(units), "time_tolerance": float(time_tolerance)}
+    record = {"dt": float(dt or 0), "units": str(units), "time_tolerance": float(time_tolerance),
+              "window": None if window is None else (float(window[0]), float(window[1])),
+              "resample": resample if isinstance(resample, str) else "interval",
+              "resample_interval": 0.0 if isinstance(resample, str) else float(resample)}
     request = {"omega_min": float(omega_min), "omega_max": float(omega_max), "points_per_decade": int(points),
                "resolution": float(resolution), "sensor_noise": float(sensor_noise), "estimator": str(estimator)}
     spectrum = _core.Spectrum(time, samples, record, request)

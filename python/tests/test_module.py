@@ -2,6 +2,7 @@
 PYTHONPATH holds the built package, SLIDESPEC the executable)."""
 
 import json
+import pathlib
 import os
 import pickle
 import signal
@@ -355,3 +356,16 @@ def test_runs_outside_the_first_order_theory_warn_as_the_command_line_does():
     with pytest.warns(ss.ModelWarning, match="stall"):
         r = ss.run(p, omega_min=100, omega_max=1e3, realizations=8, threads=2)
     assert r.complete
+
+
+def test_analyze_takes_the_command_lines_window_and_resampling():
+    data = pathlib.Path(__file__).resolve().parents[2] / "tests" / "data" / "realdata"
+    table = np.loadtxt(data / "velstep3_TR2_exp013_sepiolite.txt", skiprows=1)
+    before = ss.analyze(table[:, 0], table[:, 1], units="um", window=(20100, 21290))
+    after = ss.analyze(table[:, 0], table[:, 1], units="um", window=(21350, 22319))
+    assert before.mean_speed == pytest.approx(2e-7, rel=0.05)
+    assert after.mean_speed == pytest.approx(2e-6, rel=0.05)
+    assert any("linear interpolation" in note for note in before._data["notes"])
+    assert before._data["estimator"]["name"] == "welch"
+    with pytest.raises(ValueError, match="not uniform"):
+        ss.analyze(table[:, 0], table[:, 1], units="um", resample="off")

@@ -1,8 +1,12 @@
 // From a record to its spectrum, the sensor's floor, and the two fits (docs/analysis.md).
 #include <algorithm>
+#include <Eigen/Dense>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <numbers>
 
+#include "analysis/line_fit.hpp"
 #include "util/suggest.hpp"
 #include "io/tables.hpp"
 #include "slidespec/analysis.hpp"
@@ -11,27 +15,6 @@
 namespace slidespec {
 
 namespace {
-
-struct Line {
-  double intercept, slope;
-};
-
-/// Least-squares line through (i dt, x_i) for i in [first, last).
-Line fit_line(const std::vector<double>& x, std::size_t first, std::size_t last, double dt) {
-  const double count = static_cast<double>(last - first);
-  const double t_mean = 0.5 * (count - 1) * dt;
-  double x_mean = 0;
-  for (std::size_t i = first; i < last; ++i) x_mean += x[i];
-  x_mean /= count;
-  double sxy = 0, sxx = 0;
-  for (std::size_t i = first; i < last; ++i) {
-    const double t = static_cast<double>(i - first) * dt - t_mean;
-    sxy += t * (x[i] - x_mean);
-    sxx += t * t;
-  }
-  const double slope = sxy / sxx;
-  return {x_mean - slope * t_mean, slope};
-}
 
 // xi is correlated over ~a/v (seconds) and diffusive beyond, so the per-sample least-squares
 // error of v would be far too small; the scatter of the speeds of long blocks is honest.
@@ -91,7 +74,7 @@ double lowest_omega(const Record& record, const AnalysisRequest& request) {
 
 SlidingFit fit_sliding(const Record& record) {
   const std::vector<double>& x = record.displacement;
-  const Line line = fit_line(x, 0, x.size(), record.dt);
+  const detail::Line line = detail::fit_line(x, 0, x.size(), record.dt);
   SlidingFit fit;
   fit.v = line.slope;
   fit.x0 = line.intercept;
@@ -103,7 +86,7 @@ SlidingFit fit_sliding(const Record& record) {
   if (block >= kMinBlockSamples) {
     double mean = 0, mean2 = 0;
     for (int b = 0; b < kSpeedBlocks; ++b) {
-      const double speed = fit_line(x, b * block, (b + 1) * block, record.dt).slope;
+      const double speed = detail::fit_line(x, b * block, (b + 1) * block, record.dt).slope;
       mean += speed / kSpeedBlocks;
       mean2 += speed * speed / kSpeedBlocks;
     }
@@ -248,9 +231,14 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
   } else {
     result.estimator_reason = "--estimator";
   }
+  AnalysisRequest band = request;
+  if (record.interpolation_cut > 0 && !(request.omega_max > 0 && request.omega_max <= record.interpolation_cut)) {
+    band.omega_max = record.interpolation_cut;
+    result.top_set_by_interpolation = true;
+  }
   const std::vector<double> xi = sliding_fluctuation(record, result.sliding);
-  result.points = result.estimator == Estimator::welch ? welch_points(record, request, xi, result)
-                                                       : streaming_points(record, request, xi, result);
+  result.points = result.estimator == Estimator::welch ? welch_points(record, band, xi, result)
+                                                       : streaming_points(record, band, xi, result);
 
   // White noise of variance q^2/12 (+ sigma^2) per sample (docs/model.md §3: C = s^2 dt / 2 pi),
   // through the same bins and window as the estimate so that the two compare point by point.
@@ -300,6 +288,122 @@ SlopeFit fit_slope(const RecordSpectrum& spectrum, double omega_low, double omeg
   fit.chi2_per_dof = line.chi2 / (fit.points - 2);
   fit.slope_error = inflated(std::sqrt(line.b_variance), fit.chi2_per_dof);
   fit.amplitude = std::exp(line.a);
+  return fit;
+}
+
+PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, double omega_high) {
+  if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("--fit-band: need 0 < LO < HI in rad/s");
+  PowerLawFit fit;
+  fit.omega_low = omega_low, fit.omega_high = omega_high;
+  fit.floor_given = spectrum.quantization_variance + spectrum.sensor_noise_variance > 0;
+  std::vector<std::size_t> inside;
+  double log_pivot = 0;
+  for (std::size_t k = 0; k < spectrum.points.size(); ++k) {
+    const AnalysisPoint& p = spectrum.points[k];
+    if (p.omega < omega_low || p.omega > omega_high || p.leaky || !(p.C_x > 0)) continue;
+    inside.push_back(k);
+    log_pivot += std::log(p.omega);
+  }
+  const int parameters = fit.floor_given ? 2 : 3;
+  fit.points = int(inside.size());
+  if (fit.points < parameters + 1)
+    throw InputError("--fit power-law: the band " + io::format_number(omega_low) + " .. " +
+                     io::format_number(omega_high) + " rad/s holds " + std::to_string(fit.points) +
+                     " usable points; amplitude, slope" + (fit.floor_given ? "" : " and floor") + " need at least " +
+                     std::to_string(parameters + 1));
+  fit.dof = fit.points - parameters;
+  fit.pivot = std::exp(log_pivot / fit.points);
+
+  // For a slope s the model is linear in (amplitude, floor): solve it, keep the best s.
+  std::vector<double> sigma(spectrum.points.size()), shape(spectrum.points.size());
+  for (std::size_t k : inside) sigma[k] = spectrum.points[k].standard_error;
+  struct Solution {
+    double amplitude, floor, chi2;
+  };
+  const auto solve = [&](double slope) {
+    double saa = 0, saf = 0, sff = 0, sac = 0, sfc = 0;
+    for (std::size_t k : inside) {
+      const AnalysisPoint& p = spectrum.points[k];
+      const double w = 1 / (sigma[k] * sigma[k]), a = std::pow(p.omega / fit.pivot, slope);
+      const double c = fit.floor_given ? p.C_x - p.noise_floor : p.C_x;
+      saa += w * a * a, saf += w * a, sff += w, sac += w * a * c, sfc += w * c;
+    }
+    Solution best{sac / saa, 0, 0};
+    if (!fit.floor_given) {
+      const double det = saa * sff - saf * saf;
+      const double amplitude = (sac * sff - saf * sfc) / det, floor = (saa * sfc - saf * sac) / det;
+      if (floor > 0) best = {amplitude, floor, 0};  // a floor below zero is no floor: held at 0
+    }
+    for (std::size_t k : inside) {
+      const AnalysisPoint& p = spectrum.points[k];
+      const double model =
+          best.amplitude * std::pow(p.omega / fit.pivot, slope) + (fit.floor_given ? p.noise_floor : best.floor);
+      best.chi2 += std::pow((p.C_x - model) / sigma[k], 2);
+    }
+    return best;
+  };
+  constexpr double kSteepest = -10, kFlattest = 2, kScanStep = 0.01;
+  Solution best{0, 0, std::numeric_limits<double>::infinity()};
+  for (int iteration = 0; iteration < 4; ++iteration) {
+    best.chi2 = std::numeric_limits<double>::infinity();
+    for (double slope = kSteepest; slope <= kFlattest; slope += kScanStep) {
+      const Solution trial = solve(slope);
+      if (trial.chi2 < best.chi2) best = trial, fit.slope = slope;
+    }
+    for (double step = kScanStep / 2; step > 1e-6; step /= 2)  // refine about the grid's best
+      for (const double slope : {fit.slope - step, fit.slope + step}) {
+        const Solution trial = solve(slope);
+        if (trial.chi2 < best.chi2) best = trial, fit.slope = slope;
+      }
+    // Weights from the model's level, as for alpha: a point that happens to be low has a
+    // small error bar and would pull the fit down.
+    for (std::size_t k : inside) {
+      const AnalysisPoint& p = spectrum.points[k];
+      const double model =
+          best.amplitude * std::pow(p.omega / fit.pivot, fit.slope) + (fit.floor_given ? p.noise_floor : best.floor);
+      sigma[k] = p.standard_error / p.C_x * model;
+    }
+  }
+  best = solve(fit.slope);
+  fit.amplitude = best.amplitude;
+  fit.floor = fit.floor_given ? spectrum.points[inside.front()].noise_floor : best.floor;
+  fit.chi2_per_dof = best.chi2 / fit.dof;
+
+  // Covariance from the Jacobian at the optimum, scaled by chi2/dof when the scatter says so.
+  Eigen::MatrixXd jacobian(fit.points, parameters);
+  for (int i = 0; i < fit.points; ++i) {
+    const AnalysisPoint& p = spectrum.points[inside[std::size_t(i)]];
+    const double a = std::pow(p.omega / fit.pivot, fit.slope), s = sigma[inside[std::size_t(i)]];
+    jacobian(i, 0) = a / s;
+    jacobian(i, 1) = fit.amplitude * a * std::log(p.omega / fit.pivot) / s;
+    if (!fit.floor_given) jacobian(i, 2) = 1 / s;
+  }
+  const Eigen::MatrixXd covariance = (jacobian.transpose() * jacobian).inverse() * std::max(1.0, fit.chi2_per_dof);
+  fit.amplitude_error = std::sqrt(covariance(0, 0));
+  fit.slope_error = std::sqrt(covariance(1, 1));
+  fit.floor_error = fit.floor_given ? 0 : std::sqrt(covariance(2, 2));
+  for (int i = 0; i < parameters; ++i)
+    for (int j = 0; j < parameters; ++j)
+      fit.correlation[i][j] = covariance(i, j) / std::sqrt(covariance(i, i) * covariance(j, j));
+
+  fit.model.assign(spectrum.points.size(), std::numeric_limits<double>::quiet_NaN());
+  fit.residuals = fit.model;
+  for (std::size_t k : inside) {
+    const AnalysisPoint& p = spectrum.points[k];
+    fit.model[k] = fit.amplitude * std::pow(p.omega / fit.pivot, fit.slope) + fit.floor;
+    fit.residuals[k] = (p.C_x - fit.model[k]) / sigma[k];
+  }
+  std::string undetermined;
+  if (!fit.floor_given && !(fit.floor > 2 * fit.floor_error)) {
+    char bound[32];
+    std::snprintf(bound, sizeof bound, "%.3g", fit.floor + 2 * fit.floor_error);
+    undetermined = std::string("the white floor is not determined (below the spectrum across the band; at most ") +
+                   bound + " m^2 s); ";
+  }
+  fit.undetermined = undetermined +
+                     "a power law and a white floor are all a band of this shape determines: the model's alpha, "
+                     "N and a enter only through the amplitude and the corner frequencies, and a machine-driven "
+                     "record's flat band below omega_s needs the spring drive, which slidespec does not model";
   return fit;
 }
 

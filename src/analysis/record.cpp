@@ -10,6 +10,7 @@
 #include <istream>
 #include <sstream>
 
+#include "analysis/sampling.hpp"
 #include "util/suggest.hpp"
 #include "slidespec/analysis.hpp"
 
@@ -20,7 +21,9 @@ namespace {
 std::optional<LengthUnit> length_unit(const std::string& name) {
   if (name == "m") return LengthUnit::m;
   if (name == "mm") return LengthUnit::mm;
-  if (name == "um" || name == "\u00b5m" || name == "\u03bcm") return LengthUnit::um;
+  if (name == "um" || name == "\u00b5m" || name == "\u03bcm" || name == "micron" || name == "microns" ||
+      name == "micrometre" || name == "micrometres" || name == "micrometer" || name == "micrometers")
+    return LengthUnit::um;
   if (name == "nm") return LengthUnit::nm;
   return std::nullopt;
 }
@@ -37,8 +40,9 @@ double seconds_per(const std::string& name) {
 
 LengthUnit parse_length_unit(const std::string& name, const std::string& option) {
   if (const auto unit = length_unit(name)) return *unit;
-  throw InputError(option + ": unknown unit '" + name + "'" + util::did_you_mean(name, {"m", "mm", "um", "nm"}) +
-                   " (known: m, mm, um, nm)");
+  throw InputError(option + ": unknown unit '" + name + "'" +
+                   util::did_you_mean(name, {"m", "mm", "um", "nm", "microns"}) +
+                   " (lengths: m, mm, um, microns, nm; a force or stress channel is not read as a displacement)");
 }
 
 double parse_length(const std::string& text, LengthUnit bare_unit, const std::string& option) {
@@ -172,11 +176,25 @@ bool is_time_name(const ColumnName& c) {
 }
 
 bool is_displacement_name(const ColumnName& c) {
-  static const std::vector<std::string> bases = {
-      "x", "pos", "position", "displacement", "distance", "sliding distance"};
+  static const std::vector<std::string> bases = {"x",     "pos",  "position", "displacement", "distance",
+                                                 "displ", "disp", "lp_displ", "slip",         "sliding distance"};
   const bool unit_ok = c.unit.empty() || length_unit(c.unit).has_value();
   return unit_ok &&
          (std::find(bases.begin(), bases.end(), c.base) != bases.end() || (c.base.empty() && !c.unit.empty()));
+}
+
+/// A header naming a force, a stress or a friction coefficient (Friction, mu, shear_MPa,
+/// Normal_stress(MPa), F (N)): never read as a displacement. What it holds, or empty.
+std::string force_like(const std::string& name) {
+  const std::string n = lower(name);
+  for (const char* word :
+       {"friction", "stress", "shear", "force", "tau", "sigma", "mpa", "kpa", "(n)", "[n]", "(kn)", "[kn]"})
+    if (n.find(word) != std::string::npos) return "a force, stress or friction channel";
+  for (const char* unit : {"_n", "_kn", " n", " kn"})
+    if (n.size() > std::string(unit).size() && n.ends_with(unit)) return "a force channel";
+  if (n == "mu" || n.rfind("mu ", 0) == 0 || n.rfind("mu_", 0) == 0 || n.rfind("mu(", 0) == 0)
+    return "a friction coefficient";
+  return "";
 }
 
 /// "0,001;2,5" or "0,001<TAB>2,5": numbers written with a decimal comma.
@@ -208,10 +226,7 @@ class RecordReader {
     if (record_.displacement.size() < 2)
       throw InputError(source_ + ": line " + std::to_string(last_line_) +
                        ": the only sample; a spectrum needs a record of many samples");
-    if (time_index_ >= 0)
-      record_.dt = (last_time_ - record_.start_time) / (record_.displacement.size() - 1);
-    else
-      record_.dt = format_.dt;
+    finish();
     return record_;
   }
 
@@ -234,7 +249,7 @@ class RecordReader {
     }
     if (x.size() < 2)
       throw InputError(source_ + ": a spectrum needs a record of many samples, not " + std::to_string(x.size()));
-    record_.dt = time.empty() ? format_.dt : (last_time_ - record_.start_time) / static_cast<double>(x.size() - 1);
+    finish();
     return record_;
   }
 
@@ -292,12 +307,28 @@ class RecordReader {
                "no time column (columns: " + column_list(names_) + "); name it with --time-column or give --dt");
       }
     }
+    if (format_.dt > 0)
+      for (int k = 0; k < count; ++k)
+        if (is_time_name(split_unit(names_[k])))
+          fail(line_number, "--dt: the record has a time column '" + names_[k] +
+                                "'; --dt is for records without one (the time column is read by default)");
     if (!format_.column.empty()) {
       x_index_ = find_column(format_.column, "--column", line_number);
+      const std::string holds = force_like(names_[static_cast<std::size_t>(x_index_)]);
+      if (!holds.empty())
+        fail(line_number, "--column " + format_.column + ": the header names " + holds +
+                              ", not a displacement; analyze reads displacements only (give the displacement column)");
     } else {
       for (int k = 0; k < count && x_index_ < 0; ++k)
-        if (k != time_index_ && is_displacement_name(split_unit(names_[k]))) x_index_ = k;
-      if (x_index_ < 0 && count - (time_index_ >= 0 ? 1 : 0) == 1) x_index_ = time_index_ == 0 ? 1 : 0;
+        if (k != time_index_ && is_displacement_name(split_unit(names_[k])) && force_like(names_[k]).empty())
+          x_index_ = k;
+      if (x_index_ < 0 && count - (time_index_ >= 0 ? 1 : 0) == 1) {
+        x_index_ = time_index_ == 0 ? 1 : 0;
+        const std::string holds = force_like(names_[static_cast<std::size_t>(x_index_)]);
+        if (!holds.empty())
+          fail(line_number, "the only column besides time, '" + names_[static_cast<std::size_t>(x_index_)] +
+                                "', names " + holds + ", not a displacement; analyze reads displacements only");
+      }
       if (x_index_ < 0)
         fail(line_number, "which column is the displacement? give --column (columns: " + column_list(names_) + ")");
     }
@@ -322,32 +353,23 @@ class RecordReader {
 
   // Uniform sampling is what a spectrum of samples assumes: a missing sample (a gap) or
   // a clock jump would fold into the spectrum silently, so both are refused here.
-  void take_time(double t, int line_number) {
-    const std::size_t n = record_.displacement.size();
-    if (n == 0) {
-      record_.start_time = t;
+  void finish() {
+    if (times_.empty()) {
+      record_.dt = format_.dt;
+      detail::apply_window(record_, format_, source_);
+      if (format_.resample == Resampling::median || format_.resample == Resampling::interval)
+        throw InputError("--resample: the record has no time column (--dt); its samples are uniform");
     } else {
-      const double interval = t - last_time_;
-      if (interval <= 0)
-        fail(line_number,
-             "time " + std::to_string(t) + " s does not increase (previous " + std::to_string(last_time_) + " s)");
-      if (n == 1) first_interval_ = interval;
-      const double nominal = (t - record_.start_time) / static_cast<double>(n);
-      // Both the local interval and the cumulative clock are checked: jitter averages out
-      // of the second, a slow drift or a single gap does not.
-      if (std::abs(interval - first_interval_) > format_.time_tolerance * first_interval_ ||
-          std::abs(nominal - first_interval_) > format_.time_tolerance * first_interval_)
-        fail(line_number, "sampling is not uniform: interval " + shortest(interval) +
-                              " s where the record began with " + shortest(first_interval_) +
-                              " s (a gap or clock jump; tolerance " + shortest(format_.time_tolerance * 100) + "%)");
+      detail::make_uniform(record_, times_, where_, source_, place_, format_);
     }
-    last_time_ = t;
   }
 
-  static std::string shortest(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.6g", value);
-    return text;
+  void take_time(double t, int line_number) {
+    if (!times_.empty() && !(t > times_.back()))
+      fail(line_number,
+           "time " + std::to_string(t) + " s does not increase (previous " + std::to_string(times_.back()) + " s)");
+    times_.push_back(t);
+    where_.push_back(line_number);
   }
 
   std::string source_;
@@ -356,7 +378,8 @@ class RecordReader {
   std::vector<std::string> names_;
   int time_index_ = -1, x_index_ = -1;
   int last_line_ = 0;
-  double last_time_ = 0, first_interval_ = 0;
+  std::vector<double> times_;  // [s], as read
+  std::vector<int> where_;     // the line (or sample) of each time
   double seconds_per_time_ = 1;
   std::string raw_line_;
   Record record_;

@@ -42,7 +42,12 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
                 .start_time = 0,
                 .column = "x",
                 .unit = LengthUnit::m,
-                .unit_source = "synthesized"};
+                .unit_source = "synthesized",
+                .parts = {},
+                .jitter = 0,
+                .resampled = false,
+                .interpolation_cut = 0,
+                .notes = {}};
   record.displacement.reserve(static_cast<std::size_t>(samples));
   record.displacement.push_back(0.0);
   double xi = 0;

@@ -21,7 +21,12 @@ struct AnalysisCommands::Options {
   RecordFormat format;
   std::string units;  // empty: from the header, else m
   std::string estimator = "auto";
-  std::string resolution, sensor_noise;  // lengths, in the record's unit or with their own
+  std::string window;             // T0:T1 in record time [s]
+  std::string resample = "auto";  // auto, off, median or DT [s]
+  bool segments = false;
+  std::vector<std::string> notes;             // choices made for the user, said in every output
+  std::pair<double, double> analyzed_window;  // [s], record time
+  std::string resolution, sensor_noise;       // lengths, in the record's unit or with their own
   AnalysisRequest request;
   std::vector<double> slope_band;  // LO HI [rad/s]
   std::string compare_case;
@@ -99,10 +104,55 @@ Parameters build_parameters(const std::string& case_name, const std::vector<std:
 
 std::string number(double x) { return io::format_number(x); }
 
+/// A record time [s] as a user reads it off the file.
+std::string seconds(double t) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.10g", t);
+  return text;
+}
+
 /// What sets the top of the band when the floor does not: the --omega-max, else the estimator.
 std::string top_of(const RecordSpectrum& s) {
+  if (s.top_set_by_interpolation) return "the resampling's interpolation filter";
   if (s.estimator == Estimator::welch) return "the bin below Nyquist, or --omega-max";
   return "half of Nyquist, or --omega-max";
+}
+
+/// "T0:T1" in seconds of record time.
+std::pair<double, double> parse_window(const std::string& text) {
+  const auto colon = text.find(':');
+  double t0 = 0, t1 = 0;
+  std::size_t used0 = 0, used1 = 0;
+  try {
+    if (colon != std::string::npos) {
+      t0 = std::stod(text.substr(0, colon), &used0);
+      t1 = std::stod(text.substr(colon + 1), &used1);
+    }
+  } catch (const std::exception&) {
+    used0 = 0;
+  }
+  if (colon == std::string::npos || used0 != colon || used1 != text.size() - colon - 1 || !std::isfinite(t0) ||
+      !std::isfinite(t1) || !(t1 > t0))
+    throw InputError("--window: '" + text + "' is not T0:T1 with T0 < T1 in seconds of record time (e.g. 20100:21000)");
+  return {t0, t1};
+}
+
+/// "auto", "off", "median" or an interval in seconds, into `format`.
+void parse_resample(const std::string& text, RecordFormat& format) {
+  if (text == "auto") return void(format.resample = Resampling::automatic);
+  if (text == "off") return void(format.resample = Resampling::off);
+  if (text == "median") return void(format.resample = Resampling::median);
+  std::size_t used = 0;
+  double dt = 0;
+  try {
+    dt = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !(dt > 0) || !std::isfinite(dt))
+    throw InputError("--resample: '" + text + "' is none of auto, off, median or an interval > 0 in seconds");
+  format.resample = Resampling::interval;
+  format.resample_interval = dt;
 }
 
 /// What was asked of analyze beyond the spectrum, and what came of it.
@@ -111,10 +161,11 @@ struct Findings {
   std::optional<SlopeFit> slope;
   std::optional<Parameters> model;  // the compared case, at the fitted alpha if fitted
   std::optional<AlphaFit> alpha;
-  Verdict slope_verdict, alpha_verdict;
+  std::optional<PowerLawFit> power;
+  Verdict slope_verdict, alpha_verdict, power_verdict;
   std::vector<double> model_values;  // model seen through the estimator, per point
   int model_order = 1;               // the theory order of model_values
-  bool ok() const { return slope_verdict.ok && alpha_verdict.ok; }
+  bool ok() const { return slope_verdict.ok && alpha_verdict.ok && power_verdict.ok; }
 };
 
 std::string analysis_table(const Options& o, const RecordSpectrum& s, const Findings& f) {
@@ -141,6 +192,7 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
       << "# usable_band = " << number(s.usable_low) << " .. " << number(s.usable_high) << "  # [rad/s], top set by "
       << (s.usable_high_set_by_floor ? "the floor reaching 10% of C_x" : top_of(s)) << "\n"
       << "# estimator = " << to_string(s.estimator) << "  # " << s.estimator_reason << "\n";
+  for (const std::string& note : o.notes) out << "# note = " << note << "\n";
   if (s.estimator == Estimator::welch)
     out << "# welch = Hann window, 50% overlap, " << s.welch.segments << " segments of " << s.welch.segment_samples
         << " samples, first differences divided by 4 sin^2(omega dt/2); bins " << number(s.welch.bin_spacing)
@@ -158,6 +210,19 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
         << number(f.alpha->omega_low) << " .. " << number(f.alpha->omega_high) << " rad/s, " << f.alpha->points
         << " points, chi2/dof " << number(f.alpha->chi2_per_dof) << ", theory order " << f.alpha->theory_order << "\n"
         << "# alpha_fit_ok = " << (f.alpha_verdict.ok ? "true" : "false  # " + f.alpha_verdict.reason) << "\n";
+  if (f.power) {
+    const PowerLawFit& p = *f.power;
+    out << "# power_law = C_x = A (omega / " << number(p.pivot) << ")^slope + floor over " << number(p.omega_low)
+        << " .. " << number(p.omega_high) << " rad/s, " << p.points << " points, dof " << p.dof << ", chi2/dof "
+        << number(p.chi2_per_dof) << "\n# power_law_A = " << number(p.amplitude) << "  # +- "
+        << number(p.amplitude_error) << " [m^2 s]\n# power_law_slope = " << number(p.slope) << "  # +- "
+        << number(p.slope_error) << "\n# power_law_floor = " << number(p.floor) << "  # +- " << number(p.floor_error)
+        << (p.floor_given ? " [m^2 s], given (--resolution, --sensor-noise)" : " [m^2 s], fitted") << "\n"
+        << "# power_law_correlation = A-slope " << short_number(p.correlation[0][1]) << ", A-floor "
+        << short_number(p.correlation[0][2]) << ", slope-floor " << short_number(p.correlation[1][2]) << "\n"
+        << "# power_law_fit_ok = " << (f.power_verdict.ok ? "true" : "false  # " + f.power_verdict.reason) << "\n"
+        << "# undetermined = " << p.undetermined << "\n";
+  }
   out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, mean over the bin's frequencies; stderr [m^2 s] from "
          "the scatter between segments (streaming) or chi-square statistics (welch); floor [m^2 s] quantization noise "
          "q^2/12 seen through the estimator; "
@@ -166,11 +231,12 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
          "window leakage may bias the point; C_low, C_high [m^2 s] the error bar, a 95.4% interval (chi-square "
          "for welch)";
   if (f.slope) out << "; fit [m^2 s] the fitted power law inside its band";
+  if (f.power) out << "; fit [m^2 s] the fitted power law plus floor inside its band; residual (C_x - fit) / sigma";
   if (f.model)
     out << "; theory [m^2 s] the model's " << (f.model_order == 2 ? "second" : "first")
         << "-order theory seen through the estimator (no floor)";
   out << "\n# omega\tC_x\tstderr\tfloor\tbelow_floor\tn_avg\tbandwidth\tC_v\tdof\tsegment\tleaky\tC_low\tC_high"
-      << (f.slope ? "\tfit" : "") << (f.model ? "\ttheory" : "") << "\n";
+      << (f.slope ? "\tfit" : "") << (f.power ? "\tfit\tresidual" : "") << (f.model ? "\ttheory" : "") << "\n";
   for (std::size_t k = 0; k < s.points.size(); ++k) {
     const AnalysisPoint& p = s.points[k];
     out << number(p.omega) << "\t" << number(p.C_x) << "\t" << number(p.standard_error) << "\t" << number(p.noise_floor)
@@ -181,6 +247,7 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
       const bool inside = p.omega >= f.slope->omega_low && p.omega <= f.slope->omega_high;
       out << "\t" << (inside ? number(f.slope->amplitude * std::pow(p.omega, f.slope->slope)) : "nan");
     }
+    if (f.power) out << "\t" << number(f.power->model[k]) << "\t" << number(f.power->residuals[k]);
     if (f.model) out << "\t" << number(f.model_values[k]);
     out << "\n";
   }
@@ -210,6 +277,9 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
                         {"omega_high", s.usable_high},
                         {"top_set_by", s.usable_high_set_by_floor ? "noise floor" : top_of(s)}};
   doc["estimator"] = {{"name", to_string(s.estimator)}, {"reason", s.estimator_reason}};
+  doc["notes"] = o.notes;
+  doc["record"]["start_time"] = o.analyzed_window.first;
+  doc["record"]["end_time"] = o.analyzed_window.second;
   if (s.estimator == Estimator::welch) {
     doc["estimator"]["window"] = "hann";
     doc["estimator"]["overlap"] = 0.5;
@@ -230,6 +300,29 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
                         {"reaches_floor", f.slope->reaches_floor},
                         {"ok", f.slope_verdict.ok},
                         {"failure", f.slope_verdict.reason}};
+  if (f.power) {
+    const PowerLawFit& p = *f.power;
+    doc["power_law_fit"] = {{"omega_low", p.omega_low},
+                            {"omega_high", p.omega_high},
+                            {"pivot", p.pivot},
+                            {"points", p.points},
+                            {"dof", p.dof},
+                            {"amplitude", p.amplitude},
+                            {"amplitude_error", p.amplitude_error},
+                            {"slope", p.slope},
+                            {"slope_error", p.slope_error},
+                            {"floor", p.floor},
+                            {"floor_error", p.floor_error},
+                            {"floor_given", p.floor_given},
+                            {"correlation",
+                             {{p.correlation[0][0], p.correlation[0][1], p.correlation[0][2]},
+                              {p.correlation[1][0], p.correlation[1][1], p.correlation[1][2]},
+                              {p.correlation[2][0], p.correlation[2][1], p.correlation[2][2]}}},
+                            {"chi2_per_dof", p.chi2_per_dof},
+                            {"undetermined", p.undetermined},
+                            {"ok", f.power_verdict.ok},
+                            {"failure", f.power_verdict.reason}};
+  }
   if (f.model) {
     doc["compare_case"] = o.compare_case;
     doc["model_parameters"] = io::parameters_json(*f.model);
@@ -269,6 +362,18 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
   return doc.dump(2) + "\n";
 }
 
+/// analyze --segments: the steady stretches, one a line, on standard output; no file written.
+int list_segments(const Options& o, const Record& record, const std::vector<SteadySegment>& steady) {
+  for (const std::string& note : o.notes) std::cerr << "slidespec: note: " << note << "\n";
+  std::cout << "# steady segments of " << o.file << " (record " << seconds(record.start_time) << ".."
+            << seconds(record.start_time + double(record.displacement.size() - 1) * record.dt) << " s, every "
+            << seconds(record.dt) << " s)\n# start [s]\tend [s]\tsamples\tmean_speed [m/s]\tkind\n";
+  for (const SteadySegment& s : steady)
+    std::cout << seconds(s.start) << "\t" << seconds(s.end) << "\t" << s.samples << "\t" << short_number(s.mean_speed)
+              << "\t" << (s.hold ? "hold" : "sliding") << "\n";
+  return 0;
+}
+
 int command_analyze(Options o) {
   o.figure.check();
   io::check_output_prefix(o.out);
@@ -276,13 +381,28 @@ int command_analyze(Options o) {
   o.request.estimator = parse_estimator(o.estimator);
   Findings f;
   if (o.normal_mass > 0 || o.driving_mass > 0) f.mu = friction_coefficient(o.normal_mass, o.driving_mass);
-  if (!o.fit.empty() && o.fit != "alpha")
-    throw InputError("--fit: only 'alpha' can be fitted (got '" + o.fit + "'" + util::did_you_mean(o.fit, {"alpha"}) +
-                     ")");
-  if (!o.fit.empty() && o.compare_case.empty()) throw InputError("--fit alpha needs --compare-case NAME");
+  if (!o.fit.empty() && o.fit != "alpha" && o.fit != "power-law")
+    throw InputError("--fit: 'alpha' (of --compare-case) or 'power-law' (amplitude, slope and the white floor) (got '" +
+                     o.fit + "'" + util::did_you_mean(o.fit, {"alpha", "power-law"}) + ")");
+  if (o.fit == "alpha" && o.compare_case.empty()) throw InputError("--fit alpha needs --compare-case NAME");
+  if (o.fit == "power-law" && !o.slope_band.empty())
+    throw InputError("--fit power-law and --fit-slope both fit a power law; give one (--fit-band sets the band)");
   if (!o.compare_case.empty()) f.model = build_parameters(o.compare_case, o.overrides);
 
-  const Record record = read_record_file(o.file, o.format);
+  if (!o.window.empty()) o.format.window = parse_window(o.window);
+  parse_resample(o.resample, o.format);
+  Record record = read_record_file(o.file, o.format);
+  o.notes = record.notes;
+  const std::vector<SteadySegment> steady = steady_segments(record);
+  if (o.segments) return list_segments(o, record, steady);
+  if (o.format.window) {
+    if (steady.size() > 1)
+      o.notes.push_back("--window holds " + std::to_string(steady.size()) +
+                        " stretches of different steady speed (--segments lists them): not one steady slide");
+  } else {
+    record = longest_steady(record, steady, o.notes);
+  }
+  o.analyzed_window = {record.start_time, record.start_time + double(record.displacement.size() - 1) * record.dt};
   o.format.column = record.column;
   o.format.unit = record.unit;
   o.unit_source = record.unit_source;
@@ -293,9 +413,14 @@ int command_analyze(Options o) {
     f.slope = fit_slope(s, o.slope_band[0], o.slope_band[1]);
     f.slope_verdict = judge_chi2(f.slope->chi2_per_dof, f.slope->points - 2);
   }
+  if (o.fit == "power-law") {
+    f.power = o.fit_band.empty() ? fit_power_law(s, s.points.front().omega, s.points.back().omega)
+                                 : fit_power_law(s, o.fit_band[0], o.fit_band[1]);
+    f.power_verdict = judge_chi2(f.power->chi2_per_dof, f.power->dof);
+  }
   const ModelOrder order = o.theory_order == 2 ? ModelOrder::best : ModelOrder::first;
   if (f.model) {
-    if (!o.fit.empty()) {
+    if (o.fit == "alpha") {
       const auto [low, high] =
           o.fit_band.empty() ? default_alpha_band(s, *f.model) : std::pair{o.fit_band[0], o.fit_band[1]};
       f.alpha = fit_alpha(s, *f.model, low, high, order);
@@ -306,6 +431,12 @@ int command_analyze(Options o) {
     f.model_values = model_spectrum(s, *f.model, order);
   }
 
+  if (!f.ok()) {
+    const std::string reason = !f.power_verdict.ok   ? f.power_verdict.reason
+                               : !f.alpha_verdict.ok ? f.alpha_verdict.reason
+                                                     : f.slope_verdict.reason;
+    o.title = (o.title.empty() ? o.file : o.title) + " - fit FAILED: " + reason.substr(0, reason.find(':'));
+  }
   io::OutputSet outputs;  // the table, the JSON and the picture appear together or not at all
   outputs.add(o.out + ".tsv", analysis_table(o, s, f));
   outputs.add(o.out + ".json", analysis_json(o, s, f));
@@ -317,6 +448,7 @@ int command_analyze(Options o) {
   if (!o.no_plot && !plotted) outputs.drop(figure);
   outputs.commit();
   if (!o.no_plot && !plotted) std::cerr << "slidespec: warning: " << o.figure.path(o.out) << " not drawn\n";
+  for (const std::string& note : o.notes) std::cerr << "slidespec: note: " << note << "\n";
   // Warnings and failed fits are printed even with --quiet: they change what the files mean.
   const std::string unit_note =
       std::string("read in ") + to_string(record.unit) +
@@ -331,7 +463,8 @@ int command_analyze(Options o) {
   if (s.leaky_points > 0)
     std::cerr << "slidespec: warning: " << s.leaky_points << " points may be biased high by the window's leakage "
               << "(the spectrum is steeper than a prewhitened Hann window allows there; column leaky)\n";
-  for (const auto& [name, verdict] : {std::pair{"slope", &f.slope_verdict}, std::pair{"alpha", &f.alpha_verdict}})
+  for (const auto& [name, verdict] : {std::pair{"slope", &f.slope_verdict}, std::pair{"alpha", &f.alpha_verdict},
+                                      std::pair{"power-law", &f.power_verdict}})
     if (!verdict->ok) std::cerr << "slidespec: " << name << " fit FAILED: " << verdict->reason << "\n";
   const int status = f.ok() ? 0 : kFitFailedStatus;
   if (o.quiet) return status;
@@ -359,6 +492,17 @@ int command_analyze(Options o) {
       std::cerr << "slidespec: warning: the slope band reaches beyond the usable band, where the sensor floor "
                    "bends the spectrum\n";
   }
+  if (f.power && f.power_verdict.ok) {
+    const PowerLawFit& p = *f.power;
+    std::cerr << "slidespec: C_x = A (omega/" << short_number(p.pivot) << ")^s + floor over "
+              << short_number(p.omega_low) << " .. " << short_number(p.omega_high)
+              << " rad/s: A = " << short_number(p.amplitude) << " +- " << short_number(p.amplitude_error)
+              << " m^2 s, s = " << short_number(p.slope) << " +- " << short_number(p.slope_error)
+              << ", floor = " << short_number(p.floor) << " +- " << short_number(p.floor_error) << " m^2 s"
+              << (p.floor_given ? " (given)" : "") << "; chi2/dof " << short_number(p.chi2_per_dof) << " (" << p.dof
+              << " dof)\n";
+  }
+  if (f.power) std::cerr << "slidespec: not determined: " << f.power->undetermined << "\n";
   if (f.alpha && f.alpha_verdict.ok)
     std::cerr << "slidespec: alpha = " << f.alpha->alpha << " +- " << f.alpha->alpha_error << " (" << o.compare_case
               << ", " << f.alpha->omega_low << " .. " << f.alpha->omega_high << " rad/s, chi2/dof "
@@ -433,7 +577,18 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
   analyze_->add_option("--units", o.units,
                        "unit of the displacement column: m|mm|um|nm (default: from its header, e.g. x (mm), else m)");
   analyze_->add_option("--time-tolerance", o.format.time_tolerance,
-                       "largest relative deviation of a sampling interval (default 0.01)");
+                       "largest relative deviation of a sampling interval from the median accepted as uniform "
+                       "(default 0.01; beyond it: refused, or --resample)");
+  analyze_->add_option("--resample", o.resample,
+                       "sampling beyond --time-tolerance: auto (default: jitter is interpolated linearly onto the "
+                       "median interval, a gap refused), off (refuse), median or DT [s] (interpolate everything, "
+                       "gaps and rate changes too); the band is cut where interpolation filters it");
+  analyze_->add_option("--window", o.window,
+                       "T0:T1: analyze only the samples with T0 <= t <= T1, in record time [s] (default: the "
+                       "longest steady segment)");
+  analyze_->add_flag("--segments", o.segments,
+                     "list the record's steady segments (start, end, mean speed; velocity steps and holds split "
+                     "them) on standard output and stop");
   analyze_->add_option("--resolution", o.resolution,
                        "sensor resolution q (record's unit, or with one: 0.5um): draws the q^2/12 floor");
   analyze_->add_option("--sensor-noise", o.sensor_noise,
@@ -448,8 +603,11 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
   analyze_->add_option("--fit-slope", o.slope_band, "fit C_x ~ omega^-n over LO HI [rad/s]")->expected(2);
   analyze_->add_option("--compare-case", o.compare_case, "overlay this model case's exact theory");
   analyze_->add_option("--set", o.overrides, "override a parameter of the compared case, KEY=VALUE");
-  analyze_->add_option("--fit", o.fit, "fit the compared case's 'alpha' to the data");
-  analyze_->add_option("--fit-band", o.fit_band, "band of the alpha fit, LO HI [rad/s]")->expected(2);
+  analyze_->add_option("--fit", o.fit,
+                       "alpha: fit the compared case's alpha; power-law: C_x = A (omega/pivot)^s + floor jointly, "
+                       "with errors and correlations (the floor fitted unless --resolution/--sensor-noise give it)");
+  analyze_->add_option("--fit-band", o.fit_band, "band of the fit, LO HI [rad/s] (power-law default: the whole band)")
+      ->expected(2);
   analyze_
       ->add_option("--theory-order", o.theory_order,
                    "2 (default): compare and fit with the second-order theory where it applies (poisson, "

@@ -99,5 +99,53 @@ grep -q '^  "ok": false' "$work/walk.json" || fail "failed fit: JSON ok is not f
 grep -q '^# alpha_fit_ok = false' "$work/walk.tsv" || fail "failed fit: TSV does not say so"
 grep -q '^  "ok": true' "$work/an.json" || fail "a good fit is not ok = true"
 
+# The measured records (tests/data/realdata, MIT, see its README): segments found, both sides
+# of each velocity step analyzed with --window alone, the band from ~9 x 2 pi / T up.
+data=$(dirname "$0")/../data/realdata
+sepiolite=$data/velstep3_TR2_exp013_sepiolite.txt
+basalt=$data/velstep4_BRAVA_expb819_basalt.txt
+"$bin" analyze "$sepiolite" --segments > "$work/seg3.txt" 2> "$work/seg3.err" || fail "segments of the sepiolite record: $(cat "$work/seg3.err")"
+[ "$(grep -vc '^#' "$work/seg3.txt")" -eq 2 ] || fail "sepiolite: expected 2 steady segments: $(cat "$work/seg3.txt")"
+grep -q "linear interpolation" "$work/seg3.err" || fail "sepiolite: resampling not said"
+"$bin" analyze "$basalt" --segments --resample 0.1 > "$work/seg4.txt" 2>/dev/null || fail "segments of the basalt record"
+[ "$(grep -vc '^#' "$work/seg4.txt")" -eq 2 ] || fail "basalt: expected 2 steady segments: $(cat "$work/seg4.txt")"
+for case in "$sepiolite 20100:21290 2e-07" "$sepiolite 21350:22319 2e-06" "$basalt 11608:11674 3.02e-06" "$basalt 11675:11726 1e-05"; do
+  set -- $case
+  "$bin" analyze "$1" --window "$2" --no-plot --out "$work/real" 2> "$work/real.err" || fail "analyze $1 --window $2: $(cat "$work/real.err")"
+  /usr/bin/python3 - "$work/real.json" "$3" <<'PY' || fail "analyze $1 --window $2: band or speed"
+import json, math, sys
+doc = json.load(open(sys.argv[1]))
+T = doc["record"]["duration"]
+lowest = doc["points"][0]["omega"]
+speed = doc["measured_mean_speed"]["value"]
+assert lowest <= 1.5 * 10 * 2 * math.pi / T, (lowest, T)
+assert abs(speed / float(sys.argv[2]) - 1) < 0.05, speed
+assert doc["estimator"]["name"] == "welch"
+PY
+done
+"$bin" analyze "$basalt" --no-plot --out "$work/real" 2> "$work/real.err" || fail "basalt without options"
+grep -q "rate changes inside the record" "$work/real.err" || fail "basalt: the rate change is not said"
+# A power law with the floor, jointly: parameters with errors, or a failure said so (exit 3).
+"$bin" analyze "$basalt" --window 11608:11674 --fit power-law --no-plot --out "$work/pl" 2> "$work/pl.err" || fail "power-law fit on the basalt record: $(cat "$work/pl.err")"
+/usr/bin/python3 -c "
+import json; f = json.load(open('$work/pl.json'))['power_law_fit']
+assert f['ok'] and f['slope_error'] > 0 and f['floor_error'] > 0 and f['amplitude_error'] > 0, f
+assert 'spring drive' in f['undetermined']" || fail "power-law fit: parameters without errors"
+"$bin" analyze "$sepiolite" --window 21350:22319 --fit power-law --no-plot --out "$work/pl" 2> "$work/pl.err"
+status=$?
+if [ $status -eq 3 ]; then
+  grep -q "power-law fit FAILED" "$work/pl.err" || fail "power-law exit 3 without FAILED"
+  grep -q '^  "ok": false' "$work/pl.json" || fail "power-law exit 3 with ok not false"
+else
+  [ $status -eq 0 ] || fail "power-law fit on the sepiolite record: status $status"
+fi
+expect_refused window-across-rates "sampling rate changes inside --window" analyze "$basalt" --window 11600:11700 $out
+expect_refused window-outside "record runs from" analyze "$basalt" --window 0:100 $out
+expect_refused window-syntax "T0:T1" analyze "$basalt" --window 100 $out
+expect_refused friction-column "not a displacement" analyze "$basalt" --column Friction $out
+expect_refused dt-with-time "has a time column" analyze "$basalt" --dt 0.1 $out
+expect_refused resample-word "median" analyze "$basalt" --resample mean $out
+expect_refused omega-min-too-low "reaches down to" analyze "$basalt" --window 11608:11674 --omega-min 0.01 $out
+
 [ $failures -eq 0 ] && echo "cli_analyze: all checks passed"
 exit $((failures > 0))

@@ -1,0 +1,198 @@
+// Sampling as records come: uniform, jittered, or at a rate that changes inside the record.
+// Nothing is made uniform silently: every choice leaves a note in the record (docs/analysis.md).
+#include "analysis/sampling.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+namespace slidespec::detail {
+
+namespace {
+
+// A part of the record ends where the median of 15 intervals moves this far from the part's
+// (jitter of +-40% moves it by far less).
+constexpr double kRateChange = 1.5;
+constexpr std::size_t kRateMedianIntervals = 15;
+// Fewest samples of a window or part that can give a spectrum.
+constexpr std::size_t kFewestSamples = 64;
+// Linear interpolation at offsets spread evenly over an interval d passes power
+// 1 - (1 - cos(omega d)) / 3 on average: the band is cut where that loses 5%.
+constexpr double kInterpolationLoss = 0.05;
+// An interval this many medians long has lost a sample: a gap, not jitter.
+constexpr double kGap = 1.5;
+
+std::string shortest(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", value);
+  return text;
+}
+
+double median(std::vector<double> values) {
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+std::vector<double> intervals(const std::vector<double>& time, std::size_t first, std::size_t last) {
+  std::vector<double> d;
+  for (std::size_t i = first + 1; i < last; ++i) d.push_back(time[i] - time[i - 1]);
+  return d;
+}
+
+/// Parts of constant rate: [first, last) sample ranges.
+std::vector<std::pair<std::size_t, std::size_t>> rate_parts(const std::vector<double>& time) {
+  std::vector<std::pair<std::size_t, std::size_t>> parts;
+  const std::vector<double> d = intervals(time, 0, time.size());
+  if (d.size() < 2 * kRateMedianIntervals) return {{0, time.size()}};
+  std::size_t start = 0;
+  double reference = median({d.begin(), d.begin() + kRateMedianIntervals});
+  for (std::size_t i = 0; i + kRateMedianIntervals <= d.size(); ++i) {
+    const double local = median({d.begin() + std::ptrdiff_t(i), d.begin() + std::ptrdiff_t(i + kRateMedianIntervals)});
+    if (std::fabs(std::log(local / reference)) > std::log(kRateChange)) {
+      // The change lies inside the five intervals: it begins at the first one of the new rate.
+      std::size_t boundary = i;
+      while (boundary < i + kRateMedianIntervals &&
+             std::fabs(std::log(d[boundary] / reference)) < std::fabs(std::log(d[boundary] / local)))
+        ++boundary;
+      parts.push_back({start, boundary + 1});
+      start = boundary + 1;
+      reference = local;
+      i = boundary;
+    }
+  }
+  parts.push_back({start, time.size()});
+  return parts;
+}
+
+std::string describe_parts(const std::vector<double>& time,
+                           const std::vector<std::pair<std::size_t, std::size_t>>& parts) {
+  std::string text;
+  for (const auto& [first, last] : parts) {
+    const std::vector<double> d = intervals(time, first, last);
+    text += (text.empty() ? "" : ", ") + shortest(time[first]) + ".." + shortest(time[last - 1]) + " s every " +
+            (d.empty() ? std::string("?") : shortest(median(d))) + " s";
+  }
+  return text;
+}
+
+}  // namespace
+
+void make_uniform(Record& record, const std::vector<double>& time, const std::vector<int>& where,
+                  const std::string& source, const std::string& place, const RecordFormat& format) {
+  const auto at = [&](std::size_t i) { return source + ": " + place + " " + std::to_string(where[i]) + ": "; };
+  std::size_t first = 0, last = time.size();
+  if (format.window) {
+    const auto [t0, t1] = *format.window;
+    while (first < last && time[first] < t0) ++first;
+    while (last > first && time[last - 1] > t1) --last;
+    if (last - first < std::min(kFewestSamples, time.size()))
+      throw InputError("--window " + shortest(t0) + ":" + shortest(t1) + ": holds " + std::to_string(last - first) +
+                       " samples; the record runs from " + shortest(time.front()) + " to " + shortest(time.back()) +
+                       " s (record time)");
+  }
+  std::vector<double> t(time.begin() + std::ptrdiff_t(first), time.begin() + std::ptrdiff_t(last));
+  std::vector<double> x(record.displacement.begin() + std::ptrdiff_t(first),
+                        record.displacement.begin() + std::ptrdiff_t(last));
+  std::size_t offset = first;  // of t[0] in `time`, for the messages
+
+  auto parts = rate_parts(t);
+  record.parts.clear();
+  for (const auto& [a, b] : parts) {
+    const std::vector<double> d = intervals(t, a, b);
+    record.parts.push_back({t[a], t[b - 1], d.empty() ? 0 : median(d), b - a});
+  }
+  const bool forced = format.resample == Resampling::median || format.resample == Resampling::interval;
+  if (parts.size() > 1 && !forced) {
+    if (format.window)
+      throw InputError(source + ": the sampling rate changes inside --window (parts: " + describe_parts(t, parts) +
+                       "); give a --window inside one part, or --resample DT (or median) to interpolate");
+    // The longest part, said so; the others are listed in the note.
+    const auto longest = std::max_element(parts.begin(), parts.end(), [&](const auto& p, const auto& q) {
+      return t[p.second - 1] - t[p.first] < t[q.second - 1] - t[q.first];
+    });
+    record.notes.push_back("the sampling rate changes inside the record (parts: " + describe_parts(t, parts) +
+                           "); analyzing the longest part, " + shortest(t[longest->first]) + ".." +
+                           shortest(t[longest->second - 1]) +
+                           " s; --window T0:T1 picks another, --resample "
+                           "DT interpolates the whole record");
+    t = {t.begin() + std::ptrdiff_t(longest->first), t.begin() + std::ptrdiff_t(longest->second)};
+    x = {x.begin() + std::ptrdiff_t(longest->first), x.begin() + std::ptrdiff_t(longest->second)};
+    offset += longest->first;
+  }
+
+  const std::vector<double> d = intervals(t, 0, t.size());
+  const double typical = median(d);
+  // The largest deviation of an interval, and of the cumulative clock (a slow drift or a
+  // single gap shows in the second although jitter averages out of it).
+  std::size_t worst = 1;
+  double jitter = 0;
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    const double local = std::fabs(d[i - 1] - typical) / typical;
+    const double cumulative = std::fabs((t[i] - t[0]) / double(i) - typical) / typical;
+    if (std::max(local, cumulative) > jitter) jitter = std::max(local, cumulative), worst = i;
+  }
+  record.jitter = jitter;
+  record.start_time = t.front();
+  const double longest_interval = *std::max_element(d.begin(), d.end());
+  const bool gap = longest_interval > kGap * typical;
+  const bool jittered = jitter > format.time_tolerance;
+  if (forced || (jittered && !gap && format.resample == Resampling::automatic)) {
+    const double grid = format.resample == Resampling::interval ? format.resample_interval : typical;
+    const std::size_t samples = std::size_t(std::floor((t.back() - t.front()) / grid)) + 1;
+    std::vector<double> resampled(samples);
+    std::size_t j = 0;
+    for (std::size_t k = 0; k < samples; ++k) {
+      const double tk = t.front() + double(k) * grid;
+      while (j + 2 < t.size() && t[j + 1] <= tk) ++j;
+      const double f = (tk - t[j]) / (t[j + 1] - t[j]);
+      resampled[k] = (1 - f) * x[j] + f * x[j + 1];
+    }
+    record.displacement = std::move(resampled);
+    record.dt = grid;
+    record.resampled = true;
+    // The loss is set by the input intervals (the offsets' spread), the grid's Nyquist by dt.
+    record.interpolation_cut = std::min(std::acos(1 - 3 * kInterpolationLoss) / typical, std::numbers::pi / grid);
+    record.notes.push_back(
+        "resampled onto a uniform grid every " + shortest(grid) + " s by linear interpolation (intervals " +
+        shortest(*std::min_element(d.begin(), d.end())) + ".." + shortest(*std::max_element(d.begin(), d.end())) +
+        " s, median " + shortest(typical) + " s); interpolation filters the spectrum above " +
+        shortest(record.interpolation_cut) + " rad/s, where the band is cut" +
+        (grid > 1.5 * typical ? "; a grid coarser than the samples aliases what lies above its Nyquist" : ""));
+    return;
+  }
+  if (jittered)
+    throw InputError(
+        at(offset + worst) + "sampling is not uniform: interval " + shortest(d[worst - 1]) + " s where the median is " +
+        shortest(typical) + " s (intervals " + shortest(*std::min_element(d.begin(), d.end())) + ".." +
+        shortest(*std::max_element(d.begin(), d.end())) + " s, " + shortest(jitter * 100) + "% off; tolerance " +
+        shortest(format.time_tolerance * 100) + "%" +
+        (gap ? ", a gap of " + shortest(longest_interval / typical) + " intervals" : "") +
+        "); give --resample median to interpolate onto a uniform grid" + (gap ? " (across the gap)" : "") +
+        ", or --time-tolerance " + shortest(std::ceil(jitter * 100 + 1e-9) / 100) + " to treat it as uniform");
+  record.displacement = std::move(x);
+  record.dt = (t.back() - t.front()) / double(t.size() - 1);
+  if (jitter > RecordFormat{}.time_tolerance)
+    record.notes.push_back("treated as uniform every " + shortest(record.dt) +
+                           " s although intervals deviate by up to " + shortest(jitter * 100) +
+                           "% (--time-tolerance); the jitter adds noise at high omega");
+}
+
+void apply_window(Record& record, const RecordFormat& format, const std::string& source) {
+  if (!format.window) return;
+  const auto [t0, t1] = *format.window;
+  const double end = record.start_time + double(record.displacement.size() - 1) * record.dt;
+  const double a = std::max(0.0, std::ceil((t0 - record.start_time) / record.dt - 1e-9));
+  const double b =
+      std::min(double(record.displacement.size() - 1), std::floor((t1 - record.start_time) / record.dt + 1e-9));
+  if (!(b >= a) || b - a + 1 < double(kFewestSamples))
+    throw InputError(source + ": --window " + shortest(t0) + ":" + shortest(t1) + " holds " +
+                     std::to_string(b >= a ? std::size_t(b - a + 1) : 0) + " samples; the record runs from " +
+                     shortest(record.start_time) + " to " + shortest(end) + " s (record time)");
+  record.displacement = {record.displacement.begin() + std::ptrdiff_t(a),
+                         record.displacement.begin() + std::ptrdiff_t(b) + 1};
+  record.start_time += a * record.dt;
+}
+
+}  // namespace slidespec::detail

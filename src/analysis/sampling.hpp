@@ -1,0 +1,21 @@
+// From the sample times a record was read with to a uniformly sampled record: the parts of a
+// record whose rate changes, the window asked for, and jitter accepted, resampled or refused.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "slidespec/analysis.hpp"
+
+namespace slidespec::detail {
+
+/// Makes `record` (displacement as read, at `time` [s]) uniformly sampled as `format` asks.
+/// `where[i]` names sample i in messages as "<place> <where[i]>" (a line of the file).
+void make_uniform(Record& record, const std::vector<double>& time, const std::vector<int>& where,
+                  const std::string& source, const std::string& place, const RecordFormat& format);
+
+/// Keeps the samples of a uniform record (dt > 0) inside the window; refuses a window
+/// outside the record or holding fewer than a spectrum needs.
+void apply_window(Record& record, const RecordFormat& format, const std::string& source);
+
+}  // namespace slidespec::detail

@@ -1,0 +1,228 @@
+// Records as labs write them: irregular sample times, a rate that changes inside the record,
+// velocity steps, units in the headers and force channels beside the displacement.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <random>
+#include <sstream>
+
+#include "slidespec/analysis.hpp"
+
+namespace slidespec {
+namespace {
+
+constexpr double kDt = 0.136;      // [s], the sepiolite record's median interval
+constexpr double kJitter = 0.2;    // sample times k dt + U(-0.2, 0.2) dt: intervals 0.6..1.4 dt
+constexpr int kFine = 20;          // the process lives on a grid 20 times finer
+constexpr double kTau = 10 * kDt;  // correlation time of each of two cascaded relaxations
+// The mean sliding v t: between samples a slider moves more than it fluctuates (the process's
+// rms is ~1400 here), a ramp that linear interpolation carries exactly and a nearest-sample
+// pick turns into a sawtooth of v times the time error.
+constexpr double kSlide = 2000 / kDt;
+
+/// v t plus a smooth process (two cascaded first-order relaxations, C ~ omega^-4 above 1/tau)
+/// on the fine grid, read at irregular times by the nearest fine point (an error of dt/40).
+struct IrregularRecord {
+  std::vector<double> time, x;
+};
+
+IrregularRecord irregular(std::size_t samples, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> e;
+  std::uniform_real_distribution<double> offset(-kJitter, kJitter);
+  const double h = kDt / kFine, phi = std::exp(-h / kTau);
+  std::vector<double> fine((samples + 2) * kFine);
+  double y = 0, z = 0;
+  for (int burn = 0; burn < 200 * kFine; ++burn) y = phi * y + e(rng), z = phi * z + y;
+  for (double& f : fine) y = phi * y + e(rng), z = phi * z + y, f = z;
+  IrregularRecord r;
+  for (std::size_t k = 0; k < samples; ++k) {
+    const double t = (double(k) + 1 + offset(rng)) * kDt;
+    r.time.push_back(t);
+    r.x.push_back(kSlide * t + fine[std::size_t(std::lround(t / h))]);
+  }
+  return r;
+}
+
+/// The fine process's spectrum folded onto the record's band (docs/model.md §3, unit
+/// innovations): the 20 aliases of omega that the fine band holds once each.
+double irregular_spectrum(double omega) {
+  const double h = kDt / kFine, phi = std::exp(-h / kTau);
+  double sum = 0;
+  for (int m = -kFine / 2; m < kFine / 2; ++m) {
+    const double w = omega + 2 * std::numbers::pi * m / kDt;
+    sum += h / (2 * std::numbers::pi) / std::pow(std::norm(1.0 - phi * std::polar(1.0, -w * h)), 2);
+  }
+  return sum;
+}
+
+TEST(Resampling, IrregularRecordIsInterpolatedAndWithinItsErrorBarsBelowTheCut) {
+  int inside = 0, points = 0;
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    const IrregularRecord r = irregular(3900, seed);
+    const Record record = record_from_samples(r.time, r.x, {});
+    ASSERT_TRUE(record.resampled);
+    ASSERT_FALSE(record.notes.empty());
+    EXPECT_NE(record.notes.front().find("linear interpolation"), std::string::npos) << record.notes.front();
+    EXPECT_NEAR(record.dt, kDt, 0.01 * kDt);
+    AnalysisRequest request;
+    const RecordSpectrum s = analyze_record(record, request);
+    EXPECT_TRUE(s.top_set_by_interpolation);
+    EXPECT_LE(s.points.back().omega, record.interpolation_cut);
+    // The mean sliding v t removed by analyze is a line; its spectrum is below the lowest point.
+    const std::vector<double> truth = expected_points(s, irregular_spectrum);
+    for (std::size_t k = 0; k < s.points.size(); ++k, ++points)
+      inside += truth[k] >= s.points[k].lower && truth[k] <= s.points[k].upper ? 1 : 0;
+  }
+  EXPECT_GE(double(inside) / points, 0.85) << inside << " of " << points;
+}
+
+TEST(Resampling, GapsAreRefusedNamingTheOptionAndJitterCanBeRefused) {
+  std::vector<double> t, x;
+  for (int k = 0; k < 200; ++k) t.push_back(k < 100 ? k : k + 2), x.push_back(0);
+  try {
+    record_from_samples(t, x, {});
+    FAIL() << "a gap of 3 intervals was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--resample median"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("gap"), std::string::npos) << e.what();
+  }
+  RecordFormat median;
+  median.resample = Resampling::median;
+  EXPECT_TRUE(record_from_samples(t, x, median).resampled);
+  const IrregularRecord r = irregular(500, 1);
+  RecordFormat off;
+  off.resample = Resampling::off;
+  EXPECT_THROW(record_from_samples(r.time, r.x, off), InputError);
+  RecordFormat loose;
+  loose.resample = Resampling::off;
+  loose.time_tolerance = 0.49;
+  const Record accepted = record_from_samples(r.time, r.x, loose);
+  EXPECT_FALSE(accepted.resampled);
+  ASSERT_FALSE(accepted.notes.empty());
+  EXPECT_NE(accepted.notes.front().find("treated as uniform"), std::string::npos);
+}
+
+/// A record at 0.1 s, then at 0.01 s, as the basalt record.
+std::pair<std::vector<double>, std::vector<double>> two_rates() {
+  std::vector<double> t, x;
+  for (int k = 0; k < 600; ++k) t.push_back(0.1 * k), x.push_back(3e-6 * 0.1 * k);
+  for (int k = 1; k <= 3000; ++k) t.push_back(59.9 + 0.01 * k), x.push_back(x.back() + 1e-5 * 0.01);
+  return {t, x};
+}
+
+TEST(Resampling, ARateChangeIsReportedAndTheLongestPartOrTheWindowAnalyzed) {
+  const auto [t, x] = two_rates();
+  const Record longest = record_from_samples(t, x, {});
+  ASSERT_EQ(longest.parts.size(), 2u);
+  EXPECT_NEAR(longest.parts[0].interval, 0.1, 1e-9);
+  EXPECT_NEAR(longest.parts[1].interval, 0.01, 1e-9);
+  EXPECT_NEAR(longest.dt, 0.1, 1e-9);  // 60 s at 0.1 s against 30 s at 0.01 s
+  EXPECT_NE(longest.notes.front().find("longest part"), std::string::npos);
+  RecordFormat after;
+  after.window = {{61, 89}};
+  const Record part = record_from_samples(t, x, after);
+  EXPECT_NEAR(part.dt, 0.01, 1e-9);
+  EXPECT_NEAR(part.start_time, 61, 1e-9);
+  RecordFormat across;
+  across.window = {{30, 80}};
+  EXPECT_THROW(record_from_samples(t, x, across), InputError);
+}
+
+TEST(Segments, AVelocityStepAndAHoldSplitTheRecord) {
+  // 0.2 um/s for 400 s, a hold of 200 s, 2 um/s for 600 s, every 0.1 s, with 0.1 um noise.
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> noise(0, 0.1e-6);
+  std::vector<double> t, x;
+  double position = 0;
+  for (int k = 0; k < 12000; ++k) {
+    const double time = 0.1 * k;
+    position += (time < 400 ? 0.2e-6 : time < 600 ? 0 : 2e-6) * 0.1;
+    t.push_back(time), x.push_back(position + noise(rng));
+  }
+  const std::vector<SteadySegment> segments = steady_segments(record_from_samples(t, x, {}));
+  ASSERT_EQ(segments.size(), 3u);
+  EXPECT_NEAR(segments[0].mean_speed, 0.2e-6, 0.02e-6);
+  EXPECT_TRUE(segments[1].hold);
+  EXPECT_NEAR(segments[2].mean_speed, 2e-6, 0.02e-6);
+  const double block = 1200.0 / 48;  // boundaries within two blocks of the steps
+  EXPECT_NEAR(segments[0].end, 400, 2 * block);
+  EXPECT_NEAR(segments[2].start, 600, 2 * block);
+}
+
+Record read(const std::string& text, const RecordFormat& format = {}) {
+  std::istringstream in(text);
+  return read_record(in, "test.txt", format);
+}
+
+std::string refusal(const std::string& text, const RecordFormat& format = {}) {
+  try {
+    read(text, format);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Channels, HeaderUnitsAsWrittenAndForceColumnsNeverAsDisplacement) {
+  const std::string lab = "Time(s)\tDispl(microns)\tFriction\tNormal_stress(MPa)\n0\t10\t0.6\t20\n0.1\t11\t0.6\t20\n";
+  const Record r = read(lab);
+  EXPECT_EQ(r.column, "Displ(microns)");
+  EXPECT_EQ(r.unit, LengthUnit::um);
+  EXPECT_DOUBLE_EQ(r.displacement[1], 11e-6);
+  RecordFormat friction;
+  friction.column = "Friction";
+  EXPECT_NE(refusal(lab, friction).find("not a displacement"), std::string::npos) << refusal(lab, friction);
+  EXPECT_NE(refusal("t,shear_MPa\n0,1\n1,2\n").find("not a displacement"), std::string::npos);
+  EXPECT_NE(refusal("t,mu\n0,0.6\n1,0.61\n").find("friction coefficient"), std::string::npos);
+  RecordFormat dt;
+  dt.dt = 0.1;
+  EXPECT_NE(refusal(lab, dt).find("--dt: the record has a time column"), std::string::npos);
+  EXPECT_EQ(parse_length_unit("microns"), LengthUnit::um);
+  EXPECT_EQ(parse_length_unit("\u00b5m"), LengthUnit::um);
+}
+
+}  // namespace
+}  // namespace slidespec
+
+namespace slidespec {
+namespace {
+
+TEST(Segments, ADriftlessRandomWalkIsOneSegment) {
+  std::mt19937_64 rng(2);
+  std::normal_distribution<double> step(0, 1e-7);
+  std::vector<double> t, x;
+  double position = 0;
+  for (int k = 0; k < 3900; ++k) t.push_back(0.1 * k), x.push_back(position += step(rng));
+  EXPECT_EQ(steady_segments(record_from_samples(t, x, {})).size(), 1u);
+}
+
+// A random walk of step s plus white noise of rms w, every dt: C = s^2 dt / (2 pi 4 sin^2(omega
+// dt / 2)) + w^2 dt / (2 pi), a slope of -2 where 4 sin^2 ~ (omega dt)^2, written here exactly.
+TEST(PowerLawFit, RandomWalkAndFloorAreRecoveredWithinTheirErrors) {
+  constexpr double kStep = 1e-7, kWhite = 3e-7, kInterval = 0.1;
+  int slope_inside = 0, floor_inside = 0;
+  constexpr int kSeeds = 20;
+  for (int seed = 1; seed <= kSeeds; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> e;
+    std::vector<double> t, x;
+    double position = 0;
+    for (int k = 0; k < 20000; ++k)
+      t.push_back(kInterval * k), x.push_back((position += kStep * e(rng)) + kWhite * e(rng));
+    const RecordSpectrum s = analyze_record(record_from_samples(t, x, {}), {});
+    // The fit's band: up to a tenth of Nyquist, where the walk is omega^-2 to 1%.
+    const PowerLawFit fit = fit_power_law(s, s.points.front().omega, 0.1 * std::numbers::pi / kInterval);
+    EXPECT_FALSE(fit.floor_given);
+    slope_inside += std::fabs(fit.slope + 2) < 2 * fit.slope_error ? 1 : 0;
+    floor_inside += std::fabs(fit.floor - kWhite * kWhite * kInterval / (2 * std::numbers::pi)) < 2 * fit.floor_error;
+    EXPECT_NEAR(fit.slope, -2, 0.2);
+  }
+  EXPECT_GE(slope_inside, kSeeds * 8 / 10);
+  EXPECT_GE(floor_inside, kSeeds * 8 / 10);
+}
+
+}  // namespace
+}  // namespace slidespec
