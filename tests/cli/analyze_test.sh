@@ -28,7 +28,7 @@ expect_refused single-line "line 2" analyze "$work/single.csv" $out
 expect_refused backwards-time "line 4" analyze "$work/backwards.csv" $out
 expect_refused missing-column "no column 'pos'" analyze "$work/rec.csv" --column pos $out
 expect_refused bad-units furlong analyze "$work/rec.csv" --units furlong $out
-expect_refused fit-beta "only 'alpha'" analyze "$work/rec.csv" --fit beta --compare-case reference $out
+expect_refused fit-beta "'alpha' (of --compare-case) or 'power-law'" analyze "$work/rec.csv" --fit beta --compare-case reference $out
 expect_refused fit-without-case "compare-case" analyze "$work/rec.csv" --fit alpha $out
 expect_refused unknown-case slow analyze "$work/rec.csv" --compare-case slow $out
 expect_refused empty-slope-band "fit-slope" analyze "$work/rec.csv" --units um --fit-slope 1e4 2e4 $out
