@@ -222,12 +222,9 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
     p.omega = sum_omega / m;
     if (request.omega_max > 0 && p.omega > request.omega_max) break;
     p.C = sum_c / m;
-    double bin_factor = 0;
-    for (std::size_t i = 0; i < p.bins; ++i)
-      for (std::size_t j = 0; j < p.bins; ++j) {
-        const std::size_t d = i > j ? i - j : j - i;
-        bin_factor += d < rho_b.size() ? rho_b[d] : 0.0;
-      }
+    // sum over i, j < m of rho_b(|i - j|): each offset d occurs m - d times either way.
+    double bin_factor = m * rho_b[0];
+    for (std::size_t d = 1; d < rho_b.size() && d < p.bins; ++d) bin_factor += 2 * (m - double(d)) * rho_b[d];
     bin_factor /= m * m;
     const double relative_variance = segment_factor * bin_factor;
     p.dof = 2 / relative_variance;
