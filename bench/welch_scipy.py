@@ -30,8 +30,9 @@ def main():
     if len(sys.argv) > 1:
         with open(sys.argv[1]) as f:
             for row in json.load(f)["benchmarks"]:
-                if row["name"].startswith("BM_WelchSpectrum/"):
-                    cpp[int(row["name"].split("/")[1])] = row["real_time"]  # [us]
+                name = row["name"]
+                if name.startswith("BM_WelchSpectrum/") and row.get("aggregate_name", "median") == "median":
+                    cpp[int(name.split("/")[1].split("_")[0])] = row["real_time"]  # [us]
     print(f"{'samples':>9} {'segment':>8} {'scipy [us]':>11} {'slidespec [us]':>15} {'scipy / slidespec':>18}")
     for samples in (3900, 100_000, 1_000_000):
         x = np.cumsum(np.random.default_rng(1).normal(size=samples))

@@ -183,9 +183,10 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
   const double segment_factor = (1 + 2 * rho_s * double(segments - 1) / double(segments)) / double(segments);
   std::vector<double> rho_b(4, 0.0);
   for (std::size_t d = 0; d < rho_b.size(); ++d) {
-    std::complex<double> sum = 0;
-    for (std::size_t j = 0; j < length; ++j)
-      sum += window[j] * window[j] * std::polar(1.0, -2 * std::numbers::pi * double(d * j) / double(length));
+    // The phase advanced by multiplication: no sine or cosine per sample.
+    const std::complex<double> step = std::polar(1.0, -2 * std::numbers::pi * double(d) / double(length));
+    std::complex<double> sum = 0, phase = 1;
+    for (std::size_t j = 0; j < length; ++j, phase *= step) sum += window[j] * window[j] * phase;
     rho_b[d] = std::norm(sum) / (window_power * window_power);
   }
   std::vector<double> point_differences;  // each point's mean difference spectrum
