@@ -184,10 +184,58 @@ constexpr double kSpeedStandardErrors = 5;
 // Renewals per contact a realization must span before its sliding can vouch for a
 // parameter set whose forces can stall the block.
 constexpr double kStallRenewalsToJudge = 100;
+// Neighbouring sub-bands of one stationary process join smoothly: their estimates over
+// theory differ by their errors only (a few per cent). Stalls make them disagree by 5 to
+// 50 times (docs/model.md §8); a factor of two beyond five standard errors is a break.
+constexpr double kBandBreakFactor = 2;
 
-/// Marks `result` non-stationary when a sub-band's realizations do not slide at v.
+/// The chance that a sliding realization of `duration` still averages below v/2, bounded
+/// with Hoeffding's inequality: its speed falls short of v by (sum of its contacts' forces,
+/// averaged over the realization) / (F_drive - F_kin), a sum of independent bounded draws,
+/// about v duration / (2 a) of them per contact (docs/model.md §8).
+double slow_sliding_chance(const Parameters& p, double duration) {
+  double resistance = 0, range_squared = 0, longest_a = 0;
+  for (int l = 1; l <= p.levels; ++l) {
+    if (!p.touches(l)) continue;
+    const double contacts = static_cast<double>(p.blocks(l));
+    const double range = p.level(l).alpha * p.friction_per_miniblock();  // f_j in [-range/2, range/2)
+    resistance += contacts * range / 2;
+    range_squared += contacts * range * range;
+    longest_a = std::max(longest_a, p.level(l).a);
+  }
+  const double drive_excess = p.F_drive - p.F_kin;
+  if (resistance <= kStalledSpeedDeficit * drive_excess) return 0;  // frozen forces cannot slow it that much
+  const double draws = std::max(1.0, p.v * duration / (2 * longest_a));
+  const double deficit = kStalledSpeedDeficit * drive_excess;
+  return std::min(1.0, std::exp(-2 * deficit * deficit * draws / range_squared));
+}
+
+/// Why sub-band b is not stationary by its realizations' own speeds, or "".
+std::string stalled_realizations(const RunSession::Impl& s, std::size_t b) {
+  const double v = s.params.v;
+  double n = 0, slow = 0;
+  for (const BatchRecord& batch : s.bands[b].batches)
+    for (double speed : batch.speed) n += 1, slow += speed < (1 - kStalledSpeedDeficit) * v;
+  // A sliding realization that slow is rare (none where the forces cannot hold back half
+  // of the drive); more than the bound allows, beyond five binomial deviations, stalled.
+  const double chance = slow_sliding_chance(s.params, s.plan[b].duration);
+  if (slow <= n * chance + kSpeedStandardErrors * std::sqrt(n * chance)) return "";
+  char why[300];
+  std::snprintf(why, sizeof why,
+                "%.0f of sub-band %zu's %.0f realizations slide slower than v/2 = %.3g m/s (a stationary run "
+                "allows %.2g): some realizations stalled",
+                slow, b, n, 0.5 * v, n * chance);
+  return why;
+}
+
+/// Marks `result` non-stationary when a sub-band's realizations do not slide at v, some of
+/// them stalled, or neighbouring sub-bands do not join (docs/model.md §8).
 void check_stationarity(const RunSession::Impl& s, RunResult& result) {
   const double v = s.params.v;
+  auto mark = [&](std::string why) {
+    result.stationary = false;
+    result.stationarity = std::move(why);
+  };
   for (std::size_t b = 0; b < s.bands.size(); ++b) {
     double sum = 0, sum2 = 0, n = 0;
     for (const BatchRecord& batch : s.bands[b].batches)
@@ -199,11 +247,12 @@ void check_stationarity(const RunSession::Impl& s, RunResult& result) {
       char why[200];
       std::snprintf(why, sizeof why, "sub-band %zu slides at %.3g m/s on average (+- %.2g), not v = %.3g m/s", b, mean,
                     error, v);
-      result.stationary = false;
-      result.stationarity = why;
-      return;
+      return mark(why);
     }
+    if (std::string why = stalled_realizations(s, b); !why.empty()) return mark(why);
   }
+  for (std::size_t b = 0; b + 1 < result.sub_bands.size(); ++b)
+    if (std::string why = band_break(result, b); !why.empty()) return mark(why);
   // Where the forces can stall the block, a stall is absorbing (docs/model.md §8); a
   // realization that has seen only a few renewals per contact cannot have drawn one yet,
   // so its sliding says nothing about whether a stationary state exists.
@@ -218,8 +267,7 @@ void check_stationarity(const RunSession::Impl& s, RunResult& result) {
                     "realizations (at most %.3g s) span under %.0f renewal times a/v = %.3g s: too short to tell "
                     "steady sliding from a coming stall; extend the band down",
                     longest, kStallRenewalsToJudge, renewal_time);
-      result.stationary = false;
-      result.stationarity = why;
+      mark(why);
     }
   }
 }
@@ -233,6 +281,27 @@ double worst_relative_error(const std::vector<SpectrumPoint>& points, std::size_
 }
 
 }  // namespace
+
+/// Why neighbouring sub-bands b and b + 1 do not join smoothly, or "".
+std::string run_detail::band_break(const RunResult& result, std::size_t b) {
+  const RunPoint* last = nullptr;   // of sub-band b
+  const RunPoint* first = nullptr;  // of sub-band b + 1
+  for (const RunPoint& point : result.points) {
+    if (point.omega <= result.sub_bands[b].omega_high * (1 + 1e-12)) last = &point;
+    if (!first && point.omega >= result.sub_bands[b + 1].omega_low * (1 - 1e-12)) first = &point;
+  }
+  if (!last || !first || last == first) return "";
+  const double below = last->C_x / last->theory, above = first->C_x / first->theory;
+  if (!(below > 0) || !(above > 0) || !std::isfinite(below) || !std::isfinite(above)) return "";
+  const double error = std::hypot(last->standard_error / last->C_x, first->standard_error / first->C_x);
+  if (std::fabs(std::log(above / below)) <= std::log(kBandBreakFactor) + kSpeedStandardErrors * error) return "";
+  char why[300];
+  std::snprintf(why, sizeof why,
+                "sub-bands %zu and %zu do not join: C_x / theory is %.3g at %.4g rad/s and %.3g at %.4g rad/s "
+                "(+- %.2g): the realizations of different lengths are not one stationary process",
+                b, b + 1, below, last->omega, above, first->omega, error);
+  return why;
+}
 
 std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& request) {
   const std::vector<double> omegas = log_spaced_omegas(request.omega_min, request.omega_max, request.points_per_decade);

@@ -62,6 +62,10 @@ std::uint64_t realizations_in(const std::vector<BatchRecord>& batches);
 void put_batch(std::string& bytes, const BatchRecord& batch);
 BatchRecord get_batch(util::Reader& in);
 
+/// Why neighbouring sub-bands b and b + 1 of `result` do not join smoothly (their C_x over
+/// theory differ by more than a factor of two beyond five standard errors), or "".
+std::string band_break(const RunResult& result, std::size_t b);
+
 }  // namespace run_detail
 
 struct RunSession::Impl {

@@ -123,10 +123,17 @@ expect_refused range-unaligned "multiple of 8" run $split --realizations-range 4
 status=$?
 [ $status -ne 2 ] || fail "stall-region run refused"
 grep -q "first-order theory does not hold" "$work/stall.err" || fail "no warning in the stall region"
-# Its realizations (30 s, 49 renewal times a/v) cannot vouch for steady sliding where the
-# forces can stall the block: not stationary as far as it can tell, exit 3.
+# In its 30 s realizations (49 renewal times a/v) some already stall: exit 3.
+[ $status -eq 3 ] || fail "partly stalled run exited $status, expected 3"
+grep -q "^# stationary = false  # .* realizations slide slower than v/2.*some realizations stalled" "$work/stall.tsv" \
+  || fail "partly stalled run not marked as stalled: $(grep '^# stationary' "$work/stall.tsv")"
+# Realizations of 3 s cannot vouch for steady sliding where the forces can stall the block:
+# not stationary as far as it can tell, exit 3.
+"$bin" run --set N=7 --set F_drive=8 --set F_kin=6 --set a=3e-4 --omega-min 1000 --omega-max 10000 \
+  --precision 0.3 --out "$work/stall-short" --no-plot --quiet 2> /dev/null
+status=$?
 [ $status -eq 3 ] || fail "short stall-capable run exited $status, expected 3"
-grep -q "^# stationary = false  # the random forces can stall the block.*too short to tell" "$work/stall.tsv" \
+grep -q "^# stationary = false  # the random forces can stall the block.*too short to tell" "$work/stall-short.tsv" \
   || fail "short stall-capable run not marked as unable to tell"
 
 # Where the forces stall the block there is no spectrum: said in the table, the JSON and

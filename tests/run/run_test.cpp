@@ -1,6 +1,8 @@
 #include "slidespec/run.hpp"
 #include "slidespec/theory.hpp"
 
+#include "run/session.hpp"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -223,4 +225,59 @@ TEST(Run, StateOfTheStepEndRenewalsIsRefusedByVersion) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("format version 1"), std::string::npos) << e.what();
   }
+}
+
+// Some realizations stall for good while the others slide: the mean speed (here about v/2,
+// within five standard errors of what a full-stall check lets pass) hides it, the
+// realizations' own speeds do not (docs/model.md §8).
+TEST(Stationarity, PartialStallIsCaughtByTheRealizationsSpeeds) {
+  const Parameters p = ParameterBuilder().set("N=7").set("F_drive=8.2").set("F_kin=6").set("k1=0").build();
+  RunRequest r;
+  r.omega_min = 1;
+  r.omega_max = 10;
+  r.realizations = 32;
+  const RunResult result = run_spectrum(p, r);
+  ASSERT_GT(result.mean_speed_error, 0);
+  const double deficit = std::fabs(result.mean_speed - p.v);
+  EXPECT_GT(deficit, 0.2 * p.v) << "the case does not stall partially";
+  EXPECT_LE(deficit - 5 * result.mean_speed_error, 0.5 * p.v) << "a mean-speed check alone would catch it";
+  EXPECT_FALSE(result.stationary);
+  EXPECT_NE(result.stationarity.find("stalled"), std::string::npos) << result.stationarity;
+
+  // The same request where nothing stalls: no alarm.
+  const RunResult sliding = run_spectrum(ParameterBuilder("reference").build(), r);
+  EXPECT_TRUE(sliding.stationary) << sliding.stationarity;
+}
+
+namespace {
+RunPoint point_at(double omega, double ratio, double relative_error) {
+  RunPoint point{};
+  point.omega = omega;
+  point.theory = 1e-12;
+  point.C_x = ratio * point.theory;
+  point.standard_error = relative_error * point.C_x;
+  return point;
+}
+
+/// Two sub-bands, [1, 10] and [13.3, 100] rad/s, whose boundary points have C_x / theory
+/// `below` and `above`.
+RunResult two_bands(double below, double above, double relative_error) {
+  RunResult result;
+  result.sub_bands.resize(2);
+  result.sub_bands[0].omega_low = 1, result.sub_bands[0].omega_high = 10;
+  result.sub_bands[1].omega_low = 13.3, result.sub_bands[1].omega_high = 100;
+  result.points = {point_at(1, 1, relative_error), point_at(10, below, relative_error),
+                   point_at(13.3, above, relative_error), point_at(100, 1, relative_error)};
+  return result;
+}
+}  // namespace
+
+TEST(Stationarity, NeighbouringSubBandsMustJoin) {
+  EXPECT_EQ(run_detail::band_break(two_bands(1.0, 1.05, 0.05), 0), "");
+  EXPECT_EQ(run_detail::band_break(two_bands(1.0, 1.9, 0.01), 0), "");
+  // A factor of 5 (stalled realizations of different lengths) is a break...
+  EXPECT_NE(run_detail::band_break(two_bands(1.0, 5.0, 0.05), 0).find("do not join"), std::string::npos);
+  EXPECT_NE(run_detail::band_break(two_bands(5.0, 1.0, 0.05), 0).find("do not join"), std::string::npos);
+  // ...unless the points' own errors allow it.
+  EXPECT_EQ(run_detail::band_break(two_bands(1.0, 5.0, 0.5), 0), "");
 }
