@@ -46,7 +46,7 @@ def cmake_build():
 class BuildWithCMake(build_py):
     """build_py after CMake: the package as CMake lays it out in BUILD/python/slidespec, and in
     a wheel the executable beside it with the plotting tool where the executable looks for it
-    (slidespec/bin/slidespec -> slidespec/share/slidespec/plot_spectra.py, src/cli/plot.cpp).
+    (slidespec/bin/slidespec -> slidespec/share/slidespec/plot_*.py, src/cli/plot.cpp).
     An editable install imports BUILD/python directly and runs BUILD/slidespec."""
 
     def run(self):
@@ -57,7 +57,8 @@ class BuildWithCMake(build_py):
             (package / "bin").mkdir(parents=True, exist_ok=True)
             (package / "share" / "slidespec").mkdir(parents=True, exist_ok=True)
             shutil.copy2(build_dir / "slidespec", package / "bin" / "slidespec")
-            shutil.copy2(root / "tools" / "plot_spectra.py", package / "share" / "slidespec" / "plot_spectra.py")
+            for tool in ("plot_spectra.py", "plot_server.py"):
+                shutil.copy2(root / "tools" / tool, package / "share" / "slidespec" / tool)
 
 
 # CMake fills the package directory; setuptools' metadata step, before any build, wants it

@@ -1,9 +1,12 @@
 #include "cli/plot.hpp"
 
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -55,18 +58,69 @@ class ScratchDirectory {
   std::string path_;
 };
 
-int run_tool(std::vector<std::string> args) {
+/// A plotting process started ahead of its work: tools/plot_server.py loads matplotlib and
+/// then waits for plot_spectra.py's arguments on its stdin.
+struct WaitingPlotter {
+  pid_t pid = -1;
+  int socket = -1;  // our end of the plotter's stdin
+  std::string python, script;
+};
+
+WaitingPlotter& waiting_plotter() {
+  static WaitingPlotter plotter;
+  return plotter;
+}
+
+WaitingPlotter start_server() {
+  WaitingPlotter plotter;
+  // Debian's interpreter, not whatever python3 comes first on PATH: matplotlib is there.
+  plotter.python = from_environment("SLIDESPEC_PYTHON", SLIDESPEC_DEFAULT_PYTHON);
+  plotter.script = tools_directory() + "/plot_server.py";
+  std::vector<std::string> args = {plotter.python, plotter.script};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  // A socket, not a pipe: a send to a plotter that died fails with EPIPE (MSG_NOSIGNAL)
+  // instead of raising SIGPIPE in this process.
+  int ends[2];
+  if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, ends) != 0) return plotter;
   const pid_t child = fork();
   if (child == 0) {
+    // Ctrl-C stops the run, which then draws what accumulated: the plotter must outlive it.
+    std::signal(SIGINT, SIG_IGN);
+    if (dup2(ends[1], STDIN_FILENO) < 0) _exit(127);
     execv(argv[0], argv.data());
     _exit(127);
   }
+  close(ends[1]);
+  if (child < 0) {
+    close(ends[0]);
+    return plotter;
+  }
+  plotter.pid = child;
+  plotter.socket = ends[0];
+  return plotter;
+}
+
+/// Hands the plotter its arguments (NUL-separated, then end of input) and waits for it:
+/// its exit status, 128 + the signal that killed it, or 127 when it could not start.
+int finish(WaitingPlotter& plotter, const std::vector<std::string>& args) {
+  if (plotter.pid < 0) return 127;
+  std::string message;
+  for (const std::string& a : args) message.append(a).push_back('\0');
+  for (std::size_t sent = 0; sent < message.size();) {
+    const ssize_t n = send(plotter.socket, message.data() + sent, message.size() - sent, MSG_NOSIGNAL);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // the plotter is gone: its status says how
+    sent += static_cast<std::size_t>(n);
+  }
+  close(plotter.socket);
   int status = 0;
-  if (child < 0 || waitpid(child, &status, 0) < 0 || !WIFEXITED(status)) return 127;
-  return WEXITSTATUS(status);
+  while (waitpid(plotter.pid, &status, 0) < 0)
+    if (errno != EINTR) return 127;
+  plotter.pid = -1;
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 127;
 }
 
 }  // namespace
@@ -94,6 +148,22 @@ void FigureStyle::check() const {
   if (!(dpi >= 10 && dpi <= 2400)) throw InputError("--dpi: must be between 10 and 2400");
 }
 
+void check_title(const std::string& title, const FigureStyle& style) {
+  // A 12 pt title in matplotlib's sans-serif averages about 10 characters per inch.
+  constexpr double kTitleCharactersPerInch = 10;
+  constexpr double kDefaultWidth = 7;  // [in], plot_spectra.py's
+  double width = kDefaultWidth;
+  if (!style.size.empty()) std::sscanf(style.size.c_str(), "%lf", &width);
+  // Characters, not bytes: UTF-8 continuation bytes are not counted.
+  const auto characters = static_cast<std::size_t>(
+      std::count_if(title.begin(), title.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
+  const auto fitting = static_cast<std::size_t>(kTitleCharactersPerInch * width);
+  if (characters > fitting)
+    throw InputError("--title: " + std::to_string(characters) + " characters do not fit above a " +
+                     io::format_number(width) + " in wide figure (at most " + std::to_string(fitting) +
+                     "); shorten it or widen --size");
+}
+
 std::string format_of(const std::string& path) {
   const std::string extension = std::filesystem::path(path).extension().string();
   std::string name = extension.empty() ? "" : extension.substr(1);
@@ -103,13 +173,16 @@ std::string format_of(const std::string& path) {
   return name;
 }
 
+void start_plotter() {
+  WaitingPlotter& plotter = waiting_plotter();
+  if (plotter.pid < 0) plotter = start_server();
+}
+
 int plot(const std::vector<std::string>& tables, const std::string& out, const std::string& title,
          const FigureStyle& style) {
-  // Debian's interpreter, not whatever python3 comes first on PATH: matplotlib is there.
-  const std::string python = from_environment("SLIDESPEC_PYTHON", SLIDESPEC_DEFAULT_PYTHON);
-  const std::string script = tools_directory() + "/plot_spectra.py";
-  std::vector<std::string> args = {python, script};
-  args.insert(args.end(), tables.begin(), tables.end());
+  WaitingPlotter plotter = waiting_plotter().pid >= 0 ? waiting_plotter() : start_server();
+  waiting_plotter() = {};
+  std::vector<std::string> args = tables;
   args.insert(args.end(), {"-o", out, "--dpi", io::format_number(style.dpi)});
   if (!title.empty()) args.insert(args.end(), {"--title", title});
   if (!style.size.empty()) args.insert(args.end(), {"--size", style.size});
@@ -136,9 +209,12 @@ int plot(const std::vector<std::string>& tables, const std::string& out, const s
   }
   if (any_theory) args.insert(args.end(), {"--theory", theory_lines});
 
-  const int status = run_tool(args);
+  const int status = finish(plotter, args);
   if (status == 127)
-    std::cerr << "slidespec: cannot start " << python << " " << script << " (is python3-matplotlib installed?)\n";
+    std::cerr << "slidespec: cannot start " << plotter.python << " " << plotter.script
+              << " (is python3-matplotlib installed?)\n";
+  else if (status > 128)
+    std::cerr << "slidespec: the plotter was killed by signal " << status - 128 << "\n";
   return status;
 }
 

@@ -26,11 +26,21 @@ struct FigureStyle {
   std::string path(const std::string& prefix) const { return prefix + "." + format; }
 };
 
+/// Throws InputError for a title that does not fit on one line above a figure of the
+/// style's width (a longer one would be cut off, or fail to rasterize at all).
+void check_title(const std::string& title, const FigureStyle& style);
+
 /// The format of a figure path by its extension (png, pdf, svg); InputError otherwise.
 std::string format_of(const std::string& path);
 
-/// Draws `tables` into `out` and returns the tool's exit status (0 done, 2 bad input,
-/// with its own one-line message on stderr; 127 the tool could not be started).
+/// Starts the plotting process now, so that the interpreter and matplotlib load while the
+/// caller simulates; the next plot() hands it its tables. A plotter never handed work
+/// ends when this process does.
+void start_plotter();
+
+/// Draws `tables` into `out` (with the plotter start_plotter started, else a new one) and
+/// returns the tool's exit status (0 done, 2 bad input, with its own one-line message on
+/// stderr; 127 the tool could not be started; 128 + the signal that killed it).
 int plot(const std::vector<std::string>& tables, const std::string& out, const std::string& title,
          const FigureStyle& style = {});
 

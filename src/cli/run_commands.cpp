@@ -205,6 +205,7 @@ RunOutcome run_and_write(const Context& context, RunSession& session, const RunO
                          const std::string& out) {
   const std::string state_path = out + ".state";
   const bool writes = context.writes_outputs();
+  if (writes && !options.no_plot) start_plotter();
   Progress own_progress(options.quiet || !writes);
   Progress& progress = options.shared_progress ? *options.shared_progress : own_progress;
   RunSession::Control control;
@@ -477,6 +478,7 @@ class SweepCommand final : public Command {
     }
     catch_stop_signals();
     const bool writes = context_.writes_outputs();
+    if (writes && !options.no_plot) start_plotter();
     Progress progress(options.quiet || !writes);
     std::vector<RunOptions> singles(grid.size(), options);
     share_progress(singles, work, progress);
@@ -556,6 +558,7 @@ class PlotCommand final : public Command {
   int run() override {
     figure_.format = format_of(out_);
     figure_.check();
+    check_title(title_, figure_);
     io::check_output_prefix(out_);
     return plot(tables_, out_, title_, figure_);
   }
@@ -626,6 +629,7 @@ class PaperCommand final : public Command {
     }
     catch_stop_signals();
     const bool writes = context_.writes_outputs();
+    if (writes) start_plotter();
     Progress progress(options.quiet || !writes);
     std::vector<RunOptions> singles(params.size(), options);
     share_progress(singles, work, progress);

@@ -16,9 +16,11 @@ cat > dying_plotter.sh << 'EOF'
 #!/bin/sh
 kill -9 $$
 EOF
-# A plotter that draws slowly: it says it started (its pid) and waits.
+# A plotter that draws slowly: once handed its work (it starts with the run and reads its
+# arguments at the run's end), it says so (its pid) and waits.
 cat > slow_plotter.sh << 'EOF'
 #!/bin/sh
+cat > /dev/null
 echo $$ > plotting
 sleep 60
 EOF

@@ -94,15 +94,21 @@ expect_refused sweep-key-twice "twice" sweep alpha=1,2 alpha=3 $out
 expect_refused plot-jpg "unknown figure format" plot "$work/small.tsv" -o "$work/out.jpg"
 expect_refused run-format "--format" run --format jpg $out
 expect_refused run-size "--size" run --size big $out
+expect_refused plot-long-title "--title" plot "$work/small.tsv" -o "$work/out.png" --title "$(printf 'x%.0s' $(seq 200))"
 
 # cmake --install into a temporary prefix: the installed executable plots with the
 # installed tool (a stub put in its place proves which one runs).
 if [ -n "${SLIDESPEC_BUILD_DIR:-}" ]; then
   prefix="$work/prefix"
   cmake --install "$SLIDESPEC_BUILD_DIR" --prefix "$prefix" > "$work/install.log" 2>&1 || fail "cmake --install: $(cat "$work/install.log")"
-  [ -x "$prefix/bin/slidespec" ] && [ -f "$prefix/share/slidespec/plot_spectra.py" ] || fail "install: files missing"
+  [ -x "$prefix/bin/slidespec" ] && [ -f "$prefix/share/slidespec/plot_spectra.py" ] &&
+    [ -f "$prefix/share/slidespec/plot_server.py" ] || fail "install: files missing"
   "$prefix/bin/slidespec" plot "$work/small.tsv" -o "$work/installed.png" && [ -s "$work/installed.png" ] || fail "installed slidespec cannot plot"
-  printf 'import sys; open(sys.argv[sys.argv.index("-o") + 1], "w").write("stub")\n' > "$prefix/share/slidespec/plot_spectra.py"
+  cat > "$prefix/share/slidespec/plot_spectra.py" << 'EOF'
+def main(argv):
+    open(argv[argv.index("-o") + 1], "w").write("stub")
+    return 0
+EOF
   "$prefix/bin/slidespec" plot "$work/small.tsv" -o "$work/stub.png"
   [ "$(cat "$work/stub.png" 2>/dev/null)" = "stub" ] || fail "installed slidespec does not use the installed plotting tool"
 fi

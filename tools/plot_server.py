@@ -1,0 +1,26 @@
+#!/usr/bin/env python3
+"""plot_spectra.py started ahead of its work: slidespec starts this when a run begins, so
+that the interpreter and matplotlib load while the run simulates.
+
+Usage: plot_server.py < ARG\\0ARG\\0...   (plot_spectra.py's arguments, each ended by NUL)
+
+Reads its stdin to the end, then runs plot_spectra.py with those arguments; its exit
+status is theirs. An empty stdin (the run ended without a figure) exits 0 having written
+nothing.
+"""
+
+import os
+import sys
+
+import plot_spectra  # the import is the start-up this process takes off the critical path
+
+
+def main():
+    message = sys.stdin.buffer.read()
+    if not message:
+        return 0
+    return plot_spectra.main([os.fsdecode(arg) for arg in message.split(b"\0")[:-1]])
+
+
+if __name__ == "__main__":
+    sys.exit(main())
