@@ -28,15 +28,21 @@ double four_sin_squared(double theta) {
 // the same sum for shift 0, with A_D(m) = sum_n w_n w_{n+D} exp(-2 pi i m n / L).
 double overlap_correlation(const std::vector<double>& w, int shift, int bins) {
   const int L = static_cast<int>(w.size());
+  // exp(-2 pi i m n / L) depends on m n mod L only: L cosines and sines, not bins L^2.
+  std::vector<double> cosines(L), sines(L);
+  for (int k = 0; k < L; ++k) {
+    cosines[k] = std::cos(-2.0 * kPi * k / L);
+    sines[k] = std::sin(-2.0 * kPi * k / L);
+  }
   auto paired_power = [&](int D) {
     double total = 0;
     for (int m = 0; m < bins; ++m) {  // |A(-m)| = |A(m)| for a real window
       double re = 0, im = 0;
       for (int n = 0; n + D < L; ++n) {
-        const double phase = -2.0 * kPi * m * n / L;
+        const int phase = static_cast<int>((static_cast<long>(m) * n) % L);
         const double p = w[n] * w[n + D];
-        re += p * std::cos(phase);
-        im += p * std::sin(phase);
+        re += p * cosines[phase];
+        im += p * sines[phase];
       }
       total += (m == 0 ? 1 : 2) * (bins - m) * (re * re + im * im);
     }
@@ -90,9 +96,18 @@ std::vector<double> half_band_taps() {
 }
 
 double half_band_power(const std::vector<double>& taps, double theta) {
+  // sum over odd n of 2 h_n cos(n theta) by Clenshaw's recurrence on cos((2j+1) theta),
+  // which steps by 2 cos(2 theta): one cosine per call instead of one per tap.
   const int K = (static_cast<int>(taps.size()) - 1) / 2;
-  double amplitude = taps[K];
-  for (int n = 1; n <= K; n += 2) amplitude += 2.0 * taps[K + n] * std::cos(n * theta);
+  const double cosine = std::cos(theta);
+  const double twice_cos_2theta = 2.0 * (2.0 * cosine * cosine - 1.0);
+  double next = 0, after_next = 0;  // b_{j+1}, b_{j+2}
+  for (int n = K - (K % 2 == 0 ? 1 : 0); n >= 1; n -= 2) {
+    const double b = 2.0 * taps[K + n] + twice_cos_2theta * next - after_next;
+    after_next = next;
+    next = b;
+  }
+  const double amplitude = taps[K] + cosine * (next - after_next);
   return amplitude * amplitude;
 }
 

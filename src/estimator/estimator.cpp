@@ -8,9 +8,12 @@
 #include <cmath>
 #include <complex>
 #include <cstring>
+#include <memory>
+#include <mutex>
 #include <numbers>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "estimator/design.hpp"
 #include "estimator/kernels.hpp"
@@ -204,17 +207,25 @@ namespace {
 // normalised to unit area: E[periodogram at bin j] = int C T kernel / T(omega_j).
 constexpr int kSub = 16, kReach = 24;
 
-// The window is fixed by the design, so its kernel (4e5 complex exponentials) is
-// computed once per process rather than at every call.
+// The window is fixed by the design, so its kernel is computed once per process rather
+// than at every call.
 const std::vector<double>& window_kernel(const std::vector<double>& window) {
   static const std::vector<double> kernel = [&] {
     const int L = detail::kSegmentLength;
     std::vector<double> k(2 * kSub * kReach + 1);
+    // The phase -2 pi delta n / L with delta = j / kSub is a multiple of 2 pi / (kSub L):
+    // kSub L complex exponentials, not one per (m, n).
+    std::vector<std::complex<double>> turns(static_cast<std::size_t>(kSub * L));
+    for (std::size_t t = 0; t < turns.size(); ++t)
+      turns[t] = std::polar(1.0, -2 * M_PI * static_cast<double>(t) / (kSub * L));
     double area = 0;
     for (std::size_t m = 0; m < k.size(); ++m) {
-      const double delta = (static_cast<double>(m) - kSub * kReach) / kSub;  // in bins
+      const long j = static_cast<long>(m) - kSub * kReach;  // delta = j / kSub bins
       std::complex<double> sum = 0;
-      for (int n = 0; n < L; ++n) sum += window[n] * std::polar(1.0, -2 * M_PI * delta * n / L);
+      for (int n = 0; n < L; ++n) {
+        const long t = (j * n) % (kSub * L);
+        sum += window[n] * turns[static_cast<std::size_t>(t < 0 ? t + kSub * L : t)];
+      }
       k[m] = std::norm(sum);
       area += k[m] / kSub;
     }
@@ -537,12 +548,36 @@ std::size_t SpectrumEstimator::Impl::decimate(int b, std::size_t n) {
   return static_cast<std::size_t>(outputs);
 }
 
+namespace {
+
+// A run makes an estimator per batch of realizations (~0.4 MB of streams and scratch for
+// 8 lanes): the buffers of finished estimators are kept for the next, since freeing and
+// reallocating them costs page faults and heap trimming (~5% of a run). A few per process.
+constexpr std::size_t kPooledEstimators = 8;
+std::mutex pool_guard;
+std::vector<std::unique_ptr<SpectrumEstimator::Impl>>& estimator_pool() {
+  static std::vector<std::unique_ptr<SpectrumEstimator::Impl>> pool;
+  return pool;
+}
+
+}  // namespace
+
 SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes, SimdPath simd) {
   if (lanes < 1) throw InputError("estimator: need at least one lane");
   auto layout = detail::Layout::make(config);
-  impl_ = std::make_unique<Impl>();
+  {
+    std::lock_guard<std::mutex> lock(pool_guard);
+    auto& pool = estimator_pool();
+    if (!pool.empty()) {
+      impl_ = std::move(pool.back());
+      pool.pop_back();
+    }
+  }
+  if (!impl_) impl_ = std::make_unique<Impl>();
+  // Every field is set below: a recycled Impl keeps only its buffers' capacity.
   Impl& s = *impl_;
   s.layout = layout;
+  s.has_last_value = false;
   // Automatic: the widest path no wider than the lanes (a path pads the lanes to its
   // width, and every path gives the same bits).
   if (simd == SimdPath::automatic) {
@@ -559,8 +594,13 @@ SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes, S
   s.bands.resize(layout->band_count);
   std::size_t capacity = kChunk;  // rows a band receives per call at most
   for (int b = 0; b < layout->band_count; ++b) {
-    s.bands[b].extended.assign((kHistory + capacity) * s.stride, 0.0);
-    if (!layout->bands[b].points.empty()) s.bands[b].ring.assign(detail::kSegmentLength * s.stride, 0.0);
+    BandStream& band = s.bands[b];
+    band.received = band.differenced = 0;
+    band.extended.assign((kHistory + capacity) * s.stride, 0.0);
+    if (!layout->bands[b].points.empty())
+      band.ring.assign(detail::kSegmentLength * s.stride, 0.0);
+    else
+      band.ring.clear();
     capacity = capacity / 2 + 1;
   }
   for (auto& scratch : s.difference_scratch) scratch.assign((detail::kBandDifferences + kChunk) * s.stride, 0.0);
@@ -569,7 +609,12 @@ SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes, S
   s.point_average.assign(s.stride, 0.0);
 }
 
-SpectrumEstimator::~SpectrumEstimator() = default;
+SpectrumEstimator::~SpectrumEstimator() {
+  if (!impl_) return;
+  std::lock_guard<std::mutex> lock(pool_guard);
+  if (estimator_pool().size() < kPooledEstimators) estimator_pool().push_back(std::move(impl_));
+}
+
 SpectrumEstimator::SpectrumEstimator(SpectrumEstimator&&) noexcept = default;
 SpectrumEstimator& SpectrumEstimator::operator=(SpectrumEstimator&&) noexcept = default;
 

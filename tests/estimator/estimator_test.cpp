@@ -357,6 +357,22 @@ TEST(Estimator, SegmentTransformMatchesTheDefinitionOfTheDft) {
   }
 }
 
+TEST(Estimator, HalfBandPowerMatchesTheDefinition) {
+  // |H(theta)|^2 with H = sum_n h_n e^{-i n theta} over the taps, summed in long double
+  // with a cosine per tap, across the pass band, the transition and the stop band (where
+  // H is ~1e-7, so a wrong tap or recurrence step is far beyond the 1e-14 of rounding).
+  const std::vector<double> taps = estimator_detail::half_band_taps();
+  const int K = (static_cast<int>(taps.size()) - 1) / 2;
+  for (int i = 0; i <= 4000; ++i) {
+    const double theta = std::numbers::pi * i / 4000;
+    long double amplitude = 0;
+    for (int n = -K; n <= K; ++n) amplitude += taps[K + n] * std::cos(static_cast<long double>(n) * theta);
+    const double exact = static_cast<double>(amplitude * amplitude);
+    EXPECT_NEAR(std::sqrt(estimator_detail::half_band_power(taps, theta)), std::sqrt(exact), 1e-14)
+        << "theta = " << theta;
+  }
+}
+
 TEST(Estimator, ConcurrentEstimatorsOnTwoThreadsMatchSequentialBitwise) {
   const auto a = ar1_data(2, 200000, 70), b = ar1_data(2, 200000, 80);
   auto run = [](const std::vector<double>& data, std::string& out) {
