@@ -141,6 +141,8 @@ def read_spectrum(path):
 
     if header is None:
         raise InputError(f"{path}: no column header line")
+    if metadata.get("observable") == "force" and "C_F" in header and "C_x" not in header:
+        header = ["C_x" if name == "C_F" else name for name in header]  # the spectrum, whichever observable
     for required in ("omega", "C_x"):
         if required not in header:
             raise InputError(f"{path}: no '{required}' column (columns: {', '.join(header)})")
@@ -276,6 +278,22 @@ def _mark_incomplete(spectrum, label):
     if spectrum.metadata.get("complete", "").lower() == "false":
         return f"{label} (incomplete)"
     return label
+
+
+# The observable of a measured table (`slidespec analyze`'s "# observable ="), on its axis.
+OBSERVABLE_LABELS = {
+    "force": r"$\log_{10}\,C_F$ of the force (N² s)",
+    "slip": r"$\log_{10}\,C_x$ of the slip $x - F/K$ (m² s)",
+    "displacement": r"$\log_{10}\,C_x$ of the displacement (m² s)",
+}
+
+
+def y_label(spectra, kind):
+    """The y axis: the observable of measured tables when they share one, else the kind's."""
+    observables = {s.metadata.get("observable") for s in spectra}
+    if kind == "displacement" and len(observables) == 1 and observables <= OBSERVABLE_LABELS.keys():
+        return OBSERVABLE_LABELS[observables.pop()]
+    return KINDS[kind][1]
 
 
 def kind_factor(spectrum, kind, omega):
@@ -491,7 +509,7 @@ def render(spectra, labels, args, fine_theories=None):
 
     bottom = residual_axes if residual_axes is not None else axes
     bottom.set_xlabel(r"$\log_{10}\,\omega$ (rad/s)", fontsize=12)
-    axes.set_ylabel(KINDS[args.kind][1], fontsize=12)
+    axes.set_ylabel(y_label(spectra, args.kind), fontsize=12)
     axes.tick_params(labelsize=10)
     axes.grid(True, color="0.9", linewidth=0.6)
     if args.title:

@@ -18,9 +18,10 @@
 namespace slidespec {
 
 /// Unit of a record's displacement column.
-enum class LengthUnit { m, mm, um, nm };
+enum class LengthUnit { m, cm, mm, um, nm, inch };
 
-/// Parses m|mm|um|nm (µm and μm for um); throws InputError naming `option`.
+/// Parses m|cm|mm|um|nm|in (µm, μm, micron(s), micrometre(s) for um; inch(es) for in);
+/// throws InputError naming `option` and the known units.
 LengthUnit parse_length_unit(const std::string& name, const std::string& option = "--units");
 /// A length such as "0.5", "0.5um" or "5e-7 m" in metres; a bare number is in
 /// `bare_unit`. Throws InputError naming `option` when it is not a finite length >= 0.
@@ -28,6 +29,37 @@ double parse_length(const std::string& text, LengthUnit bare_unit, const std::st
 const char* to_string(LengthUnit unit);
 /// Metres in one `unit`.
 double metres_per(LengthUnit unit);
+
+/// Unit of a record's force channel: a force, a shear stress (a force once multiplied by the
+/// contact area) or a friction coefficient (a force once multiplied by the normal force).
+enum class ForceUnit { N, kN, MPa, kPa, mu };
+/// Parses N|kN|MPa|kPa|mu (friction for mu); throws InputError naming `option` and the known units.
+ForceUnit parse_force_unit(const std::string& name, const std::string& option = "--force-units");
+const char* to_string(ForceUnit unit);
+
+/// A force such as "1000", "1000N" or "1.5kN" in newtons (a bare number in N); throws
+/// InputError naming `option` unless it is finite and > 0.
+double parse_force(const std::string& text, const std::string& option);
+/// An area such as "0.0025", "0.0025m2", "25cm2" or "2500mm2" in m^2 (a bare number in m^2);
+/// throws InputError naming `option` unless it is finite and > 0.
+double parse_area(const std::string& text, const std::string& option);
+/// A machine stiffness such as "1e9", "1e9N/m", "0.5kN/um" or "0.002MPa/um" in N/m (a bare
+/// number in N/m); a stress per length needs `contact_area` [m^2] > 0. Throws InputError
+/// naming `option`.
+double parse_stiffness(const std::string& text, double contact_area, const std::string& option);
+
+/// The channel whose spectrum a record is analyzed for (docs/analysis.md, "Channels").
+enum class Observable {
+  automatic,     ///< slip with a machine stiffness, force with a force column, else displacement
+  displacement,  ///< the displacement column x [m]: C_x [m^2 s]
+  force,         ///< the force channel F [N] (a stress or mu converted): C_F [N^2 s]
+  slip,          ///< the slider's slip x - F/K with K the machine stiffness [m]: C_x [m^2 s]
+};
+/// Parses auto|displacement|force|slip; throws InputError naming --observable.
+Observable parse_observable(const std::string& name);
+const char* to_string(Observable observable);
+/// "m^2 s" for a displacement or slip, "N^2 s" for a force: the unit of its spectrum.
+const char* spectrum_unit(Observable observable);
 
 /// What to do with sampling that is not uniform (docs/analysis.md).
 enum class Resampling {
@@ -53,6 +85,15 @@ struct RecordFormat {
   /// Sampling irregular beyond time_tolerance (and a rate that changes, with resample_interval).
   Resampling resample = Resampling::automatic;
   double resample_interval = 0;  ///< Resampling::interval: the grid's interval [s]
+  Observable observable = Observable::automatic;
+  std::string force_column;             ///< empty: the first column naming a force, stress or friction (not a
+                                        ///< normal one), when the observable needs a force
+  std::optional<ForceUnit> force_unit;  ///< overrides the force column header's unit
+  double contact_area = 0;              ///< [m^2]: turns a stress into a force; 0: none given
+  double normal_force = 0;              ///< [N]: turns mu into a force; 0: none given
+  std::string normal_stress_column;     ///< turns mu into a stress (with contact_area, a force);
+                                        ///< empty: a column naming a normal stress, when mu needs one
+  double machine_stiffness = 0;         ///< K [N/m]: slip = x - F/K; 0: none given
 };
 
 /// A stretch of a record sampled at one rate.
@@ -62,20 +103,33 @@ struct SamplingPart {
   std::size_t samples = 0;
 };
 
-/// A uniformly sampled displacement record x_n = x(t_0 + n dt).
+/// The observable `format` asks for, never automatic: slip with a machine stiffness, force
+/// with a force column, else displacement.
+Observable chosen_observable(const RecordFormat& format);
+
+/// A uniformly sampled record of displacement x_n = x(t_0 + n dt), of force F_n, or both.
 struct Record {
-  std::vector<double> displacement;  ///< x_n [m]
-  double dt = 0;                     ///< sampling interval [s]
-  double start_time = 0;             ///< t_0 [s]
-  std::string column;                ///< the displacement column read
-  LengthUnit unit = LengthUnit::m;   ///< the unit the displacement column was read in
-  std::string unit_source;           ///< "--units", "header" or "default"
-  std::vector<SamplingPart> parts;   ///< the read window's parts of constant rate (one: steady rate)
-  double jitter = 0;                 ///< largest |interval - median| / median of the samples kept
-  bool resampled = false;            ///< interpolated onto the uniform grid
-  double interpolation_cut = 0;      ///< resampled: omega above which interpolation filters [rad/s]
-  std::vector<std::string> notes;    ///< every choice made about the sampling, in words
+  std::vector<double> displacement;                  ///< x_n [m]; empty when the file has no displacement column
+  std::vector<double> force;                         ///< F_n [N]; empty unless the observable needs a force
+  Observable observable = Observable::displacement;  ///< the channel analyzed (never automatic)
+  std::string force_channel;                         ///< what the force is made of, in words ("Friction (mu) x 1000 N")
+  double machine_stiffness = 0;                      ///< K [N/m] of the slip x - F/K
+  double dt = 0;                                     ///< sampling interval [s]
+  double start_time = 0;                             ///< t_0 [s]
+  std::string column;                                ///< the displacement column read
+  LengthUnit unit = LengthUnit::m;                   ///< the unit the displacement column was read in
+  std::string unit_source;                           ///< "--units", "header" or "default"
+  std::vector<SamplingPart> parts;                   ///< the read window's parts of constant rate (one: steady rate)
+  double jitter = 0;                                 ///< largest |interval - median| / median of the samples kept
+  bool resampled = false;                            ///< interpolated onto the uniform grid
+  double interpolation_cut = 0;                      ///< resampled: omega above which interpolation filters [rad/s]
+  std::vector<std::string> notes;                    ///< every choice made about the sampling, in words
+
+  std::size_t samples() const { return displacement.empty() ? force.size() : displacement.size(); }
 };
+
+/// The analyzed channel of `record`: x_n [m], F_n [N] or the slip x_n - F_n/K [m].
+std::vector<double> observed_values(const Record& record);
 
 /// A stretch of steady sliding (or a hold) found in a record.
 struct SteadySegment {
@@ -111,7 +165,8 @@ Record read_record_file(const std::string& path, const RecordFormat& format);
 Record record_from_samples(const std::vector<double>& time, const std::vector<double>& x, const RecordFormat& format,
                            const std::string& source = "record");
 
-/// The mean sliding motion x = x_0 + v (t - t_0), fitted by least squares.
+/// The mean sliding motion x = x_0 + v (t - t_0) of the observed channel, fitted by least
+/// squares (of a force channel: its mean trend, x_0 in N and v in N/s).
 struct SlidingFit {
   double v = 0;        ///< mean sliding speed [m/s]
   double v_error = 0;  ///< its standard error, from the scatter of the speeds of blocks [m/s]
@@ -121,7 +176,7 @@ struct SlidingFit {
 };
 
 SlidingFit fit_sliding(const Record& record);
-/// xi_n = x_n - x_0 - v n dt [m].
+/// xi_n = x_n - x_0 - v n dt of the observed channel [m, or N].
 std::vector<double> sliding_fluctuation(const Record& record, const SlidingFit& fit);
 
 /// Friction coefficient of the paper's slider, mu = M'/M: M the mass loading the block
@@ -215,6 +270,7 @@ struct RecordSpectrum {
   SpectrumAccumulator accumulator;             ///< streaming: for expected(), any true spectrum through these bins
   WelchSpectrum welch;                         ///< welch: segments, bins of each point
   int leaky_points = 0;                        ///< points flagged for leakage
+  Observable observable = Observable::displacement;  ///< C_x of x or the slip, or C_F of the force
   SlidingFit sliding;
   std::size_t samples = 0;
   double dt = 0;                     ///< [s]

@@ -339,7 +339,7 @@ def test_bad_records():
     with pytest.raises(ValueError, match="gap"):
         ss.analyze([0, 1, 2, 4, 5], [0.0, 1, 2, 3, 4])
     with pytest.raises(ValueError, match="units"):
-        ss.analyze(None, [0.0, 1.0], dt=1, units="inch")
+        ss.analyze(None, [0.0, 1.0], dt=1, units="furlong")
     with pytest.raises(ValueError, match="compare"):
         ss.analyze(None, np.arange(1000.0), dt=1, fit="alpha")
 

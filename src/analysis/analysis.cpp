@@ -54,7 +54,7 @@ constexpr double kSegmentsForLowestPoint = 1 + 11 / 4.0;
 /// The lowest omega of the log grid 10^(k/points_per_decade) whose band fits 12 segments
 /// into the record; the estimator leaves out a point that still falls short.
 double lowest_omega(const Record& record, const AnalysisRequest& request) {
-  const double duration = static_cast<double>(record.displacement.size()) * record.dt;
+  const double duration = static_cast<double>(record.samples()) * record.dt;
   EstimatorConfig probe;
   probe.dt = record.dt;
   probe.omega_min = 2 * std::numbers::pi / duration;
@@ -73,7 +73,7 @@ double lowest_omega(const Record& record, const AnalysisRequest& request) {
 }  // namespace
 
 SlidingFit fit_sliding(const Record& record) {
-  const std::vector<double>& x = record.displacement;
+  const std::vector<double> x = observed_values(record);
   const detail::Line line = detail::fit_line(x, 0, x.size(), record.dt);
   SlidingFit fit;
   fit.v = line.slope;
@@ -98,9 +98,8 @@ SlidingFit fit_sliding(const Record& record) {
 }
 
 std::vector<double> sliding_fluctuation(const Record& record, const SlidingFit& fit) {
-  std::vector<double> xi(record.displacement.size());
-  for (std::size_t i = 0; i < xi.size(); ++i)
-    xi[i] = record.displacement[i] - fit.x0 - fit.v * static_cast<double>(i) * record.dt;
+  std::vector<double> xi = observed_values(record);
+  for (std::size_t i = 0; i < xi.size(); ++i) xi[i] -= fit.x0 + fit.v * static_cast<double>(i) * record.dt;
   return xi;
 }
 
@@ -212,8 +211,12 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
     throw InputError("--points: must be between 1 and 100 per decade");
   if (request.omega_min > 0 && request.omega_max > 0 && request.omega_min >= request.omega_max)
     throw InputError("--omega-min must be below --omega-max");
+  if (record.observable == Observable::force && request.resolution + request.sensor_noise > 0)
+    throw InputError(std::string(request.resolution > 0 ? "--resolution" : "--sensor-noise") +
+                     ": a displacement sensor's floor, and the observable is the force; leave it out");
   RecordSpectrum result;
-  result.samples = record.displacement.size();
+  result.observable = record.observable;
+  result.samples = record.samples();
   result.dt = record.dt;
   result.duration = static_cast<double>(result.samples) * record.dt;
   result.sliding = fit_sliding(record);
@@ -398,7 +401,7 @@ PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, doub
     char bound[32];
     std::snprintf(bound, sizeof bound, "%.3g", fit.floor + 2 * fit.floor_error);
     undetermined = std::string("the white floor is not determined (below the spectrum across the band; at most ") +
-                   bound + " m^2 s); ";
+                   bound + " " + spectrum_unit(spectrum.observable) + "); ";
   }
   fit.undetermined = undetermined +
                      "a power law and a white floor are all a band of this shape determines: the model's alpha, "

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "analysis/sampling.hpp"
+#include "io/tables.hpp"
 #include "util/suggest.hpp"
 #include "slidespec/analysis.hpp"
 
@@ -20,13 +21,17 @@ namespace {
 
 std::optional<LengthUnit> length_unit(const std::string& name) {
   if (name == "m") return LengthUnit::m;
+  if (name == "cm") return LengthUnit::cm;
   if (name == "mm") return LengthUnit::mm;
   if (name == "um" || name == "\u00b5m" || name == "\u03bcm" || name == "micron" || name == "microns" ||
       name == "micrometre" || name == "micrometres" || name == "micrometer" || name == "micrometers")
     return LengthUnit::um;
   if (name == "nm") return LengthUnit::nm;
+  if (name == "in" || name == "inch" || name == "inches") return LengthUnit::inch;
   return std::nullopt;
 }
+
+constexpr const char* kKnownLengths = "m, cm, mm, um (µm, microns), nm, in (inch)";
 
 /// Seconds in one time unit of a header (t_ms, time (us)), or 0 when not a time unit.
 double seconds_per(const std::string& name) {
@@ -36,23 +41,47 @@ double seconds_per(const std::string& name) {
   return 0;
 }
 
+/// A force channel's unit as a header writes it, lower case ("n", "kn", "mpa", "kpa", "mu").
+std::optional<ForceUnit> force_unit(const std::string& name) {
+  if (name == "n") return ForceUnit::N;
+  if (name == "kn") return ForceUnit::kN;
+  if (name == "mpa") return ForceUnit::MPa;
+  if (name == "kpa") return ForceUnit::kPa;
+  if (name == "mu" || name == "friction" || name == "-") return ForceUnit::mu;
+  return std::nullopt;
+}
+
+std::string lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
+  return text;
+}
+
+/// A number followed by an optional unit ("0.5um", "25 cm2"): the value and the unit's text.
+std::pair<double, std::string> number_and_unit(const std::string& text, const std::string& option,
+                                               const std::string& example) {
+  double value = 0;
+  const char* begin = text.data();
+  const char* end = text.data() + text.size();
+  const auto [stop, error] = std::from_chars(begin, end, value);
+  std::string unit(stop, end);
+  unit.erase(0, unit.find_first_not_of(' '));
+  if (error != std::errc() || stop == begin || !std::isfinite(value))
+    throw InputError(option + ": '" + text + "' is not a number with an optional unit (e.g. " + example + ")");
+  return {value, unit};
+}
+
 }  // namespace
 
 LengthUnit parse_length_unit(const std::string& name, const std::string& option) {
   if (const auto unit = length_unit(name)) return *unit;
   throw InputError(option + ": unknown unit '" + name + "'" +
-                   util::did_you_mean(name, {"m", "mm", "um", "nm", "microns"}) +
-                   " (lengths: m, mm, um, microns, nm; a force or stress channel is not read as a displacement)");
+                   util::did_you_mean(name, {"m", "cm", "mm", "um", "nm", "in", "microns"}) +
+                   " (lengths: " + kKnownLengths + "; a force or stress channel is read with --force-column)");
 }
 
 double parse_length(const std::string& text, LengthUnit bare_unit, const std::string& option) {
-  double value = 0;
-  const char* begin = text.data();
-  const char* end = text.data() + text.size();
-  const auto [stop, error] = std::from_chars(begin, end, value);
-  std::string unit_name(stop, end);
-  unit_name.erase(0, unit_name.find_first_not_of(' '));
-  if (error != std::errc() || stop == begin || !std::isfinite(value) || value < 0)
+  const auto [value, unit_name] = number_and_unit(text, option, "0.5, in the record's unit, or 0.5um");
+  if (value < 0)
     throw InputError(option + ": '" + text + "' is not a length >= 0 (e.g. 0.5, in the record's unit, or 0.5um)");
   return value * metres_per(unit_name.empty() ? bare_unit : parse_length_unit(unit_name, option));
 }
@@ -61,12 +90,16 @@ const char* to_string(LengthUnit unit) {
   switch (unit) {
     case LengthUnit::m:
       return "m";
+    case LengthUnit::cm:
+      return "cm";
     case LengthUnit::mm:
       return "mm";
     case LengthUnit::um:
       return "um";
     case LengthUnit::nm:
       return "nm";
+    case LengthUnit::inch:
+      return "in";
   }
   return "?";
 }
@@ -75,14 +108,146 @@ double metres_per(LengthUnit unit) {
   switch (unit) {
     case LengthUnit::m:
       return 1.0;
+    case LengthUnit::cm:
+      return 1e-2;
     case LengthUnit::mm:
       return 1e-3;
     case LengthUnit::um:
       return 1e-6;
     case LengthUnit::nm:
       return 1e-9;
+    case LengthUnit::inch:
+      return 0.0254;
   }
   return 1.0;
+}
+
+ForceUnit parse_force_unit(const std::string& name, const std::string& option) {
+  if (const auto unit = force_unit(lower(name)); unit && name != "-") return *unit;
+  throw InputError(option + ": unknown unit '" + name + "'" +
+                   util::did_you_mean(name, {"N", "kN", "MPa", "kPa", "mu"}) +
+                   " (forces: N, kN; shear stresses: MPa, kPa, with --contact-area; friction coefficient: mu)");
+}
+
+const char* to_string(ForceUnit unit) {
+  switch (unit) {
+    case ForceUnit::N:
+      return "N";
+    case ForceUnit::kN:
+      return "kN";
+    case ForceUnit::MPa:
+      return "MPa";
+    case ForceUnit::kPa:
+      return "kPa";
+    case ForceUnit::mu:
+      return "mu";
+  }
+  return "?";
+}
+
+namespace {
+
+/// Newtons per unit of a force, pascals per unit of a stress; 0 for mu.
+double si_per(ForceUnit unit) {
+  switch (unit) {
+    case ForceUnit::N:
+      return 1;
+    case ForceUnit::kN:
+      return 1e3;
+    case ForceUnit::MPa:
+      return 1e6;
+    case ForceUnit::kPa:
+      return 1e3;
+    case ForceUnit::mu:
+      return 0;
+  }
+  return 0;
+}
+
+bool is_stress(ForceUnit unit) { return unit == ForceUnit::MPa || unit == ForceUnit::kPa; }
+
+}  // namespace
+
+double parse_force(const std::string& text, const std::string& option) {
+  const auto [value, unit] = number_and_unit(text, option, "1000, in N, or 1.5kN");
+  const std::string u = lower(unit);
+  const double scale = u.empty() || u == "n" ? 1 : u == "kn" ? 1e3 : u == "mn" ? 1e6 : 0;
+  if (scale == 0) throw InputError(option + ": '" + unit + "' is not a force unit (N, kN or MN)");
+  if (!(value > 0)) throw InputError(option + ": '" + text + "' is not a force > 0");
+  return value * scale;
+}
+
+double parse_area(const std::string& text, const std::string& option) {
+  const auto [value, unit] = number_and_unit(text, option, "0.0025, in m^2, or 25cm2");
+  std::string u = lower(unit);
+  if (const auto caret = u.find('^'); caret != std::string::npos) u.erase(caret, 1);
+  const double scale = u.empty() || u == "m2" ? 1 : u == "cm2" ? 1e-4 : u == "mm2" ? 1e-6 : 0;
+  if (scale == 0) throw InputError(option + ": '" + unit + "' is not an area unit (m2, cm2 or mm2)");
+  if (!(value > 0)) throw InputError(option + ": '" + text + "' is not an area > 0");
+  return value * scale;
+}
+
+double parse_stiffness(const std::string& text, double contact_area, const std::string& option) {
+  const auto [value, unit] = number_and_unit(text, option, "1e9, in N/m, 0.5kN/um, or 0.002MPa/um with --contact-area");
+  if (!(value > 0)) throw InputError(option + ": '" + text + "' is not a stiffness > 0");
+  if (unit.empty()) return value;
+  const auto slash = unit.find('/');
+  const std::string top = lower(unit.substr(0, slash));
+  const std::optional<LengthUnit> per =
+      slash == std::string::npos ? std::nullopt : length_unit(lower(unit.substr(slash + 1)));
+  double force = top == "n" ? 1 : top == "kn" ? 1e3 : top == "mn" ? 1e6 : 0;
+  const double stress = top == "pa" ? 1 : top == "kpa" ? 1e3 : top == "mpa" ? 1e6 : top == "gpa" ? 1e9 : 0;
+  if (!per || (force == 0 && stress == 0))
+    throw InputError(option + ": '" + unit + "' is not a stiffness unit (N/m, kN/mm, N/um...; MPa/um, kPa/um... " +
+                     "with --contact-area)");
+  if (stress > 0) {
+    if (!(contact_area > 0))
+      throw InputError(option + ": a stiffness in " + unit +
+                       " (stress per length) needs --contact-area A to become N/m");
+    force = stress * contact_area;
+  }
+  return value * force / metres_per(*per);
+}
+
+Observable parse_observable(const std::string& name) {
+  if (name == "auto") return Observable::automatic;
+  if (name == "displacement") return Observable::displacement;
+  if (name == "force") return Observable::force;
+  if (name == "slip") return Observable::slip;
+  throw InputError("--observable: unknown observable '" + name + "'" +
+                   util::did_you_mean(name, {"auto", "displacement", "force", "slip"}) +
+                   " (known: auto, displacement, force, slip)");
+}
+
+const char* to_string(Observable observable) {
+  switch (observable) {
+    case Observable::automatic:
+      return "auto";
+    case Observable::displacement:
+      return "displacement";
+    case Observable::force:
+      return "force";
+    case Observable::slip:
+      return "slip";
+  }
+  return "?";
+}
+
+const char* spectrum_unit(Observable observable) { return observable == Observable::force ? "N^2 s" : "m^2 s"; }
+
+Observable chosen_observable(const RecordFormat& format) {
+  if (format.observable != Observable::automatic) return format.observable;
+  if (format.machine_stiffness > 0) return Observable::slip;
+  return format.force_column.empty() ? Observable::displacement : Observable::force;
+}
+
+std::vector<double> observed_values(const Record& record) {
+  if (record.observable == Observable::displacement) return record.displacement;
+  if (record.observable == Observable::force) return record.force;
+  std::vector<double> slip(record.displacement.size());
+  for (std::size_t n = 0; n < slip.size(); ++n)
+    slip[n] = record.displacement[n] - record.force[n] / record.machine_stiffness;
+  return slip;
 }
 
 namespace {
@@ -91,11 +256,6 @@ std::string trim(const std::string& text) {
   const auto first = text.find_first_not_of(" \t\r");
   if (first == std::string::npos) return "";
   return text.substr(first, text.find_last_not_of(" \t\r") + 1 - first);
-}
-
-std::string lower(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
-  return text;
 }
 
 /// True while `field` has a bracket or parenthesis it has not closed.
@@ -155,7 +315,10 @@ struct ColumnName {
 
 ColumnName split_unit(const std::string& name) {
   const std::string n = lower(trim(name));
-  auto known = [](const std::string& u) { return length_unit(u).has_value() || seconds_per(u) > 0; };
+  auto known = [](const std::string& u) {
+    const auto force = force_unit(u);
+    return length_unit(u).has_value() || seconds_per(u) > 0 || (force && *force != ForceUnit::mu);
+  };
   if (known(n)) return {"", n};
   for (const auto& [open, close] : {std::pair{'(', ')'}, std::pair{'[', ']'}}) {
     const auto start = n.rfind(open);
@@ -169,6 +332,27 @@ ColumnName split_unit(const std::string& name) {
     if (at != std::string::npos && at > 0 && known(n.substr(at + 1))) return {n.substr(0, at), n.substr(at + 1)};
   }
   return {n, ""};
+}
+
+/// The unit a displacement column's header writes that is not a length analyze knows
+/// ("Displ(km)", "x [furlong]", "x_ft"), or empty: such a column is never read as metres.
+std::string unknown_length_unit(const std::string& name) {
+  const std::string n = lower(trim(name));
+  if (!split_unit(n).unit.empty()) return "";
+  for (const auto& [open, close] : {std::pair{'(', ')'}, std::pair{'[', ']'}}) {
+    const auto start = n.rfind(open);
+    if (start != std::string::npos && !n.empty() && n.back() == close)
+      return trim(n.substr(start + 1, n.size() - start - 2));
+  }
+  for (const char separator : {'_', '/'}) {
+    const auto at = n.rfind(separator);
+    const std::string unit = at == std::string::npos ? "" : n.substr(at + 1);
+    if (!unit.empty() && std::all_of(unit.begin(), unit.end(), [](unsigned char c) { return std::isalpha(c); }) &&
+        (n.substr(0, at) == "x" || n.substr(0, at) == "position" || n.substr(0, at) == "displacement" ||
+         n.substr(0, at) == "displ" || n.substr(0, at) == "disp" || n.substr(0, at) == "pos"))
+      return unit;
+  }
+  return "";
 }
 
 bool is_time_name(const ColumnName& c) {
@@ -222,8 +406,8 @@ class RecordReader {
       if (line.empty()) continue;
       take_line(split_fields(line), line_number);
     }
-    if (names_.empty() || record_.displacement.empty()) throw InputError(source_ + ": no data lines");
-    if (record_.displacement.size() < 2)
+    if (names_.empty() || record_.samples() == 0) throw InputError(source_ + ": no data lines");
+    if (record_.samples() < 2)
       throw InputError(source_ + ": line " + std::to_string(last_line_) +
                        ": the only sample; a spectrum needs a record of many samples");
     finish();
@@ -270,9 +454,12 @@ class RecordReader {
     if (fields.size() != names_.size())
       fail(line_number, std::to_string(fields.size()) + " fields, expected " + std::to_string(names_.size()) + " (" +
                             column_list(names_) + ")");
-    const double x = number(fields, x_index_, line_number) * metres_per(record_.unit);
+    if (x_index_ >= 0) record_.displacement.push_back(number(fields, x_index_, line_number) * metres_per(record_.unit));
+    if (force_index_ >= 0) {
+      const double normal = normal_index_ >= 0 ? number(fields, normal_index_, line_number) : 1;
+      record_.force.push_back(number(fields, force_index_, line_number) * normal * newtons_per_);
+    }
     if (time_index_ >= 0) take_time(number(fields, time_index_, line_number) * seconds_per_time_, line_number);
-    record_.displacement.push_back(x);
     last_line_ = line_number;
   }
 
@@ -312,32 +499,44 @@ class RecordReader {
         if (is_time_name(split_unit(names_[k])))
           fail(line_number, "--dt: the record has a time column '" + names_[k] +
                                 "'; --dt is for records without one (the time column is read by default)");
+    record_.observable = chosen_observable(format_);
+    record_.machine_stiffness = format_.machine_stiffness;
+    if (record_.observable != Observable::displacement) choose_force_column(line_number);
+    // A force record keeps its displacement, when it has one, for the steady segments.
+    choose_displacement_column(line_number, record_.observable != Observable::force);
+    if (time_index_ >= 0) {
+      const std::string unit = split_unit(names_[static_cast<std::size_t>(time_index_)]).unit;
+      if (seconds_per(unit) > 0) seconds_per_time_ = seconds_per(unit);
+    }
+  }
+
+  void choose_displacement_column(int line_number, bool needed) {
+    const int count = static_cast<int>(names_.size());
+    const auto taken = [&](int k) { return k == time_index_ || k == force_index_ || k == normal_index_; };
     if (!format_.column.empty()) {
       x_index_ = find_column(format_.column, "--column", line_number);
       const std::string holds = force_like(names_[static_cast<std::size_t>(x_index_)]);
       if (!holds.empty())
         fail(line_number, "--column " + format_.column + ": the header names " + holds +
-                              ", not a displacement; analyze reads displacements only (give the displacement column)");
+                              ", not a displacement; give it as --force-column (--column is the displacement)");
     } else {
       for (int k = 0; k < count && x_index_ < 0; ++k)
-        if (k != time_index_ && is_displacement_name(split_unit(names_[k])) && force_like(names_[k]).empty())
-          x_index_ = k;
-      if (x_index_ < 0 && count - (time_index_ >= 0 ? 1 : 0) == 1) {
+        if (!taken(k) && is_displacement_name(split_unit(names_[k])) && force_like(names_[k]).empty()) x_index_ = k;
+      if (x_index_ < 0 && needed && count - (time_index_ >= 0 ? 1 : 0) == 1) {
         x_index_ = time_index_ == 0 ? 1 : 0;
         const std::string holds = force_like(names_[static_cast<std::size_t>(x_index_)]);
         if (!holds.empty())
           fail(line_number, "the only column besides time, '" + names_[static_cast<std::size_t>(x_index_)] +
-                                "', names " + holds + ", not a displacement; analyze reads displacements only");
+                                "', names " + holds +
+                                ", not a displacement; give --force-column to analyze it as a force (C_F)");
       }
+      if (x_index_ < 0 && !needed) return;
       if (x_index_ < 0)
         fail(line_number, "which column is the displacement? give --column (columns: " + column_list(names_) + ")");
     }
     if (x_index_ == time_index_) fail(line_number, "the displacement column is the time column");
+    if (x_index_ == force_index_) fail(line_number, "the displacement column is the force column");
     record_.column = names_[static_cast<std::size_t>(x_index_)];
-    if (time_index_ >= 0) {
-      const std::string unit = split_unit(names_[static_cast<std::size_t>(time_index_)]).unit;
-      if (seconds_per(unit) > 0) seconds_per_time_ = seconds_per(unit);
-    }
     const std::string header_unit = split_unit(record_.column).unit;
     if (format_.unit) {
       record_.unit = *format_.unit;
@@ -345,10 +544,103 @@ class RecordReader {
     } else if (const auto unit = length_unit(header_unit)) {
       record_.unit = *unit;
       record_.unit_source = "header";
+    } else if (const std::string unknown = unknown_length_unit(record_.column); !unknown.empty()) {
+      fail(line_number, "column " + record_.column + ": '" + unknown + "' is not a length unit analyze knows (" +
+                            kKnownLengths + "); give --units");
     } else {
       record_.unit = LengthUnit::m;
       record_.unit_source = "default";
     }
+  }
+
+  /// The force channel and what turns it into newtons: its unit, a contact area for a
+  /// stress, a normal force or a normal-stress column (and the area) for mu.
+  void choose_force_column(int line_number) {
+    const int count = static_cast<int>(names_.size());
+    const auto normal = [](const std::string& name) { return lower(name).find("normal") != std::string::npos; };
+    if (!format_.force_column.empty()) {
+      force_index_ = find_column(format_.force_column, "--force-column", line_number);
+    } else {
+      for (int k = 0; k < count && force_index_ < 0; ++k)
+        if (k != time_index_ && !force_like(names_[k]).empty() && !normal(names_[k])) force_index_ = k;
+      if (force_index_ < 0)
+        fail(line_number, std::string("the ") + to_string(record_.observable) +
+                              " needs a force channel and no column names a force, stress or friction (columns: " +
+                              column_list(names_) + "); give --force-column");
+    }
+    if (force_index_ == time_index_) fail(line_number, "the force column is the time column");
+    const std::string& name = names_[static_cast<std::size_t>(force_index_)];
+    ForceUnit unit{};
+    if (format_.force_unit) {
+      unit = *format_.force_unit;
+    } else if (const std::string header = split_unit(name).unit; force_unit(header)) {
+      unit = *force_unit(header);
+    } else {
+      const std::string base = split_unit(name).base;
+      if (base == "mu" || base == "friction" || base == "friction coefficient" || base == "cof")
+        unit = ForceUnit::mu;
+      else
+        fail(line_number, "--force-column " + name + ": its header names no unit; give --force-units N|kN|MPa|kPa|mu");
+    }
+    const double area = format_.contact_area;
+    // The unit in words unless the header already writes it.
+    std::string made_of = name;
+    if (format_.force_unit || split_unit(name).unit.empty()) made_of += std::string(" (") + to_string(unit) + ")";
+    if (unit == ForceUnit::mu) {
+      if (format_.normal_force > 0 && !format_.normal_stress_column.empty())
+        fail(line_number, "--normal-force and --normal-stress-column both give mu's normal load; give one");
+      if (format_.normal_force > 0) {
+        if (area > 0) fail(line_number, "--contact-area: mu x --normal-force is a force already; the area is not used");
+        newtons_per_ = format_.normal_force;
+        made_of += " x normal force " + io::format_number(format_.normal_force) + " N";
+      } else {
+        choose_normal_stress_column(line_number);
+        const std::string& normal_name = names_[static_cast<std::size_t>(normal_index_)];
+        const auto normal_unit = force_unit(split_unit(normal_name).unit);
+        if (!normal_unit || !is_stress(*normal_unit))
+          fail(line_number, "normal-stress column " + normal_name + ": its header names no stress unit (MPa or kPa)");
+        if (!(area > 0))
+          fail(line_number, "column " + name + " is a friction coefficient mu: mu x " + normal_name +
+                                " is a shear stress; give --contact-area A (m^2, or 25cm2) to make it a force, or "
+                                "--normal-force FN instead");
+        newtons_per_ = si_per(*normal_unit) * area;
+        made_of += " x " + normal_name + " x contact area " + io::format_number(area) + " m^2";
+      }
+    } else {
+      if (format_.normal_force > 0 || !format_.normal_stress_column.empty())
+        fail(line_number, std::string(format_.normal_force > 0 ? "--normal-force" : "--normal-stress-column") +
+                              ": the force channel " + name + " is in " + to_string(unit) +
+                              ", not a friction coefficient; the normal load is not used");
+      if (is_stress(unit)) {
+        if (!(area > 0))
+          fail(line_number, "column " + name + " is a stress in " + to_string(unit) +
+                                "; give --contact-area A (m^2, or 25cm2) to make it a force in N");
+        newtons_per_ = si_per(unit) * area;
+        made_of += " x contact area " + io::format_number(area) + " m^2";
+      } else {
+        if (area > 0)
+          fail(line_number, "--contact-area: the force channel " + name + " is in " + to_string(unit) +
+                                ", a force already; the area is not used");
+        newtons_per_ = si_per(unit);
+      }
+    }
+    record_.force_channel = made_of;
+  }
+
+  void choose_normal_stress_column(int line_number) {
+    if (!format_.normal_stress_column.empty()) {
+      normal_index_ = find_column(format_.normal_stress_column, "--normal-stress-column", line_number);
+      return;
+    }
+    for (int k = 0; k < static_cast<int>(names_.size()) && normal_index_ < 0; ++k) {
+      const std::string n = lower(names_[k]);
+      if (k != force_index_ && n.find("normal") != std::string::npos && n.find("stress") != std::string::npos)
+        normal_index_ = k;
+    }
+    if (normal_index_ < 0)
+      fail(line_number, "column " + names_[static_cast<std::size_t>(force_index_)] +
+                            " is a friction coefficient mu; give --normal-force FN [N], or "
+                            "--normal-stress-column NAME with --contact-area A");
   }
 
   // Uniform sampling is what a spectrum of samples assumes: a missing sample (a gap) or
@@ -376,7 +668,8 @@ class RecordReader {
   std::string place_ = "line";
   RecordFormat format_;
   std::vector<std::string> names_;
-  int time_index_ = -1, x_index_ = -1;
+  int time_index_ = -1, x_index_ = -1, force_index_ = -1, normal_index_ = -1;
+  double newtons_per_ = 1;  // of the force column's unit (x the normal stress column's value for mu)
   int last_line_ = 0;
   std::vector<double> times_;  // [s], as read
   std::vector<int> where_;     // the line (or sample) of each time
@@ -389,6 +682,30 @@ void check_format(const RecordFormat& format) {
   if (format.dt < 0 || !std::isfinite(format.dt)) throw InputError("--dt: must be a positive number of seconds");
   if (!(format.time_tolerance > 0 && format.time_tolerance < 0.5))
     throw InputError("time tolerance must be between 0 and 0.5");
+  if (format.contact_area < 0 || !std::isfinite(format.contact_area))
+    throw InputError("--contact-area: must be an area > 0");
+  if (format.normal_force < 0 || !std::isfinite(format.normal_force))
+    throw InputError("--normal-force: must be a force > 0");
+  if (format.machine_stiffness < 0 || !std::isfinite(format.machine_stiffness))
+    throw InputError("--machine-stiffness: must be a stiffness > 0");
+  const Observable observable = chosen_observable(format);
+  if (observable == Observable::slip && !(format.machine_stiffness > 0))
+    throw InputError("--observable slip: the slip x - F/K needs --machine-stiffness K");
+  if (observable != Observable::slip && format.machine_stiffness > 0)
+    throw InputError(std::string("--machine-stiffness: gives the slip x - F/K, but --observable is ") +
+                     to_string(observable) + "; give --observable slip (or leave it out)");
+  if (observable == Observable::displacement) {
+    const char* unused = !format.force_column.empty()           ? "--force-column"
+                         : format.force_unit                    ? "--force-units"
+                         : format.contact_area > 0              ? "--contact-area"
+                         : format.normal_force > 0              ? "--normal-force"
+                         : !format.normal_stress_column.empty() ? "--normal-stress-column"
+                                                                : nullptr;
+    if (unused)
+      throw InputError(std::string(unused) +
+                       ": applies to a force channel, and the observable is the displacement; give --observable "
+                       "force (its spectrum C_F) or --machine-stiffness K (the slip x - F/K)");
+  }
 }
 
 }  // namespace

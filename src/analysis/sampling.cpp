@@ -79,6 +79,12 @@ std::string describe_parts(const std::vector<double>& time,
 
 }  // namespace
 
+void keep_samples(Record& record, std::size_t first, std::size_t last) {
+  for (std::vector<double>* channel : {&record.displacement, &record.force})
+    if (!channel->empty())
+      *channel = {channel->begin() + std::ptrdiff_t(first), channel->begin() + std::ptrdiff_t(last)};
+}
+
 void make_uniform(Record& record, const std::vector<double>& time, const std::vector<int>& where,
                   const std::string& source, const std::string& place, const RecordFormat& format) {
   const auto at = [&](std::size_t i) { return source + ": " + place + " " + std::to_string(where[i]) + ": "; };
@@ -93,8 +99,7 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
                        " s (record time)");
   }
   std::vector<double> t(time.begin() + std::ptrdiff_t(first), time.begin() + std::ptrdiff_t(last));
-  std::vector<double> x(record.displacement.begin() + std::ptrdiff_t(first),
-                        record.displacement.begin() + std::ptrdiff_t(last));
+  keep_samples(record, first, last);
   std::size_t offset = first;  // of t[0] in `time`, for the messages
 
   auto parts = rate_parts(t);
@@ -118,7 +123,7 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
                            " s; --window T0:T1 picks another, --resample "
                            "DT interpolates the whole record");
     t = {t.begin() + std::ptrdiff_t(longest->first), t.begin() + std::ptrdiff_t(longest->second)};
-    x = {x.begin() + std::ptrdiff_t(longest->first), x.begin() + std::ptrdiff_t(longest->second)};
+    keep_samples(record, longest->first, longest->second);
     offset += longest->first;
   }
 
@@ -141,15 +146,19 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
   if (forced || (jittered && !gap && format.resample == Resampling::automatic)) {
     const double grid = format.resample == Resampling::interval ? format.resample_interval : typical;
     const std::size_t samples = std::size_t(std::floor((t.back() - t.front()) / grid)) + 1;
-    std::vector<double> resampled(samples);
-    std::size_t j = 0;
-    for (std::size_t k = 0; k < samples; ++k) {
-      const double tk = t.front() + double(k) * grid;
-      while (j + 2 < t.size() && t[j + 1] <= tk) ++j;
-      const double f = (tk - t[j]) / (t[j + 1] - t[j]);
-      resampled[k] = (1 - f) * x[j] + f * x[j + 1];
+    for (std::vector<double>* channel : {&record.displacement, &record.force}) {
+      if (channel->empty()) continue;
+      const std::vector<double>& x = *channel;
+      std::vector<double> resampled(samples);
+      std::size_t j = 0;
+      for (std::size_t k = 0; k < samples; ++k) {
+        const double tk = t.front() + double(k) * grid;
+        while (j + 2 < t.size() && t[j + 1] <= tk) ++j;
+        const double f = (tk - t[j]) / (t[j + 1] - t[j]);
+        resampled[k] = (1 - f) * x[j] + f * x[j + 1];
+      }
+      *channel = std::move(resampled);
     }
-    record.displacement = std::move(resampled);
     record.dt = grid;
     record.resampled = true;
     // The loss is set by the input intervals (the offsets' spread), the grid's Nyquist by dt.
@@ -171,7 +180,6 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
         (gap ? ", a gap of " + shortest(longest_interval / typical) + " intervals" : "") +
         "); give --resample median to interpolate onto a uniform grid" + (gap ? " (across the gap)" : "") +
         ", or --time-tolerance " + shortest(std::ceil(jitter * 100 + 1e-9) / 100) + " to treat it as uniform");
-  record.displacement = std::move(x);
   record.dt = (t.back() - t.front()) / double(t.size() - 1);
   if (jitter > RecordFormat{}.time_tolerance)
     record.notes.push_back("treated as uniform every " + shortest(record.dt) +
@@ -182,16 +190,14 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
 void apply_window(Record& record, const RecordFormat& format, const std::string& source) {
   if (!format.window) return;
   const auto [t0, t1] = *format.window;
-  const double end = record.start_time + double(record.displacement.size() - 1) * record.dt;
+  const double end = record.start_time + double(record.samples() - 1) * record.dt;
   const double a = std::max(0.0, std::ceil((t0 - record.start_time) / record.dt - 1e-9));
-  const double b =
-      std::min(double(record.displacement.size() - 1), std::floor((t1 - record.start_time) / record.dt + 1e-9));
+  const double b = std::min(double(record.samples() - 1), std::floor((t1 - record.start_time) / record.dt + 1e-9));
   if (!(b >= a) || b - a + 1 < double(kFewestSamples))
     throw InputError(source + ": --window " + shortest(t0) + ":" + shortest(t1) + " holds " +
                      std::to_string(b >= a ? std::size_t(b - a + 1) : 0) + " samples; the record runs from " +
                      shortest(record.start_time) + " to " + shortest(end) + " s (record time)");
-  record.displacement = {record.displacement.begin() + std::ptrdiff_t(a),
-                         record.displacement.begin() + std::ptrdiff_t(b) + 1};
+  keep_samples(record, std::size_t(a), std::size_t(b) + 1);
   record.start_time += a * record.dt;
 }
 

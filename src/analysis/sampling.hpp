@@ -9,6 +9,9 @@
 
 namespace slidespec::detail {
 
+/// Keeps samples [first, last) of every channel of `record` (its time is the caller's).
+void keep_samples(Record& record, std::size_t first, std::size_t last);
+
 /// Makes `record` (displacement as read, at `time` [s]) uniformly sampled as `format` asks.
 /// `where[i]` names sample i in messages as "<place> <where[i]>" (a line of the file).
 void make_uniform(Record& record, const std::vector<double>& time, const std::vector<int>& where,

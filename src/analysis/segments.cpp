@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "analysis/line_fit.hpp"
+#include "analysis/sampling.hpp"
 #include "slidespec/analysis.hpp"
 
 namespace slidespec {
@@ -38,6 +39,7 @@ double median(std::vector<double> v) {
 
 std::vector<SteadySegment> steady_segments(const Record& record) {
   const std::vector<double>& x = record.displacement;
+  if (x.empty()) return {};  // a force record without a displacement: no speed to find steps by
   const std::size_t block = std::max(kFewestBlockSamples, x.size() / kBlocksPerRecord);
   const std::size_t blocks = x.size() / block;
   if (blocks < kSteadyBlocks) {
@@ -100,21 +102,18 @@ std::vector<SteadySegment> steady_segments(const Record& record) {
 Record record_window(const Record& record, double start, double end) {
   Record window = record;
   const double a = std::max(0.0, std::ceil((start - record.start_time) / record.dt - 1e-9));
-  const double b =
-      std::min(double(record.displacement.size() - 1), std::floor((end - record.start_time) / record.dt + 1e-9));
+  const double b = std::min(double(record.samples() - 1), std::floor((end - record.start_time) / record.dt + 1e-9));
   if (!(b >= a))
     throw InputError("record_window: no sample between " + std::to_string(start) + " and " + std::to_string(end) +
                      " s");
-  window.displacement = {record.displacement.begin() + std::ptrdiff_t(a),
-                         record.displacement.begin() + std::ptrdiff_t(b) + 1};
+  detail::keep_samples(window, std::size_t(a), std::size_t(b) + 1);
   window.start_time = record.start_time + a * record.dt;
   return window;
 }
 
 Record longest_steady(const Record& record, const std::vector<SteadySegment>& segments,
                       std::vector<std::string>& notes) {
-  if (segments.empty() || (segments.size() == 1 && segments.front().samples >= record.displacement.size()))
-    return record;
+  if (segments.empty() || (segments.size() == 1 && segments.front().samples >= record.samples())) return record;
   const auto longest = std::max_element(segments.begin(), segments.end(),
                                         [](const auto& a, const auto& b) { return a.end - a.start < b.end - b.start; });
   char note[320];

@@ -38,6 +38,10 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
   config.seed = sensor.seed;
   Stepper stepper(params, config, 0, 1);
   Record record{.displacement = {},
+                .force = {},
+                .observable = Observable::displacement,
+                .force_channel = {},
+                .machine_stiffness = 0,
                 .dt = sensor.sample_interval,
                 .start_time = 0,
                 .column = "x",

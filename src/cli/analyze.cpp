@@ -20,6 +20,9 @@ struct AnalysisCommands::Options {
   std::string file;
   RecordFormat format;
   std::string units;  // empty: from the header, else m
+  std::string observable = "auto";
+  std::string force_units;                            // empty: from the force column's header
+  std::string contact_area, normal_force, stiffness;  // with their units, or bare in m^2, N, N/m
   std::string estimator = "auto";
   std::string window;             // T0:T1 in record time [s]
   std::string resample = "auto";  // auto, off, median or DT [s]
@@ -45,7 +48,8 @@ struct AnalysisCommands::Options {
   std::vector<std::string> synth_overrides;
   SensorRequest sensor;
   std::string synth_units = "um";
-  std::string unit_source;  // where analyze took the record's unit from
+  std::string unit_source;    // where analyze took the record's unit from
+  std::string force_channel;  // what the analyzed force is made of, in words
   std::string synth_out = "record";
 };
 
@@ -168,6 +172,20 @@ struct Findings {
   bool ok() const { return slope_verdict.ok && alpha_verdict.ok && power_verdict.ok; }
 };
 
+/// Which observable a spectrum is, in words: "column Displ(microns)", "force Friction (mu) x
+/// normal force 1000 N", "slip Displ(microns) - F/K, K = 1e+09 N/m, F = ...".
+std::string observable_words(const Options& o, const RecordSpectrum& s) {
+  switch (s.observable) {
+    case Observable::force:
+      return "force " + o.force_channel;
+    case Observable::slip:
+      return "slip " + o.format.column + " - F/K, K = " + number(o.format.machine_stiffness) +
+             " N/m, F = " + o.force_channel;
+    default:
+      return "column " + o.format.column;
+  }
+}
+
 std::string analysis_table(const Options& o, const RecordSpectrum& s, const Findings& f) {
   std::ostringstream out;
   if (f.model)
@@ -175,15 +193,25 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
   else
     out << "# slidespec " << SLIDESPEC_VERSION << "\n";
   const SlidingFit& v = s.sliding;
-  out << "# label = measured: " << o.file << " (column " << o.format.column << ")\n"
-      << "# units = " << to_string(o.format.unit.value_or(LengthUnit::m)) << "  # of the displacement column, from "
-      << o.unit_source << "\n"
-      << "# ok = " << (f.ok() ? "true" : "false") << "  # false: a fit failed (see its line)\n"
+  const bool force = s.observable == Observable::force;
+  const std::string unit = std::string("[") + spectrum_unit(s.observable) + "]", C = force ? "C_F" : "C_x";
+  out << "# label = measured: " << o.file << " (" << observable_words(o, s) << ")\n"
+      << "# observable = " << to_string(s.observable) << "  # " << C << " " << unit << " of " << observable_words(o, s)
+      << "\n";
+  if (!o.format.column.empty())
+    out << "# units = " << to_string(o.format.unit.value_or(LengthUnit::m)) << "  # of the displacement column, from "
+        << o.unit_source << "\n";
+  out << "# ok = " << (f.ok() ? "true" : "false") << "  # false: a fit failed (see its line)\n"
       << "# record = " << o.file << "\n# samples = " << s.samples << "\n# dt = " << number(s.dt) << "  # [s]\n"
-      << "# duration = " << number(s.duration) << "  # [s]\n"
-      << "# measured_mean_speed = " << number(v.v) << "  # [m/s] +- " << number(v.v_error) << " (from " << v.blocks
-      << " blocks)\n"
-      << "# xi_rms = " << number(v.xi_rms) << "  # [m] rms of x - x0 - v t\n";
+      << "# duration = " << number(s.duration) << "  # [s]\n";
+  if (force)
+    out << "# mean_force = " << number(v.x0 + v.v * s.duration / 2) << "  # [N]\n# force_trend = " << number(v.v)
+        << "  # [N/s] +- " << number(v.v_error) << ", removed with the mean\n# F_rms = " << number(v.xi_rms)
+        << "  # [N] rms of F about its trend\n";
+  else
+    out << "# measured_mean_speed = " << number(v.v) << "  # [m/s] +- " << number(v.v_error) << " (from " << v.blocks
+        << " blocks)\n"
+        << "# xi_rms = " << number(v.xi_rms) << "  # [m] rms of x - x0 - v t\n";
   if (f.mu) out << "# mu = " << number(*f.mu) << "  # M'/M\n";
   out << "# resolution = " << number(o.request.resolution)
       << "  # q [m]\n# sensor_noise = " << number(o.request.sensor_noise)
@@ -223,20 +251,23 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
         << "# power_law_fit_ok = " << (f.power_verdict.ok ? "true" : "false  # " + f.power_verdict.reason) << "\n"
         << "# undetermined = " << p.undetermined << "\n";
   }
-  out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, mean over the bin's frequencies; stderr [m^2 s] from "
-         "the scatter between segments (streaming) or chi-square statistics (welch); floor [m^2 s] quantization noise "
-         "q^2/12 seen through the estimator; "
-         "below_floor 1 when C_x < floor + 2 stderr; n_avg; bandwidth [rad/s]; C_v = omega^2 C_x [m^2/s]; dof "
-         "equivalent degrees of freedom (stderr = C_x sqrt(2/dof)); segment FFT length [samples]; leaky 1 when "
-         "window leakage may bias the point; C_low, C_high [m^2 s] the error bar, a 95.4% interval (chi-square "
-         "for welch)";
-  if (f.slope) out << "; fit [m^2 s] the fitted power law inside its band";
-  if (f.power) out << "; fit [m^2 s] the fitted power law plus floor inside its band; residual (C_x - fit) / sigma";
+  const std::string rate = force ? "C_Fdot = omega^2 C_F [N^2/s]" : "C_v = omega^2 C_x [m^2/s]";
+  out << "# columns: omega [rad/s]; " << C << " " << unit << " estimate, mean over the bin's frequencies; stderr "
+      << unit << " from the scatter between segments (streaming) or chi-square statistics (welch); floor " << unit
+      << " the sensor's white noise q^2/12 + sigma^2 seen through the estimator; below_floor 1 when " << C
+      << " < floor + 2 stderr; n_avg; bandwidth [rad/s]; " << rate
+      << "; dof equivalent degrees of freedom (stderr = " << C
+      << " sqrt(2/dof)); segment FFT length [samples]; leaky 1 when window leakage may bias the point; C_low, "
+      << "C_high " << unit << " the error bar, a 95.4% interval (chi-square for welch)";
+  if (f.slope) out << "; fit " << unit << " the fitted power law inside its band";
+  if (f.power)
+    out << "; fit " << unit << " the fitted power law plus floor inside its band; residual (" << C << " - fit) / sigma";
   if (f.model)
     out << "; theory [m^2 s] the model's " << (f.model_order == 2 ? "second" : "first")
         << "-order theory seen through the estimator (no floor)";
-  out << "\n# omega\tC_x\tstderr\tfloor\tbelow_floor\tn_avg\tbandwidth\tC_v\tdof\tsegment\tleaky\tC_low\tC_high"
-      << (f.slope ? "\tfit" : "") << (f.power ? "\tfit\tresidual" : "") << (f.model ? "\ttheory" : "") << "\n";
+  out << "\n# omega\t" << C << "\tstderr\tfloor\tbelow_floor\tn_avg\tbandwidth\t" << (force ? "C_Fdot" : "C_v")
+      << "\tdof\tsegment\tleaky\tC_low\tC_high" << (f.slope ? "\tfit" : "") << (f.power ? "\tfit\tresidual" : "")
+      << (f.model ? "\ttheory" : "") << "\n";
   for (std::size_t k = 0; k < s.points.size(); ++k) {
     const AnalysisPoint& p = s.points[k];
     out << number(p.omega) << "\t" << number(p.C_x) << "\t" << number(p.standard_error) << "\t" << number(p.noise_floor)
@@ -265,9 +296,22 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
                    {"samples", s.samples},
                    {"dt", s.dt},
                    {"duration", s.duration}};
-  doc["measured_mean_speed"] = {
-      {"value", s.sliding.v}, {"standard_error", s.sliding.v_error}, {"blocks", s.sliding.blocks}};
-  doc["xi_rms"] = s.sliding.xi_rms;
+  const bool force = s.observable == Observable::force;
+  doc["observable"] = {{"name", to_string(s.observable)},
+                       {"spectrum", force ? "C_F" : "C_x"},
+                       {"unit", spectrum_unit(s.observable)},
+                       {"channel", observable_words(o, s)}};
+  if (s.observable != Observable::displacement) doc["observable"]["force_channel"] = o.force_channel;
+  if (s.observable == Observable::slip) doc["observable"]["machine_stiffness"] = o.format.machine_stiffness;
+  if (force) {
+    doc["mean_force"] = s.sliding.x0 + s.sliding.v * s.duration / 2;
+    doc["force_trend"] = {{"value", s.sliding.v}, {"standard_error", s.sliding.v_error}};
+    doc["F_rms"] = s.sliding.xi_rms;
+  } else {
+    doc["measured_mean_speed"] = {
+        {"value", s.sliding.v}, {"standard_error", s.sliding.v_error}, {"blocks", s.sliding.blocks}};
+    doc["xi_rms"] = s.sliding.xi_rms;
+  }
   if (f.mu) doc["mu"] = *f.mu;
   doc["resolution"] = o.request.resolution;
   doc["sensor_noise"] = o.request.sensor_noise;
@@ -341,7 +385,7 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
   for (std::size_t k = 0; k < s.points.size(); ++k) {
     const AnalysisPoint& p = s.points[k];
     nlohmann::ordered_json point = {{"omega", p.omega},
-                                    {"C_x", p.C_x},
+                                    {force ? "C_F" : "C_x", p.C_x},
                                     {"stderr", p.standard_error},
                                     {"floor", p.noise_floor},
                                     {"below_floor", p.below_floor},
@@ -378,6 +422,12 @@ int command_analyze(Options o) {
   o.figure.check();
   io::check_output_prefix(o.out);
   if (!o.units.empty()) o.format.unit = parse_length_unit(o.units);
+  o.format.observable = parse_observable(o.observable);
+  if (!o.force_units.empty()) o.format.force_unit = parse_force_unit(o.force_units);
+  if (!o.contact_area.empty()) o.format.contact_area = parse_area(o.contact_area, "--contact-area");
+  if (!o.normal_force.empty()) o.format.normal_force = parse_force(o.normal_force, "--normal-force");
+  if (!o.stiffness.empty())
+    o.format.machine_stiffness = parse_stiffness(o.stiffness, o.format.contact_area, "--machine-stiffness");
   o.request.estimator = parse_estimator(o.estimator);
   Findings f;
   if (o.normal_mass > 0 || o.driving_mass > 0) f.mu = friction_coefficient(o.normal_mass, o.driving_mass);
@@ -387,6 +437,10 @@ int command_analyze(Options o) {
   if (o.fit == "alpha" && o.compare_case.empty()) throw InputError("--fit alpha needs --compare-case NAME");
   if (o.fit == "power-law" && !o.slope_band.empty())
     throw InputError("--fit power-law and --fit-slope both fit a power law; give one (--fit-band sets the band)");
+  if (!o.compare_case.empty() && chosen_observable(o.format) == Observable::force)
+    throw InputError(
+        "--compare-case: the model's force spectrum needs the spring drive, which this build does not "
+        "model; compare the displacement or the slip (--machine-stiffness)");
   if (!o.compare_case.empty()) f.model = build_parameters(o.compare_case, o.overrides);
 
   if (!o.window.empty()) o.format.window = parse_window(o.window);
@@ -406,6 +460,7 @@ int command_analyze(Options o) {
   o.format.column = record.column;
   o.format.unit = record.unit;
   o.unit_source = record.unit_source;
+  o.force_channel = record.force_channel;
   if (!o.resolution.empty()) o.request.resolution = parse_length(o.resolution, record.unit, "--resolution");
   if (!o.sensor_noise.empty()) o.request.sensor_noise = parse_length(o.sensor_noise, record.unit, "--sensor-noise");
   const RecordSpectrum s = analyze_record(record, o.request);
@@ -450,10 +505,12 @@ int command_analyze(Options o) {
   if (!o.no_plot && !plotted) std::cerr << "slidespec: warning: " << o.figure.path(o.out) << " not drawn\n";
   for (const std::string& note : o.notes) std::cerr << "slidespec: note: " << note << "\n";
   // Warnings and failed fits are printed even with --quiet: they change what the files mean.
+  const bool force = s.observable == Observable::force;
   const std::string unit_note =
-      std::string("read in ") + to_string(record.unit) +
-      (record.unit_source == "default" ? " (no unit in its header)" : " (from " + record.unit_source + ")");
-  if (std::abs(s.sliding.v) > kImplausibleSpeed)
+      force ? "the force " + o.force_channel
+            : std::string("read in ") + to_string(record.unit) +
+                  (record.unit_source == "default" ? " (no unit in its header)" : " (from " + record.unit_source + ")");
+  if (!force && std::abs(s.sliding.v) > kImplausibleSpeed)
     std::cerr << "slidespec: warning: mean speed " << s.sliding.v << " m/s is implausible for friction; likely cause: "
               << "the record was " << unit_note << "; give --units or name the unit in the header, e.g. x (mm)\n";
   if (!(s.usable_high > s.usable_low))
@@ -468,8 +525,14 @@ int command_analyze(Options o) {
     if (!verdict->ok) std::cerr << "slidespec: " << name << " fit FAILED: " << verdict->reason << "\n";
   const int status = f.ok() ? 0 : kFitFailedStatus;
   if (o.quiet) return status;
-  std::cerr << "slidespec: " << o.file << ": " << s.samples << " samples every " << s.dt << " s, " << unit_note
-            << "; v = " << s.sliding.v << " +- " << s.sliding.v_error << " m/s";
+  std::cerr << "slidespec: " << o.file << ": " << s.samples << " samples every " << s.dt << " s, " << unit_note;
+  if (force)
+    std::cerr << "; mean F = " << s.sliding.x0 + s.sliding.v * s.duration / 2 << " N, trend " << s.sliding.v << " +- "
+              << s.sliding.v_error << " N/s";
+  else
+    std::cerr << "; v = " << s.sliding.v << " +- " << s.sliding.v_error << " m/s";
+  std::cerr << "\nslidespec: spectrum " << (force ? "C_F [N^2 s]" : "C_x [m^2 s]") << " of the "
+            << observable_words(o, s);
   if (f.mu) std::cerr << ", mu = M'/M = " << *f.mu;
   std::cerr << "\nslidespec: usable band " << s.usable_low << " .. " << s.usable_high << " rad/s (top set by "
             << (s.usable_high_set_by_floor ? "the sensor floor" : top_of(s)) << ")\nslidespec: estimator "
@@ -576,6 +639,24 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
   analyze_->add_option("--dt", o.format.dt, "fixed sampling interval [s] instead of a time column");
   analyze_->add_option("--units", o.units,
                        "unit of the displacement column: m|mm|um|nm (default: from its header, e.g. x (mm), else m)");
+  analyze_->add_option("--observable", o.observable,
+                       "the spectrum asked for: auto (default: slip with --machine-stiffness, force with "
+                       "--force-column, else displacement) | displacement (C_x) | force (C_F [N^2 s] of the force "
+                       "channel) | slip (C_x of x - F/K)");
+  analyze_->add_option("--force-column", o.format.force_column,
+                       "force, stress or friction column (default: the first naming one, e.g. Friction, shear_MPa, "
+                       "F (N); never a normal one)");
+  analyze_->add_option("--force-units", o.force_units,
+                       "unit of the force column: N|kN|MPa|kPa|mu (default: from its header; Friction or mu is mu)");
+  analyze_->add_option("--contact-area", o.contact_area,
+                       "contact area A (m^2, or 25cm2, 2500mm2): a stress x A is a force, and K in MPa/um x A is N/m");
+  analyze_->add_option("--normal-force", o.normal_force, "normal force for a friction column: F = mu x FN (N, or kN)");
+  analyze_->add_option("--normal-stress-column", o.format.normal_stress_column,
+                       "normal-stress column for a friction column: F = mu x sigma_n x A (default: a column naming a "
+                       "normal stress, with --contact-area)");
+  analyze_->add_option("--machine-stiffness", o.stiffness,
+                       "K: the slider's slip is x - F/K (N/m, kN/mm, or MPa/um with --contact-area); the observable "
+                       "becomes the slip");
   analyze_->add_option("--time-tolerance", o.format.time_tolerance,
                        "largest relative deviation of a sampling interval from the median accepted as uniform "
                        "(default 0.01; beyond it: refused, or --resample)");

@@ -1,12 +1,11 @@
 // Records as labs write them: irregular sample times, a rate that changes inside the record,
-// velocity steps, units in the headers and force channels beside the displacement.
+// velocity steps (units and force channels: channels_test.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <complex>
 #include <numbers>
 #include <random>
-#include <sstream>
 
 #include "slidespec/analysis.hpp"
 
@@ -151,44 +150,6 @@ TEST(Segments, AVelocityStepAndAHoldSplitTheRecord) {
   EXPECT_NEAR(segments[0].end, 400, 2 * block);
   EXPECT_NEAR(segments[2].start, 600, 2 * block);
 }
-
-Record read(const std::string& text, const RecordFormat& format = {}) {
-  std::istringstream in(text);
-  return read_record(in, "test.txt", format);
-}
-
-std::string refusal(const std::string& text, const RecordFormat& format = {}) {
-  try {
-    read(text, format);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-TEST(Channels, HeaderUnitsAsWrittenAndForceColumnsNeverAsDisplacement) {
-  const std::string lab = "Time(s)\tDispl(microns)\tFriction\tNormal_stress(MPa)\n0\t10\t0.6\t20\n0.1\t11\t0.6\t20\n";
-  const Record r = read(lab);
-  EXPECT_EQ(r.column, "Displ(microns)");
-  EXPECT_EQ(r.unit, LengthUnit::um);
-  EXPECT_DOUBLE_EQ(r.displacement[1], 11e-6);
-  RecordFormat friction;
-  friction.column = "Friction";
-  EXPECT_NE(refusal(lab, friction).find("not a displacement"), std::string::npos) << refusal(lab, friction);
-  EXPECT_NE(refusal("t,shear_MPa\n0,1\n1,2\n").find("not a displacement"), std::string::npos);
-  EXPECT_NE(refusal("t,mu\n0,0.6\n1,0.61\n").find("friction coefficient"), std::string::npos);
-  RecordFormat dt;
-  dt.dt = 0.1;
-  EXPECT_NE(refusal(lab, dt).find("--dt: the record has a time column"), std::string::npos);
-  EXPECT_EQ(parse_length_unit("microns"), LengthUnit::um);
-  EXPECT_EQ(parse_length_unit("\u00b5m"), LengthUnit::um);
-}
-
-}  // namespace
-}  // namespace slidespec
-
-namespace slidespec {
-namespace {
 
 TEST(Segments, ADriftlessRandomWalkIsOneSegment) {
   std::mt19937_64 rng(2);

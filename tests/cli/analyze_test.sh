@@ -147,5 +147,30 @@ expect_refused dt-with-time "has a time column" analyze "$basalt" --dt 0.1 $out
 expect_refused resample-word "median" analyze "$basalt" --resample mean $out
 expect_refused omega-min-too-low "reaches down to" analyze "$basalt" --window 11608:11674 --omega-min 0.01 $out
 
+# The friction channel as a force (mu x normal stress x area) and the slip x - F/K, on both
+# records: the observable said in the table, the JSON and the spectrum's column.
+"$bin" analyze "$basalt" --window 11608:11674 --observable force --contact-area 25cm2 --out "$work/force" \
+  2> "$work/force.err" || fail "basalt force channel: $(cat "$work/force.err")"
+grep -q "^# observable = force  # C_F \[N^2 s\] of force Friction (mu) x Normal_stress(MPa) x contact area 0.0025 m^2" \
+  "$work/force.tsv" || fail "force: observable line"
+grep -q "^# omega	C_F	stderr" "$work/force.tsv" || fail "force: the spectrum column is not C_F"
+[ -s "$work/force.png" ] || fail "force: no figure"
+"$bin" analyze "$sepiolite" --window 21350:22319 --machine-stiffness 0.01MPa/um --contact-area 25cm2 --no-plot \
+  --out "$work/slip" 2> "$work/slip.err" || fail "sepiolite slip: $(cat "$work/slip.err")"
+/usr/bin/python3 -c "
+import json; d = json.load(open('$work/slip.json'))
+assert d['observable']['name'] == 'slip' and d['observable']['machine_stiffness'] == 2.5e7, d['observable']
+assert 'C_x' in d['points'][0] and abs(d['measured_mean_speed']['value'] / 2e-6 - 1) < 0.05" || fail "slip: JSON"
+expect_refused area-unused "applies to a force channel" analyze "$basalt" --contact-area 25cm2 $out
+expect_refused mu-needs-area "give --contact-area" analyze "$basalt" --observable force $out
+expect_refused stiffness-needs-area "needs --contact-area" analyze "$basalt" --machine-stiffness 0.01MPa/um $out
+expect_refused stiffness-with-force "gives the slip" analyze "$basalt" --observable force --machine-stiffness 1e9 $out
+expect_refused force-units-typo "did you mean 'kN'" analyze "$basalt" --observable force --force-units kNN $out
+expect_refused observable-typo "did you mean 'slip'" analyze "$basalt" --observable slp $out
+expect_refused force-compare "spring drive" analyze "$basalt" --observable force --contact-area 25cm2 --compare-case reference $out
+expect_refused force-resolution "displacement sensor" analyze "$basalt" --window 11608:11674 --observable force --contact-area 25cm2 --resolution 0.1um $out
+printf 't,Displ(km)\n0,1\n1,2\n2,3\n' > "$work/km.csv"
+expect_refused unknown-length-unit "not a length unit analyze knows (m, cm, mm" analyze "$work/km.csv" $out
+
 [ $failures -eq 0 ] && echo "cli_analyze: all checks passed"
 exit $((failures > 0))
