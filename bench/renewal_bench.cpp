@@ -58,10 +58,43 @@ void StepperRenewals(benchmark::State& state) {
   state.SetLabel(std::string(to_string(config.simd)) + (state.range(2) ? " periodic" : " poisson"));
 }
 
+// Cost per renewal as the number of contacts grows, the rest of the reference case
+// unchanged: a run's batches (8 realizations, 64 in all, one thread, the widest path), the
+// time step scaled as 1/N so that a lane renews 3 forces per step at every N (as the
+// reference run's lowest sub-band at N = 30), and 20 renewals per contact, so each
+// realization's start (N forces drawn) weighs the same at every N. Arg: N.
+void RenewalsAcrossContacts(benchmark::State& state) {
+  const auto contacts = state.range(0);
+  const Parameters p = ParameterBuilder().set("N", std::to_string(contacts)).build();
+  constexpr double kRenewalsPerLaneStep = 3, kRenewalsPerContact = 20;
+  const double rate = p.v / p.a;  // renewals per contact per second
+  StepperConfig config;
+  config.dt = kRenewalsPerLaneStep / (static_cast<double>(contacts) * rate);
+  const auto steps =
+      static_cast<std::int64_t>(kRenewalsPerContact * static_cast<double>(contacts) / kRenewalsPerLaneStep);
+  double renewals = 0;
+  const double cpu_start = process_cpu_seconds();
+  for (auto _ : state)
+    run_batches(p, config, 0, 64, steps, 1, 8, {}, [&](std::size_t, std::vector<RealizationSummary> s) {
+      for (const RealizationSummary& r : s) renewals += double(r.renewals);
+    });
+  const double cpu = process_cpu_seconds() - cpu_start;
+  state.counters["renewals_per_cpu_s"] = renewals / cpu;
+  state.counters["ns_per_renewal"] = 1e9 * cpu / renewals;
+  state.SetLabel(to_string(resolve_simd_path(config.simd)));
+}
+
 }  // namespace
 
 BENCHMARK(PlainRenewalDraws)->Unit(benchmark::kMillisecond);
 BENCHMARK(StepperRenewals)
     ->ArgsProduct({{30, 1000}, {0, 3}, {0, 1}})
     ->ArgNames({"N", "path", "periodic"})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(RenewalsAcrossContacts)
+    ->Arg(30)
+    ->Arg(300)
+    ->Arg(3000)
+    ->Arg(30000)
+    ->ArgName("N")
     ->Unit(benchmark::kMillisecond);

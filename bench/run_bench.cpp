@@ -4,8 +4,11 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <random>
+#include <string>
 
 #include "process_time.hpp"
 #include "slidespec/run.hpp"
@@ -71,5 +74,29 @@ BENCHMARK(ReferenceSpectrumVsPlainRenewals)
     ->Iterations(1)
     ->Unit(benchmark::kSecond)
     ->UseRealTime();
+
+// The command a user types, with its figure and with --no-plot, alternated in one
+// iteration so both see the same load: `figure_over_no_plot` is the ratio (wall
+// time, goal <= 1.1). The executable runs as a child process; its outputs go to /tmp.
+double wall_of(const std::string& command) {
+  const auto start = std::chrono::steady_clock::now();
+  if (std::system(command.c_str()) != 0) return std::nan("");
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void ReferenceRunWithFigureVsNoPlot(benchmark::State& state) {
+  const std::string run =
+      std::string(SLIDESPEC_EXECUTABLE) + " run --case reference --quiet --out /tmp/slidespec_bench_";
+  double with_figure = 0, without = 0;
+  for (auto _ : state) {
+    without += wall_of(run + "no_plot --no-plot");
+    with_figure += wall_of(run + "figure");
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["figure_s"] = with_figure / n;
+  state.counters["no_plot_s"] = without / n;
+  state.counters["figure_over_no_plot"] = with_figure / without;
+}
+BENCHMARK(ReferenceRunWithFigureVsNoPlot)->Iterations(3)->Unit(benchmark::kSecond)->UseRealTime();
 
 }  // namespace

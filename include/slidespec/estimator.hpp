@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,11 @@ struct EstimatorConfig {
   int points_per_decade = 8;  ///< output points evenly spaced in log omega
   SampleKind input = SampleKind::value;
 };
+
+/// The lowest omega the estimator's full-rate band reports, a quarter of the Nyquist
+/// frequency: pi / (4 dt) [rad/s]. Lower points come from the decimated bands, band b
+/// from pi / (4 dt 2^b).
+inline double full_rate_band_floor(double dt) { return 0.25 * std::numbers::pi / dt; }
 
 /// What an output point's C stands for.
 enum class PointValue {

@@ -59,13 +59,12 @@ double lowest_omega(const Record& record, const AnalysisRequest& request) {
   probe.dt = record.dt;
   probe.omega_min = 2 * std::numbers::pi / duration;
   probe.points_per_decade = request.points_per_decade;
-  if (probe.omega_min >= 0.25 * std::numbers::pi / record.dt) return probe.omega_min;  // no band at all
+  if (probe.omega_min >= full_rate_band_floor(record.dt)) return probe.omega_min;  // no band at all
   const SpectrumEstimator layout(probe, 1);
   const double step = std::pow(10.0, 1.0 / request.points_per_decade);
   double omega =
       std::pow(10.0, std::ceil(std::log10(probe.omega_min) * request.points_per_decade) / request.points_per_decade);
-  while (kSegmentsForLowestPoint * layout.segment_duration(omega) > duration &&
-         omega < 0.25 * std::numbers::pi / record.dt)
+  while (kSegmentsForLowestPoint * layout.segment_duration(omega) > duration && omega < full_rate_band_floor(record.dt))
     omega *= step;
   return omega;
 }
@@ -147,7 +146,7 @@ std::vector<AnalysisPoint> streaming_points(const Record& record, const Analysis
                       " samples) is too short for the streaming estimator, whose lowest point needs 12 "
                       "segments; use --estimator welch");
   };
-  if (request.omega_min <= 0 && config.omega_min >= 0.25 * std::numbers::pi / record.dt) throw too_short();
+  if (request.omega_min <= 0 && config.omega_min >= full_rate_band_floor(record.dt)) throw too_short();
   SpectrumEstimator estimator(config, 1);
   estimator.push(xi.data(), xi.size());
   result.accumulator = estimator.merged();

@@ -120,7 +120,7 @@ double Layout::bin_omega(int band, int bin) const { return 2.0 * kPi * bin / (kS
 
 int Layout::band_for(double omega) const {
   int band = 0;
-  while (band + 1 < kMaximumBands && omega < kPi / config.dt / std::ldexp(4.0, band)) ++band;
+  while (band + 1 < kMaximumBands && omega < full_rate_band_floor(config.dt) / std::ldexp(1.0, band)) ++band;
   return band;
 }
 

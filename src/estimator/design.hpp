@@ -71,7 +71,7 @@ struct Layout {
   /// Validates the configuration (InputError) and fills in omega_min/omega_max defaults.
   static std::shared_ptr<const Layout> make(const EstimatorConfig& config);
   double bin_omega(int band, int bin) const;
-  /// The band whose reported range holds omega (band 0 above pi/(4 dt)).
+  /// The band whose reported range holds omega (band 0 from full_rate_band_floor(dt)).
   int band_for(double omega) const;
   /// Exact power transfer from x to band `band`'s differenced stream.
   double transfer(int band, double omega) const;

@@ -1,6 +1,6 @@
 #include "estimator/kernels.hpp"
 
-#include <stdexcept>
+#include "simd/path_table.hpp"
 
 namespace slidespec::estimator_detail {
 
@@ -9,12 +9,12 @@ namespace slidespec::estimator_detail {
 #undef SLIDESPEC_SIMD_PATH
 
 const StreamKernels& stream_kernels(SimdPath path) {
-  const SimdPath resolved = resolve_simd_path(path);
-#define SLIDESPEC_SIMD_PATH(name, cpu_runs, width) \
-  if (resolved == SimdPath::name) return name##_stream;
+  static constexpr simd::PathEntry<StreamKernels> loops[] = {
+#define SLIDESPEC_SIMD_PATH(name, cpu_runs, width) {SimdPath::name, &name##_stream},
 #include "simd/paths.inc"
 #undef SLIDESPEC_SIMD_PATH
-  throw std::logic_error("estimator: no streaming loops for a compiled path");
+  };
+  return simd::table_for(loops, path);
 }
 
 }  // namespace slidespec::estimator_detail

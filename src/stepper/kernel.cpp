@@ -1,6 +1,6 @@
 #include "stepper/kernel.hpp"
 
-#include <stdexcept>
+#include "simd/path_table.hpp"
 
 namespace slidespec::stepper {
 
@@ -9,12 +9,12 @@ namespace slidespec::stepper {
 #undef SLIDESPEC_SIMD_PATH
 
 const PathKernels& path_kernels(SimdPath path) {
-  const SimdPath resolved = resolve_simd_path(path);
-#define SLIDESPEC_SIMD_PATH(name, cpu_runs, width) \
-  if (resolved == SimdPath::name) return name##_kernels;
+  static constexpr simd::PathEntry<PathKernels> kernels[] = {
+#define SLIDESPEC_SIMD_PATH(name, cpu_runs, width) {SimdPath::name, &name##_kernels},
 #include "simd/paths.inc"
 #undef SLIDESPEC_SIMD_PATH
-  throw std::logic_error("stepper: no kernels for a compiled path");
+  };
+  return simd::table_for(kernels, path);
 }
 
 }  // namespace slidespec::stepper
