@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "io/tables.hpp"
+#include "analysis/report.hpp"
 #include "slidespec/analysis.hpp"
 #include "slidespec/parameters.hpp"
 #include "slidespec/run.hpp"
@@ -209,56 +210,20 @@ class Spectrum {
     request_ = r;
   }
 
-  /// The fields of `slidespec analyze`'s JSON.
+  /// The fields of `slidespec analyze`'s JSON (the spectrum's from the same writer).
   py::dict to_dict() const {
     const RecordSpectrum& s = spectrum_;
-    py::dict d;
-    d["slidespec_version"] = SLIDESPEC_VERSION;
-    d["record"] = py::dict(py::arg("samples") = s.samples, py::arg("dt") = s.dt, py::arg("duration") = s.duration);
-    d["measured_mean_speed"] = py::dict(py::arg("value") = s.sliding.v, py::arg("standard_error") = s.sliding.v_error,
-                                        py::arg("blocks") = s.sliding.blocks);
-    d["xi_rms"] = s.sliding.xi_rms;
-    d["resolution"] = request_.resolution;
-    d["sensor_noise"] = request_.sensor_noise;
-    d["quantization_variance"] = s.quantization_variance;
-    d["top_to_floor"] = s.top_to_floor;
-    d["usable_band"] =
-        py::dict(py::arg("omega_low") = s.usable_low, py::arg("omega_high") = s.usable_high,
-                 py::arg("top_set_by") = s.usable_high_set_by_floor        ? "noise floor"
-                                         : s.estimator == Estimator::welch ? "the bin below Nyquist, or omega_max"
-                                                                           : "half of Nyquist, or omega_max");
-    py::dict estimator(py::arg("name") = to_string(s.estimator), py::arg("reason") = s.estimator_reason);
-    if (s.estimator == Estimator::welch) {
-      estimator["window"] = "hann";
-      estimator["overlap"] = 0.5;
-      estimator["segment_samples"] = s.welch.segment_samples;
-      estimator["segments"] = s.welch.segments;
-      estimator["bin_spacing"] = s.welch.bin_spacing;
-      estimator["leaky_points"] = s.leaky_points;
-    }
-    d["estimator"] = estimator;
-    d["notes"] = notes_;
-    py::list segments;
+    nlohmann::ordered_json doc;
+    doc["slidespec_version"] = SLIDESPEC_VERSION;
+    doc["record"] = {{"samples", s.samples}, {"dt", s.dt}, {"duration", s.duration}};
+    doc.update(detail::spectrum_json(s));
+    doc["resolution"] = request_.resolution;
+    doc["sensor_noise"] = request_.sensor_noise;
+    doc["notes"] = notes_;
+    doc["segments"] = nlohmann::ordered_json::array();
     for (const auto& [start, end, speed, hold] : segments_)
-      segments.append(py::dict(py::arg("start") = start, py::arg("end") = end, py::arg("mean_speed") = speed,
-                               py::arg("hold") = hold));
-    d["segments"] = segments;
-    py::list points;
-    for (std::size_t k = 0; k < s.points.size(); ++k) {
-      const AnalysisPoint& p = s.points[k];
-      py::dict point(py::arg("omega") = p.omega, py::arg("C_x") = p.C_x, py::arg("stderr") = p.standard_error,
-                     py::arg("floor") = p.noise_floor, py::arg("below_floor") = p.below_floor,
-                     py::arg("n_avg") = p.n_avg, py::arg("bandwidth") = p.bandwidth, py::arg("dof") = p.dof,
-                     py::arg("segment_samples") = p.segment_samples, py::arg("leaky") = p.leaky,
-                     py::arg("C_low") = p.lower, py::arg("C_high") = p.upper);
-      if (s.estimator == Estimator::welch) {
-        point["first_bin"] = s.welch.points[k].first_bin;
-        point["bins"] = s.welch.points[k].bins;
-      }
-      points.append(point);
-    }
-    d["points"] = points;
-    return d;
+      doc["segments"].push_back({{"start", start}, {"end", end}, {"mean_speed", speed}, {"hold", hold}});
+    return py::module_::import("json").attr("loads")(doc.dump()).cast<py::dict>();
   }
 
   py::dict slope(double low, double high) const {

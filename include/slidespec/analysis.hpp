@@ -271,6 +271,7 @@ struct RecordSpectrum {
   WelchSpectrum welch;                         ///< welch: segments, bins of each point
   int leaky_points = 0;                        ///< points flagged for leakage
   Observable observable = Observable::displacement;  ///< C_x of x or the slip, or C_F of the force
+  std::string channel;  ///< the observable in words: "column Displ(microns)", "force Friction (mu) x ..."
   SlidingFit sliding;
   std::size_t samples = 0;
   double dt = 0;                     ///< [s]

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "analysis/line_fit.hpp"
+#include "analysis/names.hpp"
 #include "util/suggest.hpp"
 #include "io/tables.hpp"
 #include "slidespec/analysis.hpp"
@@ -110,25 +111,16 @@ double friction_coefficient(double normal_load_mass, double driving_mass) {
   return driving_mass / normal_load_mass;
 }
 
+namespace {
+constexpr std::array<detail::Word<Estimator>, 3> kEstimatorWords{
+    {{"auto", Estimator::automatic}, {"welch", Estimator::welch}, {"streaming", Estimator::streaming}}};
+}  // namespace
+
 Estimator parse_estimator(const std::string& name) {
-  if (name == "auto") return Estimator::automatic;
-  if (name == "welch") return Estimator::welch;
-  if (name == "streaming") return Estimator::streaming;
-  throw InputError("--estimator: unknown estimator '" + name + "'" +
-                   util::did_you_mean(name, {"auto", "welch", "streaming"}) + " (known: auto, welch, streaming)");
+  return detail::parse_word(kEstimatorWords, name, "--estimator", "estimator");
 }
 
-const char* to_string(Estimator estimator) {
-  switch (estimator) {
-    case Estimator::automatic:
-      return "auto";
-    case Estimator::welch:
-      return "welch";
-    case Estimator::streaming:
-      return "streaming";
-  }
-  return "?";
-}
+const char* to_string(Estimator estimator) { return detail::name_of(kEstimatorWords, estimator); }
 
 namespace {
 
@@ -201,6 +193,22 @@ std::vector<double> expected_points(const RecordSpectrum& spectrum,
   return values;
 }
 
+namespace {
+
+std::string observable_channel(const Record& r) {
+  switch (r.observable) {
+    case Observable::force:
+      return "force " + r.force_channel;
+    case Observable::slip:
+      return "slip " + r.column + " - F/K, K = " + io::format_number(r.machine_stiffness) +
+             " N/m, F = " + r.force_channel;
+    default:
+      return "column " + r.column;
+  }
+}
+
+}  // namespace
+
 RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& request) {
   if (request.resolution < 0 || !std::isfinite(request.resolution))
     throw InputError("--resolution: must be a length >= 0 in metres");
@@ -215,6 +223,7 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
                      ": a displacement sensor's floor, and the observable is the force; leave it out");
   RecordSpectrum result;
   result.observable = record.observable;
+  result.channel = observable_channel(record);
   result.samples = record.samples();
   result.dt = record.dt;
   result.duration = static_cast<double>(result.samples) * record.dt;

@@ -10,6 +10,7 @@
 #include <istream>
 #include <sstream>
 
+#include "analysis/names.hpp"
 #include "analysis/sampling.hpp"
 #include "io/tables.hpp"
 #include "util/suggest.hpp"
@@ -19,17 +20,37 @@ namespace slidespec {
 
 namespace {
 
-std::optional<LengthUnit> length_unit(const std::string& name) {
-  if (name == "m") return LengthUnit::m;
-  if (name == "cm") return LengthUnit::cm;
-  if (name == "mm") return LengthUnit::mm;
-  if (name == "um" || name == "\u00b5m" || name == "\u03bcm" || name == "micron" || name == "microns" ||
-      name == "micrometre" || name == "micrometres" || name == "micrometer" || name == "micrometers")
-    return LengthUnit::um;
-  if (name == "nm") return LengthUnit::nm;
-  if (name == "in" || name == "inch" || name == "inches") return LengthUnit::inch;
-  return std::nullopt;
-}
+// The first word of each unit is its name.
+constexpr std::array<detail::Word<LengthUnit>, 16> kLengthWords{{{"m", LengthUnit::m},
+                                                                 {"cm", LengthUnit::cm},
+                                                                 {"mm", LengthUnit::mm},
+                                                                 {"um", LengthUnit::um},
+                                                                 {"nm", LengthUnit::nm},
+                                                                 {"in", LengthUnit::inch},
+                                                                 {"\u00b5m", LengthUnit::um},
+                                                                 {"\u03bcm", LengthUnit::um},
+                                                                 {"micron", LengthUnit::um},
+                                                                 {"microns", LengthUnit::um},
+                                                                 {"micrometre", LengthUnit::um},
+                                                                 {"micrometres", LengthUnit::um},
+                                                                 {"micrometer", LengthUnit::um},
+                                                                 {"micrometers", LengthUnit::um},
+                                                                 {"inch", LengthUnit::inch},
+                                                                 {"inches", LengthUnit::inch}}};
+
+constexpr std::array<detail::Word<ForceUnit>, 6> kForceWords{{{"N", ForceUnit::N},
+                                                              {"kN", ForceUnit::kN},
+                                                              {"MPa", ForceUnit::MPa},
+                                                              {"kPa", ForceUnit::kPa},
+                                                              {"mu", ForceUnit::mu},
+                                                              {"friction", ForceUnit::mu}}};
+
+constexpr std::array<detail::Word<Observable>, 4> kObservableWords{{{"auto", Observable::automatic},
+                                                                    {"displacement", Observable::displacement},
+                                                                    {"force", Observable::force},
+                                                                    {"slip", Observable::slip}}};
+
+std::optional<LengthUnit> length_unit(const std::string& name) { return detail::find_word(kLengthWords, name); }
 
 constexpr const char* kKnownLengths = "m, cm, mm, um (µm, microns), nm, in (inch)";
 
@@ -41,19 +62,16 @@ double seconds_per(const std::string& name) {
   return 0;
 }
 
-/// A force channel's unit as a header writes it, lower case ("n", "kn", "mpa", "kpa", "mu").
-std::optional<ForceUnit> force_unit(const std::string& name) {
-  if (name == "n") return ForceUnit::N;
-  if (name == "kn") return ForceUnit::kN;
-  if (name == "mpa") return ForceUnit::MPa;
-  if (name == "kpa") return ForceUnit::kPa;
-  if (name == "mu" || name == "friction" || name == "-") return ForceUnit::mu;
-  return std::nullopt;
-}
-
 std::string lower(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
   return text;
+}
+
+/// A force channel's unit as a header writes it, in any case ("N", "kn", "MPa", "Friction").
+std::optional<ForceUnit> force_unit(const std::string& name) {
+  for (const auto& [word, unit] : kForceWords)
+    if (lower(name) == lower(word)) return unit;
+  return std::nullopt;
 }
 
 /// A number followed by an optional unit ("0.5um", "25 cm2"): the value and the unit's text.
@@ -73,10 +91,8 @@ std::pair<double, std::string> number_and_unit(const std::string& text, const st
 }  // namespace
 
 LengthUnit parse_length_unit(const std::string& name, const std::string& option) {
-  if (const auto unit = length_unit(name)) return *unit;
-  throw InputError(option + ": unknown unit '" + name + "'" +
-                   util::did_you_mean(name, {"m", "cm", "mm", "um", "nm", "in", "microns"}) +
-                   " (lengths: " + kKnownLengths + "; a force or stress channel is read with --force-column)");
+  return detail::parse_word(kLengthWords, name, option, "unit",
+                            "; a force or stress channel is read with --force-column");
 }
 
 double parse_length(const std::string& text, LengthUnit bare_unit, const std::string& option) {
@@ -86,23 +102,7 @@ double parse_length(const std::string& text, LengthUnit bare_unit, const std::st
   return value * metres_per(unit_name.empty() ? bare_unit : parse_length_unit(unit_name, option));
 }
 
-const char* to_string(LengthUnit unit) {
-  switch (unit) {
-    case LengthUnit::m:
-      return "m";
-    case LengthUnit::cm:
-      return "cm";
-    case LengthUnit::mm:
-      return "mm";
-    case LengthUnit::um:
-      return "um";
-    case LengthUnit::nm:
-      return "nm";
-    case LengthUnit::inch:
-      return "in";
-  }
-  return "?";
-}
+const char* to_string(LengthUnit unit) { return detail::name_of(kLengthWords, unit); }
 
 double metres_per(LengthUnit unit) {
   switch (unit) {
@@ -123,27 +123,11 @@ double metres_per(LengthUnit unit) {
 }
 
 ForceUnit parse_force_unit(const std::string& name, const std::string& option) {
-  if (const auto unit = force_unit(lower(name)); unit && name != "-") return *unit;
-  throw InputError(option + ": unknown unit '" + name + "'" +
-                   util::did_you_mean(name, {"N", "kN", "MPa", "kPa", "mu"}) +
-                   " (forces: N, kN; shear stresses: MPa, kPa, with --contact-area; friction coefficient: mu)");
+  if (const auto unit = force_unit(name)) return *unit;
+  return detail::parse_word(kForceWords, name, option, "unit", "; MPa and kPa need --contact-area");
 }
 
-const char* to_string(ForceUnit unit) {
-  switch (unit) {
-    case ForceUnit::N:
-      return "N";
-    case ForceUnit::kN:
-      return "kN";
-    case ForceUnit::MPa:
-      return "MPa";
-    case ForceUnit::kPa:
-      return "kPa";
-    case ForceUnit::mu:
-      return "mu";
-  }
-  return "?";
-}
+const char* to_string(ForceUnit unit) { return detail::name_of(kForceWords, unit); }
 
 namespace {
 
@@ -210,28 +194,10 @@ double parse_stiffness(const std::string& text, double contact_area, const std::
 }
 
 Observable parse_observable(const std::string& name) {
-  if (name == "auto") return Observable::automatic;
-  if (name == "displacement") return Observable::displacement;
-  if (name == "force") return Observable::force;
-  if (name == "slip") return Observable::slip;
-  throw InputError("--observable: unknown observable '" + name + "'" +
-                   util::did_you_mean(name, {"auto", "displacement", "force", "slip"}) +
-                   " (known: auto, displacement, force, slip)");
+  return detail::parse_word(kObservableWords, name, "--observable", "observable");
 }
 
-const char* to_string(Observable observable) {
-  switch (observable) {
-    case Observable::automatic:
-      return "auto";
-    case Observable::displacement:
-      return "displacement";
-    case Observable::force:
-      return "force";
-    case Observable::slip:
-      return "slip";
-  }
-  return "?";
-}
+const char* to_string(Observable observable) { return detail::name_of(kObservableWords, observable); }
 
 const char* spectrum_unit(Observable observable) { return observable == Observable::force ? "N^2 s" : "m^2 s"; }
 

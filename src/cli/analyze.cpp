@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "analysis/report.hpp"
 #include "cli/plot.hpp"
 #include "io/atomic_file.hpp"
 #include "util/suggest.hpp"
@@ -115,13 +116,6 @@ std::string seconds(double t) {
   return text;
 }
 
-/// What sets the top of the band when the floor does not: the --omega-max, else the estimator.
-std::string top_of(const RecordSpectrum& s) {
-  if (s.top_set_by_interpolation) return "the resampling's interpolation filter";
-  if (s.estimator == Estimator::welch) return "the bin below Nyquist, or --omega-max";
-  return "half of Nyquist, or --omega-max";
-}
-
 /// "T0:T1" in seconds of record time.
 std::pair<double, double> parse_window(const std::string& text) {
   const auto colon = text.find(':');
@@ -172,20 +166,6 @@ struct Findings {
   bool ok() const { return slope_verdict.ok && alpha_verdict.ok && power_verdict.ok; }
 };
 
-/// Which observable a spectrum is, in words: "column Displ(microns)", "force Friction (mu) x
-/// normal force 1000 N", "slip Displ(microns) - F/K, K = 1e+09 N/m, F = ...".
-std::string observable_words(const Options& o, const RecordSpectrum& s) {
-  switch (s.observable) {
-    case Observable::force:
-      return "force " + o.force_channel;
-    case Observable::slip:
-      return "slip " + o.format.column + " - F/K, K = " + number(o.format.machine_stiffness) +
-             " N/m, F = " + o.force_channel;
-    default:
-      return "column " + o.format.column;
-  }
-}
-
 std::string analysis_table(const Options& o, const RecordSpectrum& s, const Findings& f) {
   std::ostringstream out;
   if (f.model)
@@ -195,9 +175,8 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
   const SlidingFit& v = s.sliding;
   const bool force = s.observable == Observable::force;
   const std::string unit = std::string("[") + spectrum_unit(s.observable) + "]", C = force ? "C_F" : "C_x";
-  out << "# label = measured: " << o.file << " (" << observable_words(o, s) << ")\n"
-      << "# observable = " << to_string(s.observable) << "  # " << C << " " << unit << " of " << observable_words(o, s)
-      << "\n";
+  out << "# label = measured: " << o.file << " (" << s.channel << ")\n"
+      << "# observable = " << to_string(s.observable) << "  # " << C << " " << unit << " of " << s.channel << "\n";
   if (!o.format.column.empty())
     out << "# units = " << to_string(o.format.unit.value_or(LengthUnit::m)) << "  # of the displacement column, from "
         << o.unit_source << "\n";
@@ -218,7 +197,7 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
       << "  # sigma [m]; floor = q^2/12 + sigma^2, white\n"
       << "# top_to_floor = " << number(s.top_to_floor) << "  # C_x / floor at the highest point\n"
       << "# usable_band = " << number(s.usable_low) << " .. " << number(s.usable_high) << "  # [rad/s], top set by "
-      << (s.usable_high_set_by_floor ? "the floor reaching 10% of C_x" : top_of(s)) << "\n"
+      << detail::top_set_by(s) << "\n"
       << "# estimator = " << to_string(s.estimator) << "  # " << s.estimator_reason << "\n";
   for (const std::string& note : o.notes) out << "# note = " << note << "\n";
   if (s.estimator == Estimator::welch)
@@ -240,12 +219,12 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
         << "# alpha_fit_ok = " << (f.alpha_verdict.ok ? "true" : "false  # " + f.alpha_verdict.reason) << "\n";
   if (f.power) {
     const PowerLawFit& p = *f.power;
-    out << "# power_law = C_x = A (omega / " << number(p.pivot) << ")^slope + floor over " << number(p.omega_low)
-        << " .. " << number(p.omega_high) << " rad/s, " << p.points << " points, dof " << p.dof << ", chi2/dof "
-        << number(p.chi2_per_dof) << "\n# power_law_A = " << number(p.amplitude) << "  # +- "
-        << number(p.amplitude_error) << " [m^2 s]\n# power_law_slope = " << number(p.slope) << "  # +- "
+    out << "# power_law = " << C << " = A (omega / " << number(p.pivot) << ")^slope + floor over "
+        << number(p.omega_low) << " .. " << number(p.omega_high) << " rad/s, " << p.points << " points, dof " << p.dof
+        << ", chi2/dof " << number(p.chi2_per_dof) << "\n# power_law_A = " << number(p.amplitude) << "  # +- "
+        << number(p.amplitude_error) << " " << unit << "\n# power_law_slope = " << number(p.slope) << "  # +- "
         << number(p.slope_error) << "\n# power_law_floor = " << number(p.floor) << "  # +- " << number(p.floor_error)
-        << (p.floor_given ? " [m^2 s], given (--resolution, --sensor-noise)" : " [m^2 s], fitted") << "\n"
+        << " " << unit << (p.floor_given ? ", given (--resolution, --sensor-noise)" : ", fitted") << "\n"
         << "# power_law_correlation = A-slope " << short_number(p.correlation[0][1]) << ", A-floor "
         << short_number(p.correlation[0][2]) << ", slope-floor " << short_number(p.correlation[1][2]) << "\n"
         << "# power_law_fit_ok = " << (f.power_verdict.ok ? "true" : "false  # " + f.power_verdict.reason) << "\n"
@@ -296,43 +275,18 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
                    {"samples", s.samples},
                    {"dt", s.dt},
                    {"duration", s.duration}};
-  const bool force = s.observable == Observable::force;
-  doc["observable"] = {{"name", to_string(s.observable)},
-                       {"spectrum", force ? "C_F" : "C_x"},
-                       {"unit", spectrum_unit(s.observable)},
-                       {"channel", observable_words(o, s)}};
+  nlohmann::ordered_json spectrum = detail::spectrum_json(s, f.model ? f.model_values : std::vector<double>{});
+  nlohmann::ordered_json points = std::move(spectrum["points"]);
+  spectrum.erase("points");
+  doc.update(spectrum);  // in the spectrum's order; its points come last, after the fits
   if (s.observable != Observable::displacement) doc["observable"]["force_channel"] = o.force_channel;
   if (s.observable == Observable::slip) doc["observable"]["machine_stiffness"] = o.format.machine_stiffness;
-  if (force) {
-    doc["mean_force"] = s.sliding.x0 + s.sliding.v * s.duration / 2;
-    doc["force_trend"] = {{"value", s.sliding.v}, {"standard_error", s.sliding.v_error}};
-    doc["F_rms"] = s.sliding.xi_rms;
-  } else {
-    doc["measured_mean_speed"] = {
-        {"value", s.sliding.v}, {"standard_error", s.sliding.v_error}, {"blocks", s.sliding.blocks}};
-    doc["xi_rms"] = s.sliding.xi_rms;
-  }
   if (f.mu) doc["mu"] = *f.mu;
   doc["resolution"] = o.request.resolution;
   doc["sensor_noise"] = o.request.sensor_noise;
-  doc["quantization_variance"] = s.quantization_variance;
-  doc["top_to_floor"] = s.top_to_floor;
-  doc["usable_band"] = {{"omega_low", s.usable_low},
-                        {"omega_high", s.usable_high},
-                        {"top_set_by", s.usable_high_set_by_floor ? "noise floor" : top_of(s)}};
-  doc["estimator"] = {{"name", to_string(s.estimator)}, {"reason", s.estimator_reason}};
   doc["notes"] = o.notes;
   doc["record"]["start_time"] = o.analyzed_window.first;
   doc["record"]["end_time"] = o.analyzed_window.second;
-  if (s.estimator == Estimator::welch) {
-    doc["estimator"]["window"] = "hann";
-    doc["estimator"]["overlap"] = 0.5;
-    doc["estimator"]["prewhitening"] = "first differences, divided by 4 sin^2(omega dt / 2)";
-    doc["estimator"]["segment_samples"] = s.welch.segment_samples;
-    doc["estimator"]["segments"] = s.welch.segments;
-    doc["estimator"]["bin_spacing"] = s.welch.bin_spacing;
-    doc["estimator"]["leaky_points"] = s.leaky_points;
-  }
   if (f.slope)
     doc["slope_fit"] = {{"omega_low", f.slope->omega_low},
                         {"omega_high", f.slope->omega_high},
@@ -382,27 +336,7 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
                         {"theory_order", f.alpha->theory_order},
                         {"ok", f.alpha_verdict.ok},
                         {"failure", f.alpha_verdict.reason}};
-  for (std::size_t k = 0; k < s.points.size(); ++k) {
-    const AnalysisPoint& p = s.points[k];
-    nlohmann::ordered_json point = {{"omega", p.omega},
-                                    {force ? "C_F" : "C_x", p.C_x},
-                                    {"stderr", p.standard_error},
-                                    {"floor", p.noise_floor},
-                                    {"below_floor", p.below_floor},
-                                    {"n_avg", p.n_avg},
-                                    {"bandwidth", p.bandwidth},
-                                    {"dof", p.dof},
-                                    {"segment_samples", p.segment_samples},
-                                    {"leaky", p.leaky},
-                                    {"C_low", p.lower},
-                                    {"C_high", p.upper}};
-    if (s.estimator == Estimator::welch) {
-      point["first_bin"] = s.welch.points[k].first_bin;
-      point["bins"] = s.welch.points[k].bins;
-    }
-    if (f.model) point["theory"] = f.model_values[k];
-    doc["points"].push_back(point);
-  }
+  doc["points"] = std::move(points);
   return doc.dump(2) + "\n";
 }
 
@@ -531,12 +465,11 @@ int command_analyze(Options o) {
               << s.sliding.v_error << " N/s";
   else
     std::cerr << "; v = " << s.sliding.v << " +- " << s.sliding.v_error << " m/s";
-  std::cerr << "\nslidespec: spectrum " << (force ? "C_F [N^2 s]" : "C_x [m^2 s]") << " of the "
-            << observable_words(o, s);
+  std::cerr << "\nslidespec: spectrum " << (force ? "C_F [N^2 s]" : "C_x [m^2 s]") << " of the " << s.channel;
   if (f.mu) std::cerr << ", mu = M'/M = " << *f.mu;
   std::cerr << "\nslidespec: usable band " << s.usable_low << " .. " << s.usable_high << " rad/s (top set by "
-            << (s.usable_high_set_by_floor ? "the sensor floor" : top_of(s)) << ")\nslidespec: estimator "
-            << to_string(s.estimator) << " (" << s.estimator_reason << ")";
+            << detail::top_set_by(s) << ")\nslidespec: estimator " << to_string(s.estimator) << " ("
+            << s.estimator_reason << ")";
   if (s.estimator == Estimator::welch)
     std::cerr << ": " << s.welch.segments << " segments of " << s.welch.segment_samples << " samples, dof "
               << short_number(s.points.front().dof) << " at the lowest point, " << short_number(s.points.back().dof)

@@ -71,6 +71,12 @@ std::string versions() {
 
 }  // namespace
 
+nlohmann::ordered_json point_json(double omega, const char* spectrum_name, double value, double standard_error,
+                                  double n_avg, double bandwidth) {
+  return {
+      {"omega", omega}, {spectrum_name, value}, {"stderr", standard_error}, {"n_avg", n_avg}, {"bandwidth", bandwidth}};
+}
+
 std::string metadata_lines(const Parameters& p, const std::string& case_name) {
   std::ostringstream out;
   out << "# slidespec " << SLIDESPEC_VERSION << "\n# case = " << case_of(case_name) << "\n";
@@ -166,21 +172,19 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                                 {"duration", band.duration},
                                 {"realizations", band.realizations},
                                 {"rounds", band.rounds}});
-  for (const RunPoint& point : result.points)
-    doc["points"].push_back({{"omega", point.omega},
-                             {"C_x", point.C_x},
-                             {"stderr", point.standard_error},
-                             {"theory", point.theory},
-                             {"theory_at_omega", point.theory_at_omega},
-                             {"n_avg", point.n_avg},
-                             {"bandwidth", point.bandwidth},
-                             {"bins",
-                              {{"first", point.bins.first},
-                               {"last", point.bins.last},
-                               {"spacing", point.bins.spacing},
-                               {"count", point.bins.count}}},
-                             {"theory2", std::isfinite(point.theory2) ? nlohmann::ordered_json(point.theory2)
-                                                                      : nlohmann::ordered_json(nullptr)}});
+  for (const RunPoint& point : result.points) {
+    nlohmann::ordered_json row =
+        point_json(point.omega, "C_x", point.C_x, point.standard_error, point.n_avg, point.bandwidth);
+    row["theory"] = point.theory;
+    row["theory_at_omega"] = point.theory_at_omega;
+    row["bins"] = {{"first", point.bins.first},
+                   {"last", point.bins.last},
+                   {"spacing", point.bins.spacing},
+                   {"count", point.bins.count}};
+    row["theory2"] =
+        std::isfinite(point.theory2) ? nlohmann::ordered_json(point.theory2) : nlohmann::ordered_json(nullptr);
+    doc["points"].push_back(row);
+  }
   return doc.dump(2) + "\n";
 }
 

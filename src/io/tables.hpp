@@ -30,6 +30,12 @@ nlohmann::ordered_json parameters_json(const Parameters& p);
 /// landmarks of the theory. `case_name` may be a label "CASE + KEY=V, ...".
 std::string metadata_lines(const Parameters& p, const std::string& case_name);
 
+/// The fields every spectrum point carries in JSON, in this order: omega [rad/s], the
+/// spectrum under `spectrum_name` (C_x [m^2 s] or C_F [N^2 s]), stderr, n_avg and bandwidth
+/// [rad/s]. Run and analysis points add their own fields after these.
+nlohmann::ordered_json point_json(double omega, const char* spectrum_name, double value, double standard_error,
+                                  double n_avg, double bandwidth);
+
 /// The run's table: metadata, the run's own facts, a header, one row per point.
 std::string run_table(const Parameters& p, const std::string& case_name, const RunRequest& request,
                       const RunResult& result);
