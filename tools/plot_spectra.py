@@ -58,6 +58,7 @@ PEAK_NOTE = ("No peak near 4e4 rad/s: the model's equations overdamp the miniblo
 
 EQ1_ID = "eq1"  # marks the Eq. (1) lines, which share one legend entry
 FLOOR_ID = "floor"  # the sensor's noise floor of measured data
+FITTED_FLOOR_ID = "fitted_floor"  # the white floor a power-law fit found
 FIT_ID = "fit"  # a power law fitted to measured data
 
 # name of the column holding the quantity, y-axis label
@@ -373,7 +374,7 @@ def plot_spectrum(axes, spectrum, label, color, args, fine_theory=None):
                                 elinewidth=1.0, capsize=2, label=label, zorder=3)
         markers[0].set_gid(SIMULATION_ID)
         if "below_floor" in columns:
-            _plot_sensor_limits(axes, columns, factor, keep, x, y)
+            _plot_sensor_limits(axes, spectrum, columns, factor, keep, x, y)
         if theory_line is None and "theory" in columns:
             tx, ty, _ = _log_positive(omega, columns["theory"] * factor)
             (theory_line,) = axes.plot(tx, ty, "-", color=color, linewidth=1.3, zorder=2, gid=THEORY_ID)
@@ -410,15 +411,38 @@ def plot_residuals(axes, spectrum, color, args, band_alpha=0.18):
     return np.nanmax(np.abs(residual) + relative_error, initial=0.0)
 
 
-def _plot_sensor_limits(axes, columns, factor, keep, x, y):
-    """Measured data (`slidespec analyze`): the sensor's noise floor as a grey dash-dot line,
-    points indistinguishable from it drawn hollow, and a fitted power law if there is one."""
-    below = columns["below_floor"][keep] > 0
-    axes.plot(x[below], y[below], "o", markersize=5, markerfacecolor="white",
-              markeredgecolor="0.5", zorder=4, gid=FLOOR_ID)
-    fx, fy, _ = _log_positive(columns["omega"], columns["floor"] * factor)
-    if fx.size >= 2:
-        axes.plot(fx, fy, "-.", color="0.45", linewidth=1.0, zorder=1, gid=FLOOR_ID)
+def plot_fit_residuals(axes, spectrum, color, args):
+    """A measured table's fit residuals (C - fit)/sigma inside the fit's band, with the
+    +-2 band a correct fit stays in at 95% of points."""
+    columns = spectrum.columns
+    keep = _in_range(columns["omega"], args) & np.isfinite(columns["residual"]) & (columns["omega"] > 0)
+    x, residual = np.log10(columns["omega"][keep]), columns["residual"][keep]
+    if x.size:
+        axes.fill_between(x, -2, 2, color=color, alpha=0.15, linewidth=0, zorder=1)
+        axes.plot(x, residual, "o", markersize=3, color=color, markeredgecolor="black",
+                  markeredgewidth=0.3, zorder=3, gid=RESIDUAL_ID)
+    return float(np.nanmax(np.abs(residual), initial=0.0))
+
+
+def _plot_sensor_limits(axes, spectrum, columns, factor, keep, x, y):
+    """Measured data (`slidespec analyze`): the sensor's noise floor as a grey dash-dot line
+    when one was given (--resolution, --sensor-noise) or fitted (--fit power-law), points
+    indistinguishable from a given floor drawn hollow, and a fitted power law if there is one."""
+    floor = columns["floor"] * factor
+    fitted = spectrum.number("power_law_floor")
+    if np.any(floor > 0):
+        below = columns["below_floor"][keep] > 0
+        if np.any(below):
+            axes.plot(x[below], y[below], "o", markersize=5, markerfacecolor="white",
+                      markeredgecolor="0.5", zorder=4, gid=FLOOR_ID)
+        fx, fy, _ = _log_positive(columns["omega"], floor)
+        if fx.size >= 2:
+            axes.plot(fx, fy, "-.", color="0.45", linewidth=1.0, zorder=1, gid=FLOOR_ID)
+    elif fitted is not None and fitted > 0:
+        # A white floor seen through the estimator's bins is the same white level.
+        fx, fy, _ = _log_positive(columns["omega"], np.full_like(columns["omega"], fitted) * factor)
+        if fx.size >= 2:
+            axes.plot(fx, fy, "-.", color="0.45", linewidth=1.0, zorder=1, gid=FITTED_FLOOR_ID)
     if "fit" in columns:
         sx, sy, _ = _log_positive(columns["omega"], columns["fit"] * factor)
         if sx.size >= 2:
@@ -483,7 +507,8 @@ def render(spectra, labels, args, fine_theories=None):
     """Build the figure; returns it without saving so errors leave no output behind."""
     fine_theories = fine_theories or [None] * len(spectra)
     runs = [i for i, s in enumerate(spectra) if is_run(s)]
-    with_residuals = bool(runs) and not args.no_residuals
+    fits = [i for i, s in enumerate(spectra) if "residual" in s.columns]
+    with_residuals = bool(runs or fits) and not args.no_residuals
     size = _figure_size(args, with_residuals)
     if with_residuals:
         figure, (axes, residual_axes) = plt.subplots(
@@ -514,19 +539,27 @@ def render(spectra, labels, args, fine_theories=None):
     axes.grid(True, color="0.9", linewidth=0.6)
     if args.title:
         axes.set_title(args.title, fontsize=12)
-    if residual_axes is not None:
+    if residual_axes is not None and runs:
         # Overlapping bands of many runs add up: each lighter, so the stack stays readable.
         band_alpha = 0.18 if len(runs) <= 2 else 0.36 / len(runs)
         reach = max(plot_residuals(residual_axes, spectra[i], colors[i], args, band_alpha)
                     for i in runs)
         limit = min(max(1.15 * reach, 0.05), 1.0)
         residual_axes.set_ylim(-limit, limit)
-        residual_axes.axhline(0, color="black", linewidth=0.8, zorder=2)
         residual_axes.set_ylabel(r"$C_x/\mathrm{theory} - 1$", fontsize=11)
-        residual_axes.grid(True, color="0.9", linewidth=0.6)
-        residual_axes.tick_params(labelsize=9)
         residual_axes.text(0.01, 0.95, r"band: $\pm 2$ stderr", transform=residual_axes.transAxes,
                            fontsize=8, color="0.3", va="top")
+    elif residual_axes is not None:
+        reach = max(plot_fit_residuals(residual_axes, spectra[i], colors[i], args) for i in fits)
+        limit = min(max(1.15 * reach, 3.0), 20.0)
+        residual_axes.set_ylim(-limit, limit)
+        residual_axes.set_ylabel(r"$(C - \mathrm{fit})/\sigma$", fontsize=11)
+        residual_axes.text(0.01, 0.95, r"band: $\pm 2\sigma$", transform=residual_axes.transAxes,
+                           fontsize=8, color="0.3", va="top")
+    if residual_axes is not None:
+        residual_axes.axhline(0, color="black", linewidth=0.8, zorder=2)
+        residual_axes.grid(True, color="0.9", linewidth=0.6)
+        residual_axes.tick_params(labelsize=9)
     handles, texts = [], []
     for (_, handle), label in zip(plotted, labels):  # in file order
         if handle is not None:
@@ -543,7 +576,8 @@ def render(spectra, labels, args, fine_theories=None):
         handles.append(Line2D([], [], color="0.35", linewidth=1.3))
         model = ""
         if measured and spectra[0].metadata.get("case") and "alpha" in spectra[0].metadata:
-            fitted = " (fitted)" if "fitted_alpha" in spectra[0].metadata else ""
+            fitted = (" (fit FAILED)" if spectra[0].metadata.get("alpha_fit_ok") == "false"
+                      else " (fitted)" if "fitted_alpha" in spectra[0].metadata else "")
             model = (f": {spectra[0].metadata['case']}, "
                      f"{parameter_text('alpha', spectra[0].metadata['alpha'])}{fitted}")
         texts.append("model theory" + model if measured else "exact first-order theory")
@@ -554,13 +588,26 @@ def render(spectra, labels, args, fine_theories=None):
         handles.append(Line2D([], [], linestyle="-.", color="0.45", marker="o",
                               markerfacecolor="white", markeredgecolor="0.5"))
         texts.append("sensor floor; hollow: at or below it")
+    if any(line.get_gid() == FITTED_FLOOR_ID for line in axes.lines):
+        handles.append(Line2D([], [], linestyle="-.", color="0.45"))
+        texts.append("sensor floor (fitted)")
     if any(line.get_gid() == FIT_ID for line in axes.lines):
-        slope = spectra[0].metadata.get("slope", "").split()
         handles.append(Line2D([], [], color="black", linewidth=2.2, alpha=0.45))
-        texts.append(f"fit: slope {float(slope[0]):.2f}" if slope and _is_float(slope[0]) else "fit")
+        texts.append(fit_legend(spectra[0].metadata))
     axes.legend(handles, texts, fontsize=8.5, loc="best", framealpha=0.85, edgecolor="none",
                 handler_map={tuple: HandlerTuple(ndivide=None)})
     return figure
+
+
+def fit_legend(metadata):
+    """The fitted power law's legend entry, marked FAILED (with its chi2/dof) when the fit
+    does not describe the data: a failed fit's numbers are no result."""
+    slope = (metadata.get("power_law_slope") or metadata.get("slope") or "").split()
+    text = f"fit: slope {float(slope[0]):.2f}" if slope and _is_float(slope[0]) else "fit"
+    if "false" in (metadata.get("power_law_fit_ok"), metadata.get("slope_fit_ok")):
+        chi2 = re.search(r"chi2/dof ([0-9.eE+-]+)", metadata.get("power_law", "") + metadata.get("slope", ""))
+        return "fit FAILED" + (f" (chi²/dof {float(chi2.group(1)):.3g})" if chi2 else "") + f", not a result: {text}"
+    return text
 
 
 def output_format(path):

@@ -292,6 +292,52 @@ class LegendTest(unittest.TestCase):
         self.assertEqual(parsed.columns["C_x"].tolist(), [2e-20])
 
 
+class MeasuredFigureTest(unittest.TestCase):
+    """`slidespec analyze` tables of the measured basalt and sepiolite records (tests/data):
+    the observable on the axis, a fit's residual panel, a failed fit marked FAILED in the
+    legend, and a sensor floor drawn only when one was given or fitted."""
+
+    DATA = pathlib.Path(__file__).resolve().parents[1] / "data" / "realdata"
+
+    def setUp(self):
+        if not SLIDESPEC:
+            self.skipTest(NO_SLIDESPEC)
+        self.directory = tempfile.TemporaryDirectory()
+        self.addCleanup(self.directory.cleanup)
+        self.path = pathlib.Path(self.directory.name)
+
+    def analyze(self, record, *options):
+        prefix = self.path / "analysis"
+        subprocess.run([SLIDESPEC, "analyze", str(self.DATA / record), *options, "--no-plot", "--out",
+                        str(prefix)], capture_output=True, timeout=300)
+        table = plot_spectra.read_spectrum(str(prefix.with_suffix(".tsv")))
+        args = plot_spectra.parse_arguments([str(prefix) + ".tsv", "-o", "x.png"])
+        figure = plot_spectra.render([table], plot_spectra.legend_labels([table]), args)
+        return figure, [t.get_text() for t in figure.axes[0].get_legend().get_texts()]
+
+    def test_a_good_fit_has_residuals_and_its_fitted_floor(self):
+        figure, texts = self.analyze("velstep4_BRAVA_expb819_basalt.txt", "--window", "11608:11674",
+                                     "--fit", "power-law")
+        panels = [a for a in figure.axes if a.get_gid() == plot_spectra.RESIDUAL_ID]
+        self.assertEqual(len(panels), 1)
+        self.assertEqual(panels[0].get_ylabel(), r"$(C - \mathrm{fit})/\sigma$")
+        self.assertIn("sensor floor (fitted)", texts)
+        self.assertNotIn("sensor floor; hollow: at or below it", texts)
+        self.assertFalse(any("FAILED" in t for t in texts), texts)
+        self.assertIn("displacement", figure.axes[0].get_ylabel())
+
+    def test_a_failed_fit_is_marked_in_the_legend(self):
+        _, texts = self.analyze("velstep3_TR2_exp013_sepiolite.txt", "--window", "21350:22319",
+                                "--fit", "power-law")
+        self.assertTrue(any(t.startswith("fit FAILED") for t in texts), texts)
+
+    def test_a_force_spectrum_says_so_and_draws_no_floor(self):
+        figure, texts = self.analyze("velstep4_BRAVA_expb819_basalt.txt", "--window", "11608:11674",
+                                     "--observable", "force", "--contact-area", "25cm2")
+        self.assertIn("C_F", figure.axes[0].get_ylabel())
+        self.assertFalse(any("floor" in t for t in texts), texts)
+
+
 class ErrorTest(unittest.TestCase):
     """Every unusable input: exit status 2, one line on stderr naming file and problem,
     and no output file (nor a temporary one) left behind."""
