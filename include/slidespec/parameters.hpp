@@ -84,12 +84,17 @@ struct Parameters {
 /// terms are summed over the touching levels (docs/hierarchy.md); omega_c stays the
 /// block's resonance against the level-1 blocks.
 struct Landmarks {
-  double renewal_rate;    ///< v/a [1/s] (the fastest touching level's)
-  double omega_c;         ///< sqrt(N k0 / M) [rad/s]
-  double diffusion;       ///< D = alpha^2 F_kin^2 a v / (12 N (F_drive-F_kin)^2) [m^2/s]; half for periodic renewal
+  double renewal_rate;  ///< v/a [1/s] (the fastest touching level's)
+  double omega_c;       ///< sqrt(N k0 / M) [rad/s]
+  double diffusion;  ///< D = alpha^2 F_kin^2 a v / (12 N (F_drive-F_kin)^2) [m^2/s]; half for periodic renewal; 0 with
+                     ///< drive = spring
   double eq1_prefactor;   ///< C_x ~ prefactor / omega^4 for v/a << omega << omega_c [m^2 rad^4/s^3]
   double coupling_eps;    ///< eps = alpha F_kin / ((F_drive-F_kin) sqrt(6 N)) [-]
-  bool forces_can_stall;  ///< alpha F_kin >= 2 (F_drive - F_kin)
+  bool forces_can_stall;  ///< alpha F_kin >= 2 (F_drive - F_kin): a constant force can stall the block
+  /// drive = spring: C_x flattens below omega_s = k_drive v / (F_drive - F_kin) [rad/s]; 0 for a force.
+  double omega_s;
+  /// The block's resonance, sqrt((N k0 + k_drive) / M) [rad/s] (omega_c for a force; k_drive = 0).
+  double omega_resonance;
   /// True when docs/model.md §4.1 says the first-order theory may not hold.
   bool outside_first_order() const { return coupling_eps > 0.3 || forces_can_stall; }
 };

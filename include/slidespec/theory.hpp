@@ -18,6 +18,14 @@ double random_force_spectrum(const Parameters& p, double omega);
 /// The same for one contact of touching level `level` (its own a, alpha; rate v / a).
 double random_force_spectrum(const Parameters& p, int level, double omega);
 
+/// drive = spring: the spring's force k_drive (v t + d0 - x) fluctuates as -k_drive xi, so
+/// its spectrum is k_drive^2 C_x [N^2 s] (0 for a constant force).
+inline double spring_force_spectrum(const Parameters& p, double C_x) { return p.k_drive * p.k_drive * C_x; }
+
+/// drive = spring: C_x(0), the level C_x flattens to below omega_s [m^2 s]. Throws
+/// InputError for a constant force, under which C_x rises as D / (pi omega^2) instead.
+double spring_low_frequency_limit(const Parameters& p);
+
 /// The paper's Eq. (1) asymptote, prefactor / omega^4 [m^2 s].
 double eq1_asymptote(const Parameters& p, double omega);
 
@@ -85,7 +93,8 @@ enum class MotionTheory {
   quasi_static,  ///< exact for the quasi-static block, every order in eps
 };
 
-/// V and D of the chosen theory. second_order, flat model, e = eps^2 / 2:
+/// V and D of the chosen theory (with drive = spring V = v and D = 0 exactly, in every
+/// theory: the load point sets the speed). second_order, flat model, e = eps^2 / 2:
 /// V = v / (1 + e + e^2 (3 - 1.2/N)); D = D_1 (1 + e (4 - 2.6/N)) for poisson and
 /// D_1 (1 + e (13/3 - 2.93/N)) for periodic renewal. quasi_static gives V = D = 0 at or
 /// beyond the stall boundary and throws InputError for D with more than one touching level.
@@ -97,7 +106,8 @@ LongTimeMotion long_time_motion(const Parameters& p, MotionTheory theory);
 /// the travel time's characteristic function, its Gaussian part whole (which fills the
 /// first order's zeros and damps its ripple) and the rest to O(eps^2). The ratio to the
 /// first order tends to D / D_1 (second order) as omega -> 0 and to V / v (bin-averaged,
-/// for periodic renewal) above v/a. Throws InputError for several touching levels.
+/// for periodic renewal) above v/a. Throws InputError for several touching levels and for
+/// drive = spring (not derived there).
 class SecondOrderTheory {
  public:
   explicit SecondOrderTheory(const Parameters& p);

@@ -47,7 +47,9 @@ std::string with_default(const std::string& help, double value) {
 
 void warn_if_outside_first_order(const Parameters& p) {
   const Landmarks l = landmarks(p);
-  if (l.forces_can_stall)
+  if (p.drive == Drive::spring && l.outside_first_order())
+    std::cerr << "slidespec: warning: " << io::spring_first_order_note(l) << "\n";
+  else if (l.forces_can_stall)
     std::cerr << "slidespec: warning: alpha F_kin >= 2 (F_drive - F_kin): the random forces can "
                  "stall the block; the first-order theory does not hold here (docs/model.md §4.1)\n";
   else if (l.coupling_eps > 0.3)
@@ -76,6 +78,7 @@ class CasesCommand final : public Command {
 // The exact mean speed and low-frequency diffusion beyond first order, where computed
 // (below the stall boundary, one touching level).
 std::string long_time_line(const Parameters& p) {
+  if (p.drive == Drive::spring) return "";  // V = v and D = 0 exactly: in the metadata lines
   if (landmarks(p).forces_can_stall) return "";
   int touching_levels = 0;
   for (int l = 1; l <= p.levels; ++l) touching_levels += p.touches(l) ? 1 : 0;
@@ -125,11 +128,13 @@ class TheoryCommand final : public Command {
     const std::vector<double> spectrum = exact_spectrum(p, omegas);
 
     std::ostringstream table;
+    const bool spring = p.drive == Drive::spring;
     table << io::metadata_lines(p, model_.label(p)) << long_time_line(p)
           << "# columns: omega [rad/s], C_x [m^2 s] exact first-order theory, "
              "C_eq1 [m^2 s] the paper's Eq. (1)"
-          << (second ? ", C_x2 [m^2 s] second-order theory (docs/model.md §7)" : "") << "\n"
-          << "# omega\tC_x\tC_eq1" << (second ? "\tC_x2" : "") << "\n";
+          << (second ? ", C_x2 [m^2 s] second-order theory (docs/model.md §7)" : "")
+          << (spring ? ", C_F_spring [N^2 s] the spring's force spectrum k_drive^2 C_x" : "") << "\n"
+          << "# omega\tC_x\tC_eq1" << (second ? "\tC_x2" : "") << (spring ? "\tC_F_spring" : "") << "\n";
     std::size_t not_numbers = 0;  // values beyond a double's range or not computed (inf, nan)
     double first_omega = 0;
     for (size_t k = 0; k < omegas.size(); ++k) {
@@ -137,6 +142,7 @@ class TheoryCommand final : public Command {
       const double c2 = second ? (*second)(omegas[k]) : 0;
       table << io::format_number(omegas[k]) << "\t" << io::format_number(spectrum[k]) << "\t" << io::format_number(eq1);
       if (second) table << "\t" << io::format_number(c2);
+      if (spring) table << "\t" << io::format_number(spring_force_spectrum(p, spectrum[k]));
       table << "\n";
       if (!std::isfinite(spectrum[k]) || !std::isfinite(eq1) || !std::isfinite(c2)) {
         if (not_numbers++ == 0) first_omega = omegas[k];

@@ -89,7 +89,23 @@ std::string metadata_lines(const Parameters& p, const std::string& case_name) {
       << "# eq1_prefactor = " << format_number(l.eq1_prefactor)
       << "  # [m^2 rad^4/s^3], C_x ~ prefactor/omega^4 for v/a << omega << omega_c\n"
       << "# coupling_eps = " << format_number(l.coupling_eps) << "  # first-order theory holds for eps <= 0.3\n";
+  if (p.drive == Drive::spring) {
+    out << "# omega_s = " << format_number(l.omega_s)
+        << "  # k_drive v/(F_drive - F_kin) [rad/s], C_x flattens below it\n"
+        << "# omega_resonance = " << format_number(l.omega_resonance) << "  # sqrt((N k0 + k_drive)/M) [rad/s]\n"
+        << "# C_x_zero = " << format_number(spring_low_frequency_limit(p))
+        << "  # C_x(0) [m^2 s] of the first-order theory\n"
+        << "# mean_speed = " << format_number(p.v) << "  # [m/s] the load point's v exactly; diffusion_D = 0\n";
+    if (l.outside_first_order()) out << "# first_order_note = " << spring_first_order_note(l) << "\n";
+  }
   return out.str();
+}
+
+std::string spring_first_order_note(const Landmarks& l) {
+  if (l.forces_can_stall)
+    return "alpha F_kin >= 2 (F_drive - F_kin): a constant force would stall the block; the spring keeps it sliding "
+           "at v, intermittently, and the first-order theory is not expected to hold";
+  return "eps > 0.3: the first-order theory is not expected to hold";
 }
 
 std::string run_table(const Parameters& p, const std::string& case_name, const RunRequest& request,
@@ -121,13 +137,24 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
          " theory2 [m^2 s] the second-order theory (docs/model.md §7), its mean over the same bins,"
          " nan where it does not apply\n";
   if (!result.theory2_note.empty()) out << "# theory2_note = " << result.theory2_note << "\n";
-  out << "# omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\ttheory2\n";
+  const bool spring = p.drive == Drive::spring;
+  if (spring)
+    out << "# columns (drive=spring): C_F_spring [N^2 s] the spring's force spectrum k_drive^2 C_x (what a machine's"
+           " force sensor records; C_F above is the block's inertial force); C_F_spring_stderr [N^2 s];"
+           " C_F_spring_theory [N^2 s] k_drive^2 theory\n";
+  out << "# omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\ttheory2"
+      << (spring ? "\tC_F_spring\tC_F_spring_stderr\tC_F_spring_theory" : "") << "\n";
   for (const RunPoint& point : result.points) {
     out << format_number(point.omega) << "\t" << format_number(point.C_x) << "\t" << format_number(point.standard_error)
         << "\t" << format_number(point.theory) << "\t" << format_number(point.n_avg) << "\t"
         << format_number(point.bandwidth) << "\t" << format_number(velocity_spectrum(point.omega, point.C_x)) << "\t"
         << format_number(force_spectrum(point.omega, point.C_x, p.M)) << "\t" << format_number(point.theory_at_omega)
-        << "\t" << format_number(eq1_asymptote(p, point.omega)) << "\t" << format_number(point.theory2) << "\n";
+        << "\t" << format_number(eq1_asymptote(p, point.omega)) << "\t" << format_number(point.theory2);
+    if (spring)
+      out << "\t" << format_number(spring_force_spectrum(p, point.C_x)) << "\t"
+          << format_number(spring_force_spectrum(p, point.standard_error)) << "\t"
+          << format_number(spring_force_spectrum(p, point.theory));
+    out << "\n";
   }
   return out.str();
 }
@@ -144,6 +171,13 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
   doc["landmarks"] = {{"renewal_rate", l.renewal_rate}, {"omega_c", l.omega_c},
                       {"diffusion_D", l.diffusion},     {"eq1_prefactor", l.eq1_prefactor},
                       {"coupling_eps", l.coupling_eps}, {"forces_can_stall", l.forces_can_stall}};
+  const bool spring = p.drive == Drive::spring;
+  if (spring) {
+    doc["landmarks"]["omega_s"] = l.omega_s;
+    doc["landmarks"]["omega_resonance"] = l.omega_resonance;
+    doc["landmarks"]["C_x_zero"] = spring_low_frequency_limit(p);
+    if (l.outside_first_order()) doc["first_order_note"] = spring_first_order_note(l);
+  }
   doc["request"] = {{"omega_min", request.omega_min},
                     {"omega_max", request.omega_max},
                     {"points_per_decade", request.points_per_decade},
@@ -183,6 +217,11 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                    {"count", point.bins.count}};
     row["theory2"] =
         std::isfinite(point.theory2) ? nlohmann::ordered_json(point.theory2) : nlohmann::ordered_json(nullptr);
+    if (spring) {
+      row["C_F_spring"] = spring_force_spectrum(p, point.C_x);
+      row["C_F_spring_stderr"] = spring_force_spectrum(p, point.standard_error);
+      row["C_F_spring_theory"] = spring_force_spectrum(p, point.theory);
+    }
     doc["points"].push_back(row);
   }
   return doc.dump(2) + "\n";

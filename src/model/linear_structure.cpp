@@ -8,8 +8,7 @@ namespace slidespec::model {
 
 namespace {
 
-/// The entries of M, D and K as they are emitted; duplicates are summed in emission
-/// order, so the flat model and the one-level tree, emitting alike, agree bit for bit.
+/// The entries of M, D and K as they are emitted; duplicates are summed in emission order.
 struct Entries {
   std::vector<Eigen::Triplet<double>> mass, damping, stiffness;
 
@@ -35,33 +34,6 @@ struct Entries {
 
 }  // namespace
 
-LinearStructure flat_structure(const Parameters& p) {
-  const int n = p.N + 1;
-  Entries entries;
-  auto& [mass, damping, stiffness] = entries;
-  mass.emplace_back(0, 0, p.M);
-  damping.emplace_back(0, 0, p.N * p.m * p.eta0);
-  stiffness.emplace_back(0, 0, p.N * p.k0);
-  for (int i = 1; i < n; ++i) {
-    mass.emplace_back(i, i, p.m);
-    // Viscoelastic spring to the block: k0 and m*eta0 act on the difference.
-    damping.emplace_back(0, i, -p.m * p.eta0);
-    damping.emplace_back(i, 0, -p.m * p.eta0);
-    damping.emplace_back(i, i, p.m * (p.eta0 + p.eta1));
-    stiffness.emplace_back(0, i, -p.k0);
-    stiffness.emplace_back(i, 0, -p.k0);
-    stiffness.emplace_back(i, i, p.k0);
-  }
-  // Chain springs k1 between neighbours; the ring closes N -> 1.
-  for (int i = 1; i + 1 < n; ++i) entries.link(i, i + 1, p.k1);
-  if (p.chain == ChainEnds::ring) entries.link(n - 1, 1, p.k1);
-
-  LinearStructure s = entries.assemble(n);
-  for (int i = 1; i < n; ++i)
-    s.contacts.push_back({i, p.random_force_variance(), p.a, p.alpha * p.friction_per_miniblock()});
-  return s;
-}
-
 std::vector<int> level_of_coordinates(const Parameters& p) {
   std::vector<int> level_of = {0};
   for (int l = 1; l <= p.levels; ++l) level_of.insert(level_of.end(), static_cast<std::size_t>(p.blocks(l)), l);
@@ -69,8 +41,8 @@ std::vector<int> level_of_coordinates(const Parameters& p) {
 }
 
 LinearStructure tree_structure(const Parameters& p) {
-  // Entries are emitted in flat_structure's order (block, then each level's blocks, then
-  // its chain links), so that duplicates sum in the same order and one level is bitwise flat.
+  // Entries are emitted level by level (block, then each level's blocks, then its chain
+  // links); duplicates are summed in that order.
   const std::vector<int> level_of = level_of_coordinates(p);
   const int n = static_cast<int>(level_of.size());
   Entries entries;
@@ -79,6 +51,9 @@ LinearStructure tree_structure(const Parameters& p) {
   mass.emplace_back(0, 0, p.M);
   damping.emplace_back(0, 0, first.N * first.m * first.eta0);
   stiffness.emplace_back(0, 0, first.N * first.k0);
+  // drive = spring: the load point moves at v, so in the comoving coordinate its spring is a
+  // restoring force -k_drive xi on the big block alone (docs/model.md §9).
+  if (p.drive == Drive::spring) stiffness.emplace_back(0, 0, p.k_drive);
   int level_start = 1;  // first coordinate of the current level
   for (int l = 1; l <= p.levels; ++l) {
     const Level level = p.level(l);
@@ -148,12 +123,6 @@ LumpedStructure lump(const LinearStructure& structure, const std::vector<int>& c
   out.stiffness = reduce(structure.stiffness, "stiffness");
   for (const Contact& c : structure.contacts) out.class_of_contact.push_back(class_of[c.coordinate]);
   return out;
-}
-
-LumpedStructure lumped_flat_structure(const Parameters& p) {
-  std::vector<int> class_of(p.N + 1, 1);
-  class_of[0] = 0;
-  return lump(flat_structure(p), class_of);
 }
 
 LumpedStructure lumped_tree_structure(const Parameters& p) { return lump(tree_structure(p), level_of_coordinates(p)); }

@@ -26,7 +26,8 @@ struct Contact {
 
 /// M q'' + D q' + K q = (random forces on the contacts), for the fluctuation q of the
 /// coordinates about their steady sliding motion. Coordinate 0 is the big block, so
-/// q_0 = xi. Stiffness annihilates a common translation (all springs are relative).
+/// q_0 = xi. Stiffness annihilates a common translation (all springs are relative) except
+/// with drive = spring, where K_00 also holds k_drive (the load point's spring).
 struct LinearStructure {
   Eigen::SparseMatrix<double> mass;
   Eigen::SparseMatrix<double> damping;
@@ -36,12 +37,9 @@ struct LinearStructure {
   int coordinates() const { return static_cast<int>(mass.rows()); }
 };
 
-/// The flat model of docs/model.md §1: the big block and N miniblocks in a chain.
-LinearStructure flat_structure(const Parameters& p);
-
 /// Blocks on blocks (docs/model.md §6): the big block, then every level's blocks in
 /// order, each block's children consecutive and chained to each other; the touching
-/// levels' blocks are the contacts. For one level it is flat_structure, bit for bit.
+/// levels' blocks are the contacts. One level is the flat model of docs/model.md §1.
 LinearStructure tree_structure(const Parameters& p);
 
 /// Level of each coordinate of tree_structure(p) (0 for the big block): an equitable
@@ -63,9 +61,6 @@ struct LumpedStructure {
 /// Lumps `structure` over `class_of` (class 0 must be the block alone); throws
 /// std::invalid_argument if the partition is not equitable.
 LumpedStructure lump(const LinearStructure& structure, const std::vector<int>& class_of);
-
-/// The coarsest exact lumping of the flat model: block, and the mean of the miniblocks.
-LumpedStructure lumped_flat_structure(const Parameters& p);
 
 /// The tree lumped by level: levels + 1 coordinates whatever the number of blocks; input
 /// class l carries the forces of level l (the flat model's lumping for one level).

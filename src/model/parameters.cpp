@@ -113,6 +113,14 @@ Landmarks landmarks(const Parameters& p) {
     l.coupling_eps = std::sqrt(2 * force_variance) / drive_excess;
     l.forces_can_stall = resistance >= drive_excess;
   }
+  l.omega_resonance = l.omega_c;
+  if (p.drive == Drive::spring) {
+    // The load point holds the block near its steady place: no diffusion, and below omega_s
+    // the spring, not the drag (F_drive - F_kin) / v of the contacts, sets the response.
+    l.diffusion = 0;
+    l.omega_s = p.k_drive * p.v / drive_excess;
+    l.omega_resonance = std::sqrt((p.blocks(1) * p.level(1).k0 + p.k_drive) / p.M);
+  }
   return l;
 }
 
@@ -291,6 +299,7 @@ std::vector<std::string> words_of() {
 // parameters.def's `shown` column.
 bool always(const Parameters&) { return true; }
 bool in_trees(const Parameters& p) { return p.levels > 1; }
+bool with_spring(const Parameters& p) { return p.drive == Drive::spring; }
 
 template <class T>
 ParameterInfo row(const char* key, Range range, const char* unit, bool per_level, const char* doc,
@@ -430,6 +439,7 @@ void check_derived(const Parameters& p) {
                        " is not a representable number; bring the parameters it depends on closer to 1");
   };
   normal("omega_c = sqrt(N k0 / M)", l.omega_c, false);
+  if (p.drive == Drive::spring) normal("omega_s = k_drive v / (F_drive - F_kin)", l.omega_s, false);
   normal("v / a (renewal rate)", l.renewal_rate, false);
   normal("D (diffusion)", l.diffusion, true);
   normal("Eq. (1) prefactor", l.eq1_prefactor, true);
@@ -454,6 +464,10 @@ Parameters ParameterBuilder::build() const {
     for_each_parameter(p, [&](const ParameterInfo& info, const auto& value) {
       if (info.key != derived && bounded == (info.range.low > -ranges::kUnbounded)) check(info, info.key, value);
     });
+  if (p.drive == Drive::spring && p.k_drive == 0)
+    throw InputError("parameter k_drive: drive=spring needs the spring's stiffness k_drive > 0 [N/m]");
+  if (p.drive == Drive::force && p.k_drive != 0)
+    throw InputError("parameter k_drive: a drive spring's stiffness needs drive=spring (drive is force)");
   if (p.chain == ChainEnds::ring && p.N < 3)
     throw InputError("parameter chain: a ring needs N >= 3 (got N = " + std::to_string(p.N) + ")");
   build_levels(p);

@@ -256,7 +256,8 @@ void check_stationarity(const RunSession::Impl& s, RunResult& result) {
   // Where the forces can stall the block, a stall is absorbing (docs/model.md §8); a
   // realization that has seen only a few renewals per contact cannot have drawn one yet,
   // so its sliding says nothing about whether a stationary state exists.
-  if (landmarks(s.params).forces_can_stall && !s.plan.empty()) {
+  // A spring stretches until the block moves again: no stall to wait for (docs/model.md §9).
+  if (landmarks(s.params).forces_can_stall && s.params.drive == Drive::force && !s.plan.empty()) {
     double longest = 0;
     for (const SubBand& band : s.plan) longest = std::max(longest, band.duration);
     const double renewal_time = 1 / s.params.renewal_rate();

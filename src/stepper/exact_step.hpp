@@ -14,8 +14,10 @@ namespace slidespec::stepper {
 ///   z_{n+1} = transition z_n + forcing g_n,   xi_{n+1} - xi_n = increment . z_n + increment_forcing . g_n
 /// where z = (relative offsets of the lumped coordinates from the block, all velocities)
 /// and g_k is the sum of the random forces f_j of the contacts in input class k.
-/// xi itself is left out of z: nothing depends on it (every spring is relative), and
-/// keeping it out means the increments are never computed as differences of large numbers.
+/// xi itself is left out of z when nothing depends on it (every spring is relative), so
+/// that the increments are never computed as differences of large numbers. With the block
+/// tied to a load point (drive = spring) xi feeds back and stays bounded: z starts with xi,
+/// and the running sum of the increments (where the renewal marks are) starts at 0.
 struct ExactStep {
   double dt = 0;                          ///< the step [s]
   int dimension = 0;                      ///< size of z
@@ -37,7 +39,15 @@ struct ExactStep {
   int velocity_component = 0;         ///< component of z that is the block's velocity fluctuation
 };
 
-/// Builds the exact step for dt > 0 (matrix exponentials in long double).
-ExactStep exact_step(const model::LumpedStructure& lumped, double dt);
+/// Whether the block is tied to a load point by a spring (its stiffness is in the lumped
+/// K_00), and then the rate at which the forces were renewed before the start [1/s].
+struct LoadPoint {
+  bool tied = false;
+  double start_renewal_rate = 0;
+};
+
+/// Builds the exact step for dt > 0 (matrix exponentials in long double). The initial
+/// state is the equilibrium with the forces at the start; tied to a load point, their mean.
+ExactStep exact_step(const model::LumpedStructure& lumped, double dt, const LoadPoint& load_point = {});
 
 }  // namespace slidespec::stepper

@@ -34,7 +34,7 @@ struct Stepper::Impl {
         count(n),
         padded((n + width - 1) / width * width),
         lumped(model::lumped_tree_structure(p)),
-        step(stepper::exact_step(lumped, c.dt)),
+        step(stepper::exact_step(lumped, c.dt, {p.drive == Drive::spring, p.renewal_rate()})),
         kernel(compiled_kernel(path, step, p)),
         renewal(model::tree_structure(p).contacts, lumped.class_of_contact, p.renewal, c.seed, c.stream,
                 first_realization, padded) {

@@ -48,7 +48,7 @@ struct SampledTheory::Impl {
 SampledTheory::SampledTheory(const Parameters& p, double dt) {
   if (!(dt > 0) || !std::isfinite(dt)) throw InputError("time step: dt must be a positive number");
   const model::LumpedStructure lumped = model::lumped_tree_structure(p);
-  const stepper::ExactStep step = stepper::exact_step(lumped, dt);
+  const stepper::ExactStep step = stepper::exact_step(lumped, dt, {p.drive == Drive::spring, p.renewal_rate()});
   auto impl = std::make_shared<Impl>();
   impl->params = p;
   impl->dt = dt;

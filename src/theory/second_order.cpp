@@ -327,7 +327,17 @@ struct SecondOrderTheory::Impl {
   }
 };
 
-SecondOrderTheory::SecondOrderTheory(const Parameters& p) : impl_(std::make_shared<const Impl>(p)) {}
+namespace {
+// Checked before any of the expansion is built.
+const Parameters& driven_by_force(const Parameters& p) {
+  if (p.drive == Drive::spring)
+    throw InputError(
+        "order: the second-order theory is derived for a constant drive force; drive=spring has the first order only");
+  return p;
+}
+}  // namespace
+
+SecondOrderTheory::SecondOrderTheory(const Parameters& p) : impl_(std::make_shared<const Impl>(driven_by_force(p))) {}
 
 double SecondOrderTheory::operator()(double omega) const { return impl_->value(omega); }
 

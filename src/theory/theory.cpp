@@ -137,6 +137,11 @@ double LumpedTheory::operator()(double omega) const {
   return total;
 }
 
+double spring_low_frequency_limit(const Parameters& p) {
+  if (p.drive != Drive::spring) throw InputError("C_x(0): only a block held by a spring (drive=spring) has one");
+  return LumpedTheory(p)(0.0);
+}
+
 std::vector<double> lumped_spectrum(const Parameters& p, const std::vector<double>& omegas) {
   const LumpedTheory theory(p);
   std::vector<double> spectrum;

@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "flat_model.hpp"
 #include "model/linear_structure.hpp"
 #include "slidespec/parameters.hpp"
 
@@ -10,10 +11,10 @@ using namespace slidespec;
 
 namespace {
 
-bool same_matrix(const Eigen::SparseMatrix<double>& a, const Eigen::SparseMatrix<double>& b) {
-  if (a.rows() != b.rows() || a.nonZeros() != b.nonZeros()) return false;
-  const Eigen::MatrixXd da = a, db = b;
-  return (da.array() == db.array()).all();  // exact: every entry summed in the same order
+bool same_matrix(const Eigen::SparseMatrix<double>& a, const Eigen::MatrixXd& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols()) return false;
+  const Eigen::MatrixXd da = a;
+  return (da.array() == b.array()).all();  // exact: every entry summed in the same order
 }
 
 std::string error_of(const std::vector<std::string>& settings, const char* case_name = "reference") {
@@ -29,22 +30,37 @@ std::string error_of(const std::vector<std::string>& settings, const char* case_
 
 }  // namespace
 
+// The one-level tree against the flat model's matrices written out from docs/model.md
+// (tests/model/flat_model.hpp), with and without the drive spring.
 TEST(Hierarchy, OneLevelTreeIsTheFlatModelBitForBit) {
-  for (const char* change : {"chain=open", "chain=ring", "N=1", "k1=0"}) {
-    const Parameters p = ParameterBuilder().set(change).set("levels=1").build();
+  for (const char* change : {"chain=open", "chain=ring", "N=1", "k1=0", "drive=spring"}) {
+    ParameterBuilder builder;
+    builder.set(change).set("levels=1");
+    if (std::string(change) == "drive=spring") builder.set("k_drive=3e3");
+    const Parameters p = builder.build();
     const auto tree = model::tree_structure(p);
-    const auto flat = model::flat_structure(p);
+    const as_written::FlatModel flat = as_written::flat_model(p);
     EXPECT_TRUE(same_matrix(tree.mass, flat.mass)) << change;
     EXPECT_TRUE(same_matrix(tree.damping, flat.damping)) << change;
     EXPECT_TRUE(same_matrix(tree.stiffness, flat.stiffness)) << change;
-    ASSERT_EQ(tree.contacts.size(), flat.contacts.size());
+    ASSERT_EQ(tree.contacts.size(), static_cast<size_t>(p.N));
     for (size_t j = 0; j < tree.contacts.size(); ++j) {
-      EXPECT_EQ(tree.contacts[j].coordinate, flat.contacts[j].coordinate);
-      EXPECT_EQ(tree.contacts[j].random_force_variance, flat.contacts[j].random_force_variance);
-      EXPECT_EQ(tree.contacts[j].random_force_amplitude, flat.contacts[j].random_force_amplitude);
-      EXPECT_EQ(tree.contacts[j].renewal_distance, flat.contacts[j].renewal_distance);
+      EXPECT_EQ(tree.contacts[j].coordinate, static_cast<int>(j) + 1);
+      EXPECT_EQ(tree.contacts[j].random_force_variance, p.random_force_variance());
+      EXPECT_EQ(tree.contacts[j].renewal_distance, p.a);
     }
   }
+}
+
+// Blocks on blocks under a spring: the load point pulls the top block only.
+TEST(Hierarchy, DriveSpringTiesOnlyTheTopBlock) {
+  const Parameters force = ParameterBuilder("hierarchical").build();
+  const Parameters spring = ParameterBuilder("hierarchical").set("drive=spring").set("k_drive=5e3").build();
+  Eigen::MatrixXd difference = Eigen::MatrixXd(model::tree_structure(spring).stiffness) -
+                               Eigen::MatrixXd(model::tree_structure(force).stiffness);
+  EXPECT_EQ(difference(0, 0), 5e3);
+  difference(0, 0) = 0;
+  EXPECT_EQ(difference.cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(Hierarchy, LevelOneKeysAreTheFlatKeys) {

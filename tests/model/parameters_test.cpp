@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -83,10 +84,34 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"UnknownKey", {"mass=3"}, "mass"}, BadInput{"MissingEquals", {"N30"}, "N30"},
         BadInput{"EmptyValue", {"N="}, "N"}, BadInput{"BothSpeedAndEta1", {"v=1e-3", "eta1=1e7"}, "eta1"},
         BadInput{"RingTooShort", {"chain=ring", "N=2"}, "ring"}, BadInput{"UnknownChain", {"chain=loop"}, "chain"},
-        BadInput{"UnknownRenewal", {"renewal=gamma"}, "renewal"}),
+        BadInput{"UnknownRenewal", {"renewal=gamma"}, "renewal"},
+        BadInput{"SpringWithoutStiffness", {"drive=spring"}, "parameter k_drive"},
+        BadInput{"StiffnessWithoutSpring", {"k_drive=1e4"}, "parameter k_drive"},
+        BadInput{"NegativeDriveStiffness", {"drive=spring", "k_drive=-1"}, "parameter k_drive"},
+        BadInput{"UnknownDrive", {"drive=rope"}, "parameter drive"}),
     [](const auto& param_info) { return std::string(param_info.param.name); });
 
 TEST(Parameters, UnknownCaseIsRefused) { EXPECT_THROW(ParameterBuilder("slow"), InputError); }
+
+// docs/model.md §9: the keys are listed only for a spring, so every output of a
+// constant-force model is what it was without them; the landmarks follow the spring.
+TEST(Parameters, SpringKeysAreDescribedOnlyWithASpring) {
+  const auto force = describe(ParameterBuilder().build());
+  for (const auto& [key, value] : force) EXPECT_TRUE(key != "drive" && key != "k_drive") << key;
+  const Parameters spring = ParameterBuilder().set("drive=spring").set("k_drive=2e4").build();
+  const auto described = describe(spring);
+  const auto has = [&](const std::string& key, const std::string& value) {
+    return std::find(described.begin(), described.end(), std::make_pair(key, value)) != described.end();
+  };
+  EXPECT_TRUE(has("drive", "spring"));
+  EXPECT_TRUE(has("k_drive", "20000"));
+  const Landmarks l = landmarks(spring);
+  EXPECT_DOUBLE_EQ(l.omega_s, 2e4 * spring.v / (spring.F_drive - spring.F_kin));
+  EXPECT_DOUBLE_EQ(l.omega_resonance, std::sqrt((30 * 1e4 + 2e4) / 1.0));
+  EXPECT_EQ(l.diffusion, 0.0);
+  // The rest of section 1 holds unchanged: eta1 from v as under a constant force.
+  EXPECT_EQ(spring.eta1, ParameterBuilder().build().eta1);
+}
 
 TEST(Parameters, K1ZeroIsAllowed) { EXPECT_NO_THROW(ParameterBuilder().set("k1=0").build()); }
 

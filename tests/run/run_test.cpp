@@ -1,5 +1,6 @@
 #include "slidespec/run.hpp"
 #include "slidespec/theory.hpp"
+#include "io/tables.hpp"
 
 #include "run/session.hpp"
 
@@ -80,22 +81,53 @@ TEST(Run, RingChainWithPeriodicRenewalAgreesWithTheory) {
 }
 
 TEST(Run, SameSeedSameNumbersWhateverThreadsAndSimdPath) {
-  RunRequest r = short_request();
-  r.omega_min = 100;
-  r.omega_max = 1e3;
-  r.threads = 1;
-  r.simd = SimdPath::scalar;
-  const Parameters p = ParameterBuilder("reference").build();
-  const RunResult one = run_spectrum(p, r);
-  r.threads = 2;
-  r.simd = SimdPath::automatic;
-  const RunResult two = run_spectrum(p, r);
-  ASSERT_EQ(one.points.size(), two.points.size());
-  for (size_t k = 0; k < one.points.size(); ++k) {
-    EXPECT_TRUE(same_bits(one.points[k].C_x, two.points[k].C_x)) << k;
-    EXPECT_TRUE(same_bits(one.points[k].standard_error, two.points[k].standard_error)) << k;
+  for (const char* drive : {"drive=force", "drive=spring"}) {
+    RunRequest r = short_request();
+    r.omega_min = 100;
+    r.omega_max = 1e3;
+    r.threads = 1;
+    r.simd = SimdPath::scalar;
+    ParameterBuilder builder("reference");
+    builder.set(drive);
+    if (std::string(drive) == "drive=spring") builder.set("k_drive=1e4");
+    const Parameters p = builder.build();
+    const RunResult one = run_spectrum(p, r);
+    r.threads = 2;
+    r.simd = SimdPath::automatic;
+    const RunResult two = run_spectrum(p, r);
+    ASSERT_EQ(one.points.size(), two.points.size());
+    for (size_t k = 0; k < one.points.size(); ++k) {
+      EXPECT_TRUE(same_bits(one.points[k].C_x, two.points[k].C_x)) << drive << " " << k;
+      EXPECT_TRUE(same_bits(one.points[k].standard_error, two.points[k].standard_error)) << drive << " " << k;
+    }
+    EXPECT_TRUE(same_bits(one.mean_speed, two.mean_speed)) << drive;
   }
-  EXPECT_TRUE(same_bits(one.mean_speed, two.mean_speed));
+}
+
+// docs/model.md §9: driven through a spring, the simulated spectrum follows the theory
+// with the spring (flat below omega_s = 1 rad/s here, the resonance moved up), and the
+// block slides at the load point's v.
+TEST(Run, SpringDrivenRunAgreesWithTheoryAndSlidesAtV) {
+  RunRequest r = short_request();
+  r.omega_min = 0.1;
+  r.omega_max = 1e3;
+  for (const char* chain : {"chain=open", "chain=ring"}) {
+    const Parameters p =
+        ParameterBuilder().set("N=12").set(chain).set("alpha=0.5").set("drive=spring").set("k_drive=1e4").build();
+    const RunResult result = run_spectrum(p, r);
+    EXPECT_TRUE(result.complete) << chain;
+    int within_two = 0, beyond_four = 0;
+    for (const RunPoint& point : result.points) {
+      const double z = (point.C_x - point.theory) / point.standard_error;
+      within_two += std::fabs(z) <= 2;
+      beyond_four += std::fabs(z) > 4;
+    }
+    EXPECT_GE(within_two, 0.85 * static_cast<double>(result.points.size())) << chain;
+    EXPECT_EQ(beyond_four, 0) << chain;
+    EXPECT_TRUE(result.stationary) << chain << ": " << result.stationarity;
+    EXPECT_NEAR(result.mean_speed, p.v, 4 * result.mean_speed_error) << chain;
+    EXPECT_NE(result.theory2_note.find("drive=spring"), std::string::npos) << result.theory2_note;
+  }
 }
 
 TEST(Run, FixedDurationAndRealizationsAreHonoured) {
@@ -205,6 +237,32 @@ TEST(Run, SecondOrderColumnIsNaNWithAReasonWhereItDoesNotApply) {
     for (const RunPoint& point : result.points) EXPECT_TRUE(std::isnan(point.theory2)) << change;
     EXPECT_FALSE(result.theory2_note.empty()) << change;
   }
+}
+
+// docs/model.md §8-9: the stall example of §8 (every force can resist at once, a constant
+// force stalls the block for good) driven through a spring slides on: the run is complete
+// and stationary, at the load point's speed, and its outputs say the first-order theory is
+// not expected to hold (intermittent sliding).
+TEST(Run, AStallCaseDrivenThroughASpringSlidesAtV) {
+  const Parameters p = ParameterBuilder()
+                           .set("N=7")
+                           .set("F_drive=8")
+                           .set("F_kin=6")
+                           .set("a=3e-4")
+                           .set("drive=spring")
+                           .set("k_drive=1e4")
+                           .build();
+  ASSERT_TRUE(landmarks(p).forces_can_stall);
+  RunRequest r = short_request();
+  r.omega_min = 1;
+  r.omega_max = 1e3;
+  r.realizations = 16;
+  const RunResult result = run_spectrum(p, r);
+  EXPECT_TRUE(result.complete);
+  EXPECT_TRUE(result.stationary) << result.stationarity;
+  EXPECT_NEAR(result.mean_speed / p.v, 1.0, 0.02);
+  EXPECT_NE(io::metadata_lines(p, "stall").find("first_order_note = alpha F_kin >= 2 (F_drive - F_kin)"),
+            std::string::npos);
 }
 
 // A state saved before renewals took effect inside the step (format 1) holds realizations

@@ -65,9 +65,13 @@ TEST(HierarchyStepper, OneLevelGivesTheFlatModelsTrajectoriesBitForBit) {
 }
 
 TEST(HierarchyStepper, EverySimdPathMatchesTheScalarPathBitwiseOnATree) {
-  const std::vector<std::vector<const char*>> trees = {{"renewal=poisson"},
-                                                       {"renewal=periodic", "touching=2", "chain_2=ring"},
-                                                       {"levels=3", "N=4", "N_2=3", "N_3=3", "touching=2,3"}};
+  const std::vector<std::vector<const char*>> trees = {
+      {"renewal=poisson"},
+      {"renewal=periodic", "touching=2", "chain_2=ring"},
+      {"levels=3", "N=4", "N_2=3", "N_3=3", "touching=2,3"},
+      // Tied to a load point (docs/model.md §9): xi in the state.
+      {"drive=spring", "k_drive=1e4"},
+      {"drive=spring", "k_drive=1e4", "levels=3", "N=4", "N_2=3", "N_3=3", "touching=2,3"}};
   StepperConfig config;
   config.dt = 1e-3;
   config.seed = 11;

@@ -1,4 +1,5 @@
 #include "slidespec/stepper.hpp"
+#include "slidespec/theory.hpp"
 #include "trajectories.hpp"
 
 #include <gtest/gtest.h>
@@ -33,7 +34,7 @@ MeanAndError statistics(const std::vector<double>& x) {
 }  // namespace
 
 TEST(ExactStep, TwoStepsOfDtEqualOneStepOfTwoDt) {
-  const auto lumped = model::lumped_flat_structure(ParameterBuilder().build());
+  const auto lumped = model::lumped_tree_structure(ParameterBuilder().build());
   for (double dt : {1e-5, 1e-3}) {
     const auto one = stepper::exact_step(lumped, dt);
     const auto two = stepper::exact_step(lumped, 2 * dt);
@@ -77,13 +78,16 @@ TEST(Stepper, TrajectoryDoesNotDependOnTheTimeStep) {
 }
 
 TEST(Stepper, EverySimdPathMatchesTheScalarPathBitwise) {
-  for (const char* renewal : {"renewal=poisson", "renewal=periodic"}) {
-    const Parameters p = ParameterBuilder().set(renewal).set("a=1e-5").build();  // many renewals
-    StepperConfig config;
-    config.dt = 1e-4;
-    config.seed = 7;
-    stepper_test::expect_every_path_matches_scalar(p, config, 3000, renewal);
-  }
+  for (const char* renewal : {"renewal=poisson", "renewal=periodic"})
+    for (const char* drive : {"drive=force", "drive=spring"}) {
+      ParameterBuilder builder;
+      builder.set(renewal).set(drive).set("a=1e-5");  // many renewals
+      if (std::string(drive) == "drive=spring") builder.set("k_drive=1e4");
+      StepperConfig config;
+      config.dt = 1e-4;
+      config.seed = 7;
+      stepper_test::expect_every_path_matches_scalar(builder.build(), config, 3000, std::string(renewal) + " " + drive);
+    }
 }
 
 TEST(Stepper, ARealizationDoesNotDependOnItsBatch) {
@@ -94,7 +98,7 @@ TEST(Stepper, ARealizationDoesNotDependOnItsBatch) {
 }
 
 TEST(Stepper, ResultsDoNotDependOnTheThreadCount) {
-  const Parameters p = ParameterBuilder().set("a=1e-5").build();
+  const Parameters p = ParameterBuilder().set("a=1e-5").set("drive=spring").set("k_drive=1e4").build();
   StepperConfig config;
   config.dt = 1e-4;
   auto run = [&](int threads) {
@@ -192,3 +196,39 @@ TEST_P(StepperStatistics, RenewalsHappenAtRateVOverA) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, StepperStatistics, ::testing::Values("reference", "fast", "weak-noise"));
+
+// docs/model.md §9: tied to the load point the block's xi is stationary. Between two late
+// times T and 2T, far apart against the memory of the forces (a/v) and of the spring
+// (1/omega_s), xi(2T) - xi(T) has twice the stationary variance, the integral of C_x over
+// all omega; its mean is 0: the block keeps to the load point's speed v.
+TEST(SpringStepper, StretchFluctuatesWithTheTheorysVarianceAndTheBlockKeepsSpeedV) {
+  for (const char* k_drive : {"1e3", "1e4"}) {
+    const Parameters p = ParameterBuilder().set("N=12").set("drive=spring").set("k_drive", k_drive).build();
+    StepperConfig config;
+    config.dt = 1e-2;
+    config.seed = 99;
+    const int realizations = 2048;
+    const std::int64_t steps = 10000;  // 100 s: 50 renewal times, 10 times 1/omega_s or more
+    Stepper stepper(p, config, 0, realizations);
+    stepper.advance(steps, {});
+    const std::vector<RealizationSummary> at_T = stepper.summaries();
+    stepper.advance(steps, {});
+    const std::vector<RealizationSummary> at_2T = stepper.summaries();
+    std::vector<double> change;
+    for (int k = 0; k < realizations; ++k) change.push_back(at_2T[k].xi_end - at_T[k].xi_end);
+
+    const LumpedTheory theory(p);
+    double variance = 0;  // 2 int_0^inf C_x domega, midpoints on a fine log grid
+    const double omega_low = 1e-6, omega_high = 1e6;
+    const int points = 200000;
+    const double step = std::log(omega_high / omega_low) / points;
+    for (int k = 0; k < points; ++k) {
+      const double omega = omega_low * std::exp((k + 0.5) * step);
+      variance += 2 * theory(omega) * omega * step;
+    }
+    const auto s = statistics(change);
+    // Relative standard error of a sample variance of near-Gaussian data: sqrt(2/(n-1)).
+    EXPECT_NEAR(s.variance / (2 * variance), 1.0, 4 * std::sqrt(2.0 / (realizations - 1))) << k_drive;
+    EXPECT_NEAR(s.mean, 0.0, 4 * s.standard_error) << k_drive;
+  }
+}

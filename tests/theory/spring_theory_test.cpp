@@ -1,0 +1,109 @@
+// Drive through a spring (docs/model.md §9): the theory against a dense solve of
+// the full structure written out from the model (tests/model/flat_model.hpp), and the
+// landmarks the spring brings.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "../model/flat_model.hpp"
+#include "model/linear_structure.hpp"
+#include "slidespec/theory.hpp"
+
+using namespace slidespec;
+
+namespace {
+
+Parameters spring_model(const std::vector<std::string>& changes, const char* k_drive = "1e4") {
+  ParameterBuilder builder;
+  for (const std::string& change : changes) builder.set(change);
+  return builder.set("drive=spring").set("k_drive", k_drive).build();
+}
+
+const std::vector<double> kOmegas = {1e-3, 0.01, 0.1, 0.3, 1, 3, 10, 100, 350, 548, 1e3, 1e4, 1e5};
+
+}  // namespace
+
+TEST(SpringTheory, EqualsADenseSolveOfTheFullStructure) {
+  for (const char* chain : {"chain=open", "chain=ring"})
+    for (const char* renewal : {"renewal=poisson", "renewal=periodic"})
+      for (const char* k_drive : {"1e2", "1e4"}) {
+        const Parameters p = spring_model({"N=12", chain, renewal, "alpha=0.5"}, k_drive);
+        const std::vector<double> exact = exact_spectrum(p, kOmegas);
+        const LumpedTheory lumped(p);
+        for (std::size_t k = 0; k < kOmegas.size(); ++k) {
+          const double dense = as_written::flat_model_spectrum(p, kOmegas[k]);
+          EXPECT_NEAR(exact[k] / dense, 1.0, 1e-6)
+              << chain << " " << renewal << " k_drive " << k_drive << " omega " << kOmegas[k];
+          EXPECT_NEAR(lumped(kOmegas[k]) / dense, 1.0, 1e-6) << chain << " " << renewal << " omega " << kOmegas[k];
+        }
+      }
+}
+
+// Blocks on blocks: the tree's own matrices without the spring, the spring added here on
+// the top block, solved dense.
+TEST(SpringTheory, TreeEqualsADenseSolveWithTheSpringOnTheTopBlock) {
+  const Parameters force = ParameterBuilder("hierarchical").set("N=4").set("N_2=3").build();
+  const Parameters spring =
+      ParameterBuilder("hierarchical").set("N=4").set("N_2=3").set("drive=spring").set("k_drive=3e3").build();
+  const model::LinearStructure s = model::tree_structure(force);
+  Eigen::MatrixXd K = s.stiffness;
+  K(0, 0) += 3e3;
+  const std::vector<int> level_of = model::level_of_coordinates(force);
+  const std::vector<double> exact = exact_spectrum(spring, kOmegas);
+  for (std::size_t k = 0; k < kOmegas.size(); ++k) {
+    const double omega = kOmegas[k];
+    const Eigen::MatrixXcd Z = K.cast<std::complex<double>>() -
+                               omega * omega * Eigen::MatrixXd(s.mass).cast<std::complex<double>>() -
+                               std::complex<double>(0, omega) * Eigen::MatrixXd(s.damping).cast<std::complex<double>>();
+    const Eigen::MatrixXcd G = Z.fullPivLu().inverse();
+    double dense = 0;
+    for (const model::Contact& c : s.contacts)
+      dense += random_force_spectrum(spring, level_of[static_cast<std::size_t>(c.coordinate)], omega) *
+               std::norm(G(0, c.coordinate));
+    EXPECT_NEAR(exact[k] / dense, 1.0, 1e-6) << "omega " << omega;
+  }
+}
+
+// docs/model.md's example: N = 12, ring, alpha = 0.5, k_drive = 1e4 N/m.
+TEST(SpringTheory, FlattensBelowOmegaSAndMeetsTheConstantForceAboveTheResonance) {
+  const Parameters spring = spring_model({"N=12", "chain=ring", "alpha=0.5"});
+  const Parameters force = ParameterBuilder().set("N=12").set("chain=ring").set("alpha=0.5").build();
+  const LumpedTheory with_spring(spring), constant_force(force);
+  const double flat = spring_low_frequency_limit(spring);
+  EXPECT_NEAR(flat, 2.76e-10, 0.02e-10);
+  EXPECT_NEAR(with_spring(0.01) / flat, 1.0, 1e-3);
+  EXPECT_NEAR(with_spring(0.01) / constant_force(0.01), 1e-4, 0.1e-4);
+  EXPECT_NEAR(with_spring(1) / constant_force(1), 0.46, 0.01);
+  for (double omega : {10.0, 20.0, 40.0}) {
+    // (N k0 / (N k0 + k_drive))^2 = (12/13)^2 well between omega_s and omega_c (0.84 at 100).
+    EXPECT_NEAR(with_spring(omega) / constant_force(omega), 144.0 / 169.0, 0.01) << omega;
+  }
+  for (double omega : {2e3, 1e4}) EXPECT_NEAR(with_spring(omega) / constant_force(omega), 1.0, 0.03) << omega;
+  // The spring transmits the contacts' force noise at low frequency: a static force f on a
+  // miniblock ends up wholly in the spring, k_drive G_0i(0) = 1.
+  EXPECT_NEAR(spring_force_spectrum(spring, flat) / (spring.N * as_written::force_spectrum(spring, 0)), 1.0, 1e-9);
+  EXPECT_THROW(spring_low_frequency_limit(force), InputError);
+}
+
+TEST(SpringTheory, ResonanceMovesToTheStiffenedBlock) {
+  const Parameters p = spring_model({}, "1e5");
+  const double resonance = landmarks(p).omega_resonance;
+  EXPECT_NEAR(resonance, std::sqrt((30 * 1e4 + 1e5) / 1.0), 1e-9);
+  const LumpedTheory theory(p);
+  double peak = 0, where = 0;
+  for (double omega = 0.8 * resonance; omega < 1.2 * resonance; omega *= 1.0005)
+    if (theory(omega) > peak) peak = theory(omega), where = omega;
+  EXPECT_NEAR(where / resonance, 1.0, 0.01);
+}
+
+TEST(SpringTheory, MovesAtVWithoutDiffusionInEveryTheory) {
+  const Parameters p = spring_model({"alpha=3"});  // a constant force would stall here
+  for (MotionTheory theory : {MotionTheory::first_order, MotionTheory::second_order, MotionTheory::quasi_static}) {
+    const LongTimeMotion motion = long_time_motion(p, theory);
+    EXPECT_EQ(motion.mean_speed, p.v);
+    EXPECT_EQ(motion.diffusion, 0.0);
+  }
+  EXPECT_THROW(SecondOrderTheory{p}, InputError);
+}
