@@ -278,7 +278,8 @@ class Spectrum {
 };
 
 py::dict landmarks_dict(const std::string& case_name, const Overrides& overrides) {
-  const Landmarks l = landmarks(build(case_name, overrides));
+  const Parameters p = build(case_name, overrides);
+  const Landmarks l = landmarks(p);
   py::dict d;
   d["renewal_rate"] = l.renewal_rate;
   d["omega_c"] = l.omega_c;
@@ -287,6 +288,11 @@ py::dict landmarks_dict(const std::string& case_name, const Overrides& overrides
   d["coupling_eps"] = l.coupling_eps;
   d["forces_can_stall"] = l.forces_can_stall;
   d["outside_first_order"] = l.outside_first_order();
+  d["omega_resonance"] = l.omega_resonance;
+  if (p.drive == Drive::spring) {
+    d["omega_s"] = l.omega_s;
+    d["C_x_zero"] = spring_low_frequency_limit(p);
+  }
   return d;
 }
 

@@ -30,7 +30,7 @@ import numpy as np
 from . import _core
 
 __version__ = _core.version
-__all__ = ["Parameters", "parameter_table", "Result", "Analysis", "cases", "omegas", "theory", "eq1", "long_time_motion", "run", "resume",
+__all__ = ["Parameters", "parameter_table", "Result", "Analysis", "cases", "omegas", "theory", "spring_force_theory", "eq1", "long_time_motion", "run", "resume",
            "read", "analyze", "synth", "PrecisionWarning", "ModelWarning"]
 
 
@@ -155,7 +155,8 @@ class Parameters(Mapping):
     def landmarks(self):
         """The theory's landmarks: renewal_rate v/a [1/s], omega_c sqrt(N k0/M) [rad/s],
         diffusion_D [m^2/s], eq1_prefactor [m^2 rad^4/s^3], coupling_eps [-],
-        forces_can_stall, outside_first_order."""
+        forces_can_stall, outside_first_order, omega_resonance [rad/s]; with
+        drive="spring" also omega_s [rad/s] and C_x_zero, C_x(0) [m^2 s]."""
         return _core.landmarks(self._case, list(self._overrides))
 
     def __getitem__(self, key):
@@ -228,6 +229,16 @@ def theory(params, omega, order=1):
     w = _positive_omegas(omega)
     values = _core.theory(*p._args(), w.ravel(), int(order)).reshape(w.shape)
     return float(values) if w.ndim == 0 else values
+
+
+def spring_force_theory(params, omega):
+    """drive="spring": the spring's force spectrum C_F = k_drive^2 C_x [N^2 s] at each omega
+    [rad/s] (what a machine's force sensor records; docs/model.md section 9). ValueError for
+    a constant force."""
+    p = _as_parameters(params)
+    if p.get("drive") != "spring":  # a constant-force model does not list drive
+        raise ValueError("spring_force_theory: the parameters have no drive spring (set drive='spring', k_drive=...)")
+    return p["k_drive"] ** 2 * theory(p, omega)
 
 
 def long_time_motion(params, theory="quasi_static"):
@@ -317,8 +328,10 @@ class Result(_Table):
       stderr [m^2 s] its standard error; theory [m^2 s] the exact first-order theory seen
       through the estimator; theory_at_omega [m^2 s]; n_avg periodogram values averaged;
       bandwidth [rad/s]; theory2 [m^2 s] the second-order theory averaged as theory is (NaN
-      where it does not apply: see the field theory2_note); and any column the library or
-      the file adds (see `columns`).
+      where it does not apply: see the field theory2_note); with drive="spring" the
+      spring's force spectrum C_F_spring, C_F_spring_stderr, C_F_spring_theory [N^2 s]
+      (k_drive^2 times C_x, stderr, theory); and any column the library or the file adds
+      (see `columns`).
     Fields: complete (False when interrupted), reached_precision (largest stderr/C_x),
       mean_speed and mean_speed_error [m/s], simulated_time [s], wall_seconds [s],
       parameters {key: value}, case, request, sub_bands, and every other key of the JSON.

@@ -131,6 +131,31 @@ def test_second_order_theory_is_the_command_line():
         ss.theory(p, 1.0, order=3)
 
 
+def test_spring_drive_theory_and_run_carry_the_force_spectrum():
+    p = ss.Parameters("reference", N=12, chain="ring", alpha=0.5, drive="spring", k_drive=1e4)
+    assert p["drive"] == "spring" and p["k_drive"] == 1e4
+    printed = cli("theory", "--set", "N=12", "--set", "chain=ring", "--set", "alpha=0.5", "--set", "drive=spring",
+                  "--set", "k_drive=1e4").stdout
+    rows = [line.split("\t") for line in printed.splitlines() if line and not line.startswith(("#", "omega"))]
+    omega = ss.omegas()
+    assert same_bits([float(r[1]) for r in rows], ss.theory(p, omega))
+    assert same_bits([float(r[3]) for r in rows], ss.spring_force_theory(p, omega))
+    landmarks = p.landmarks
+    assert landmarks["omega_s"] == 1e4 * p["v"] / (p["F_drive"] - p["F_kin"])
+    assert landmarks["diffusion_D"] == 0 and landmarks["C_x_zero"] > 0
+    r = ss.run(p, omega_min=10, omega_max=100, realizations=4, seed=2)
+    assert same_bits(r.C_F_spring, 1e4 ** 2 * r.C_x)
+    assert same_bits(r.C_F_spring_theory, 1e4 ** 2 * r.theory)
+    with pytest.raises(ValueError, match="k_drive"):
+        ss.Parameters(drive="spring")
+    with pytest.raises(ValueError, match="k_drive"):
+        ss.Parameters(k_drive=1e4)
+    with pytest.raises(ValueError, match="drive spring"):
+        ss.spring_force_theory(ss.Parameters(), 1.0)
+    with pytest.raises(ValueError, match="drive=spring"):
+        ss.theory(p, 1.0, order=2)
+
+
 def test_parameter_table_gives_every_key_with_its_unit_and_type():
     table = ss.parameter_table()
     keys = [row["key"] for row in table]
