@@ -287,7 +287,13 @@ py::dict landmarks_dict(const std::string& case_name, const Overrides& overrides
   d["eq1_prefactor"] = l.eq1_prefactor;
   d["coupling_eps"] = l.coupling_eps;
   d["forces_can_stall"] = l.forces_can_stall;
-  d["outside_first_order"] = l.outside_first_order();
+  const TheoryChoice holds = best_theory(build(case_name, overrides));
+  d["outside_first_order"] =
+      l.forces_can_stall ||
+      l.coupling_eps > (build(case_name, overrides).renewal == Renewal::poisson ? kFirstOrderPoissonEpsMax
+                                                                                : kFirstOrderPeriodicEpsMax);
+  d["theory_kind"] = theory_kind_name(holds.kind);
+  d["theory_kind_note"] = holds.reason;
   d["omega_resonance"] = l.omega_resonance;
   if (p.drive == Drive::spring) {
     d["omega_s"] = l.omega_s;

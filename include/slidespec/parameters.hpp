@@ -95,8 +95,6 @@ struct Landmarks {
   double omega_s;
   /// The block's resonance, sqrt((N k0 + k_drive) / M) [rad/s] (omega_c for a force; k_drive = 0).
   double omega_resonance;
-  /// True when docs/model.md §4.1 says the first-order theory may not hold.
-  bool outside_first_order() const { return coupling_eps > 0.3 || forces_can_stall; }
 };
 
 Landmarks landmarks(const Parameters& p);

@@ -12,6 +12,7 @@
 
 #include "slidespec/parameters.hpp"
 #include "slidespec/stepper.hpp"
+#include "slidespec/theory.hpp"
 
 namespace slidespec {
 
@@ -83,8 +84,12 @@ struct RunResult {
   double wall_seconds = 0;
   double reached_precision = 0;  ///< largest standard_error / C_x over the points
   /// Empty when every point has `theory2`; otherwise why the second-order theory does not
-  /// apply (periodic renewal, several touching levels, eps beyond 0.3).
+  /// apply (several touching levels, periodic renewal far beyond its validity).
   std::string theory2_note;
+  /// The best theory that holds here (docs/model.md §7.4): the run's `theory2` for
+  /// second_order, `theory` for first_order; none: neither column describes the run.
+  TheoryKind theory_kind = TheoryKind::none;
+  std::string theory_kind_note;  ///< why no better theory holds (empty for second_order)
   SimdPath simd_path = SimdPath::scalar;
   int threads = 1;
   bool complete = false;  ///< false when interrupted or out of budget

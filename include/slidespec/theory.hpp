@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -120,5 +121,38 @@ class SecondOrderTheory {
  private:
   std::shared_ptr<const Impl> impl_;
 };
+
+}  // namespace slidespec
+
+namespace slidespec {
+
+/// The spectrum theories in the order slidespec prefers them.
+enum class TheoryKind {
+  second_order,  ///< SecondOrderTheory (docs/model.md §7.1-7.2)
+  first_order,   ///< exact_spectrum, LumpedTheory (docs/model.md §4)
+  none,          ///< no theory meets the simulation here
+};
+
+/// Where each theory holds, in the coupling eps (Landmarks::coupling_eps): the largest eps at
+/// which it met the simulation's spectra at 1% a point, 0.02..36 rad/s, for every N of the map
+/// (2 to 30): at least 85% of the points within 2 standard errors and none beyond 4
+/// (docs/model.md §7.4, tools/validity_map.py). Every limit of the program is one of these.
+inline constexpr double kFirstOrderPoissonEpsMax = 0.05;
+inline constexpr double kFirstOrderPeriodicEpsMax = 0.025;
+inline constexpr double kSecondOrderPoissonEpsMax = 0.15;
+inline constexpr double kSecondOrderPeriodicEpsMax = 0.1;
+/// Beyond this SecondOrderTheory refuses periodic renewal: its ripple region (omega ~ 2 pi
+/// v / a) goes wrong by tens of percent there.
+inline constexpr double kSecondOrderPeriodicComputedEpsMax = 0.25;
+
+/// The best theory that holds for `p`, and why no better one does ("" for the second order).
+struct TheoryChoice {
+  TheoryKind kind = TheoryKind::none;
+  std::string reason;
+};
+TheoryChoice best_theory(const Parameters& p);
+
+/// "second_order", "first_order" or "none", as outputs name it (theory_kind).
+const char* theory_kind_name(TheoryKind kind);
 
 }  // namespace slidespec

@@ -155,8 +155,11 @@ class Parameters(Mapping):
     def landmarks(self):
         """The theory's landmarks: renewal_rate v/a [1/s], omega_c sqrt(N k0/M) [rad/s],
         diffusion_D [m^2/s], eq1_prefactor [m^2 rad^4/s^3], coupling_eps [-],
-        forces_can_stall, outside_first_order, omega_resonance [rad/s]; with
-        drive="spring" also omega_s [rad/s] and C_x_zero, C_x(0) [m^2 s]."""
+        forces_can_stall, outside_first_order (eps beyond the first order's measured limit, or
+        stalling forces), theory_kind (the best theory that holds: "second_order",
+        "first_order" or "none", docs/model.md §7.4), theory_kind_note (why no better one),
+        omega_resonance [rad/s]; with drive="spring" also omega_s [rad/s] and C_x_zero,
+        C_x(0) [m^2 s]."""
         return _core.landmarks(self._case, list(self._overrides))
 
     def __getitem__(self, key):
@@ -334,6 +337,8 @@ class Result(_Table):
       (see `columns`).
     Fields: complete (False when interrupted), reached_precision (largest stderr/C_x),
       mean_speed and mean_speed_error [m/s], simulated_time [s], wall_seconds [s],
+      theory_kind (the best theory that holds here, docs/model.md §7.4: "second_order" is the
+      column theory2, "first_order" the column theory, "none" neither) and theory_kind_note,
       parameters {key: value}, case, request, sub_bands, and every other key of the JSON.
     to_dict() gives the JSON document; results pickle. An interrupted result also holds
     its run's state: resume(result) continues it to the numbers of an unbroken run.
@@ -476,14 +481,11 @@ def _drive(handle, threads, simd, progress):
     return _finish(handle)
 
 
-def _warn_outside_first_order(p):
+def _warn_if_no_theory_holds(p):
     marks = p.landmarks
-    if marks["forces_can_stall"]:
-        warnings.warn("alpha F_kin >= 2 (F_drive - F_kin): the random forces can stall the block; "
-                      "the first-order theory does not hold here", ModelWarning, stacklevel=3)
-    elif marks["coupling_eps"] > 0.3:
-        warnings.warn(f"eps = {marks['coupling_eps']:.3g} > 0.3: the first-order theory does not "
-                      "hold here", ModelWarning, stacklevel=3)
+    if marks["theory_kind"] == "none":
+        warnings.warn(f"no theory holds here (theory_kind = none): {marks['theory_kind_note']}", ModelWarning,
+                      stacklevel=3)
 
 
 _MOST_U64 = 2**64 - 1
@@ -526,8 +528,8 @@ def run(params, *, omega_min=0.1, omega_max=1e5, points=8, precision=None, durat
     Raises ValueError for bad parameters or requests, before any work. The run releases
     the GIL. Ctrl-C stops it at the next block of steps and raises KeyboardInterrupt with
     the partial Result (complete False) as `error.result`; resume(error.result) continues it.
-    Warns ModelWarning outside the first-order theory's validity (eps > 0.3, stalling
-    forces) and PrecisionWarning when the budget ran out before the precision.
+    Warns ModelWarning where no theory holds (theory_kind none: eps beyond the measured
+    limits of docs/model.md §7.4, stalling forces) and PrecisionWarning when the budget ran out before the precision.
     """
     if precision is not None and duration is not None:
         raise ValueError("precision excludes duration: a fixed duration sets the work, not a target")
@@ -545,7 +547,7 @@ def run(params, *, omega_min=0.1, omega_max=1e5, points=8, precision=None, durat
                "seed": _whole("seed", seed, _MOST_U64)}
     _whole("threads", threads, _MOST_INT)
     handle = _core.new_run(*p._args(), request)
-    _warn_outside_first_order(p)
+    _warn_if_no_theory_holds(p)
     return _drive(handle, threads, simd, progress)
 
 

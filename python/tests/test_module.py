@@ -375,12 +375,20 @@ def test_help_names_units():
     assert "rad/s" in ss.run.__doc__ and "m^2 s" in ss.theory.__doc__
 
 
+def test_landmarks_name_the_best_theory_that_holds():
+    assert ss.Parameters("reference").landmarks["theory_kind"] == "second_order"
+    outside = ss.Parameters("reference", N=6, alpha=1.5).landmarks  # eps 0.25
+    assert outside["theory_kind"] == "none"
+    assert "second order holds to eps 0.15" in outside["theory_kind_note"]
+
+
 def test_runs_outside_the_first_order_theory_warn_as_the_command_line_does():
     p = ss.Parameters("reference", alpha=5)
     assert p.landmarks["forces_can_stall"]
     with pytest.warns(ss.ModelWarning, match="stall"):
         r = ss.run(p, omega_min=100, omega_max=1e3, realizations=8, threads=2)
     assert r.complete
+    assert r.theory_kind == "none"
 
 
 def test_analyze_takes_the_command_lines_window_and_resampling():

@@ -430,7 +430,7 @@ std::pair<double, double> default_alpha_band(const RecordSpectrum& s, const Para
 }
 
 int model_order(const Parameters& params, ModelOrder order) {
-  if (order == ModelOrder::first || landmarks(params).coupling_eps > 0.3) return 1;
+  if (order == ModelOrder::first) return 1;
   try {
     SecondOrderTheory{params};
     return 2;

@@ -88,14 +88,9 @@ Verdict judge_chi2(double chi2_per_dof, int dof) {
 
 Verdict judge_alpha(const AlphaFit& fit, const Parameters& fitted) {
   Verdict verdict = judge_chi2(fit.chi2_per_dof, fit.points - 1);
-  const Landmarks l = landmarks(fitted);
-  std::string outside;
-  if (l.forces_can_stall)
-    outside = "alpha F_kin >= 2 (F_drive - F_kin): the forces can stall the block";
-  else if (l.coupling_eps > 0.3)
-    outside = "coupling eps = " + short_number(l.coupling_eps) + " > 0.3";
-  if (!outside.empty()) {
-    verdict.reason += (verdict.ok ? "" : "; ") + outside + ", outside the first-order theory (docs/model.md §4.1)";
+  const TheoryChoice holds = best_theory(fitted);
+  if (holds.kind == TheoryKind::none) {
+    verdict.reason += (verdict.ok ? "" : "; ") + ("no theory holds at the fitted alpha: " + holds.reason);
     verdict.ok = false;
   }
   return verdict;

@@ -63,8 +63,8 @@ struct ModelOptions {
 /// the same constants the options start from.
 std::string with_default(const std::string& help, double value);
 
-/// Warns on stderr where the first-order theory does not hold (stall, eps > 0.3).
-void warn_if_outside_first_order(const Parameters& p);
+/// Warns on stderr where no theory holds (docs/model.md §7.4: stall, eps beyond the limits).
+void warn_if_no_theory_holds(const Parameters& p);
 
 /// Every command of `slidespec`, in the order `slidespec --help` lists them.
 std::vector<std::unique_ptr<Command>> make_commands(CLI::App& app, const Context& context);

@@ -45,16 +45,10 @@ std::string with_default(const std::string& help, double value) {
   return help + " (default " + typed + ")";
 }
 
-void warn_if_outside_first_order(const Parameters& p) {
-  const Landmarks l = landmarks(p);
-  if (p.drive == Drive::spring && l.outside_first_order())
-    std::cerr << "slidespec: warning: " << io::spring_first_order_note(l) << "\n";
-  else if (l.forces_can_stall)
-    std::cerr << "slidespec: warning: alpha F_kin >= 2 (F_drive - F_kin): the random forces can "
-                 "stall the block; the first-order theory does not hold here (docs/model.md §4.1)\n";
-  else if (l.coupling_eps > 0.3)
-    std::cerr << "slidespec: warning: eps = " << l.coupling_eps
-              << " > 0.3: the first-order theory does not hold here (docs/model.md §4.1)\n";
+void warn_if_no_theory_holds(const Parameters& p) {
+  const TheoryChoice holds = best_theory(p);
+  if (holds.kind == TheoryKind::none)
+    std::cerr << "slidespec: warning: no theory holds here (theory_kind = none): " << holds.reason << "\n";
 }
 
 namespace {
@@ -105,7 +99,7 @@ class TheoryCommand final : public Command {
     c.add_option("--omega-file", omega_file_, "omegas [rad/s] from a file (one or more a line, '#' comments)")
         ->excludes(omega_list);
     c.add_option("--order", order_,
-                 "2: add C_x2, the second-order theory (one touching level; eps <= 0.25 for periodic renewal)");
+                 "2: add C_x2, the second-order theory (one touching level; header theory_kind: where it holds)");
     c.add_option("--out", out_, "write PREFIX.tsv instead of stdout");
   }
 
@@ -124,7 +118,7 @@ class TheoryCommand final : public Command {
     // Built before any work so that a model it does not cover is refused at once.
     const std::unique_ptr<SecondOrderTheory> second = order_ == 2 ? std::make_unique<SecondOrderTheory>(p) : nullptr;
     if (!out_.empty()) io::check_output_prefix(out_);
-    warn_if_outside_first_order(p);
+    warn_if_no_theory_holds(p);
     const std::vector<double> spectrum = exact_spectrum(p, omegas);
 
     std::ostringstream table;

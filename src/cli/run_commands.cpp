@@ -330,7 +330,7 @@ class RunCommand final : public Command {
     if (std::error_code ignored; std::filesystem::exists(options.out + ".state", ignored))
       throw InputError("--out: " + options.out + ".state holds an interrupted run; continue it with --resume " +
                        options.out + ", or remove it to start afresh");
-    if (!options.quiet && context_.writes_outputs()) warn_if_outside_first_order(p);
+    if (!options.quiet && context_.writes_outputs()) warn_if_no_theory_holds(p);
     catch_stop_signals();
     return exit_status(run_and_write(context_, session, options, options.out));
   }

@@ -88,7 +88,13 @@ std::string metadata_lines(const Parameters& p, const std::string& case_name) {
       << "# diffusion_D = " << format_number(l.diffusion) << "  # [m^2/s], C_x -> D/(pi omega^2)\n"
       << "# eq1_prefactor = " << format_number(l.eq1_prefactor)
       << "  # [m^2 rad^4/s^3], C_x ~ prefactor/omega^4 for v/a << omega << omega_c\n"
-      << "# coupling_eps = " << format_number(l.coupling_eps) << "  # first-order theory holds for eps <= 0.3\n";
+      << "# coupling_eps = " << format_number(l.coupling_eps)
+      << "  # alpha F_kin / ((F_drive - F_kin) sqrt(6 N)), for the theories' validity\n";
+  const TheoryChoice holds = best_theory(p);
+  out << "# theory_kind = " << theory_kind_name(holds.kind)
+      << "  # the best theory that holds here (docs/model.md §7.4)";
+  if (!holds.reason.empty()) out << "; " << holds.reason;
+  out << "\n";
   if (p.drive == Drive::spring) {
     out << "# omega_s = " << format_number(l.omega_s)
         << "  # k_drive v/(F_drive - F_kin) [rad/s], C_x flattens below it\n"
@@ -96,16 +102,8 @@ std::string metadata_lines(const Parameters& p, const std::string& case_name) {
         << "# C_x_zero = " << format_number(spring_low_frequency_limit(p))
         << "  # C_x(0) [m^2 s] of the first-order theory\n"
         << "# mean_speed = " << format_number(p.v) << "  # [m/s] the load point's v exactly; diffusion_D = 0\n";
-    if (l.outside_first_order()) out << "# first_order_note = " << spring_first_order_note(l) << "\n";
   }
   return out.str();
-}
-
-std::string spring_first_order_note(const Landmarks& l) {
-  if (l.forces_can_stall)
-    return "alpha F_kin >= 2 (F_drive - F_kin): a constant force would stall the block; the spring keeps it sliding "
-           "at v, intermittently, and the first-order theory is not expected to hold";
-  return "eps > 0.3: the first-order theory is not expected to hold";
 }
 
 std::string run_table(const Parameters& p, const std::string& case_name, const RunRequest& request,
@@ -176,7 +174,6 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
     doc["landmarks"]["omega_s"] = l.omega_s;
     doc["landmarks"]["omega_resonance"] = l.omega_resonance;
     doc["landmarks"]["C_x_zero"] = spring_low_frequency_limit(p);
-    if (l.outside_first_order()) doc["first_order_note"] = spring_first_order_note(l);
   }
   doc["request"] = {{"omega_min", request.omega_min},
                     {"omega_max", request.omega_max},
@@ -190,6 +187,8 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
   if (!result.stationary) doc["stationarity"] = result.stationarity;
   doc["reached_precision"] = result.reached_precision;
   if (!result.theory2_note.empty()) doc["theory2_note"] = result.theory2_note;
+  doc["theory_kind"] = theory_kind_name(result.theory_kind);
+  if (!result.theory_kind_note.empty()) doc["theory_kind_note"] = result.theory_kind_note;
   doc["measured_mean_speed"] = {{"value", result.mean_speed}, {"standard_error", result.mean_speed_error}};
   doc["simulated_time"] = result.simulated_time;
   doc["wall_seconds"] = result.wall_seconds;

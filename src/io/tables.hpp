@@ -27,7 +27,6 @@ std::string case_of(const std::string& label);
 nlohmann::ordered_json parameters_json(const Parameters& p);
 
 /// drive = spring outside the first-order theory's range: why, in one line.
-std::string spring_first_order_note(const Landmarks& l);
 
 /// '#' lines: version, case (and label when keys were set), every parameter, and the
 /// landmarks of the theory. `case_name` may be a label "CASE + KEY=V, ...".

@@ -29,8 +29,6 @@ constexpr double kOmegaDtMax = 0.3;
 // fill more lanes per renewal pass; but a step's renewals are its work, so the steps of a
 // band far below v/a are capped at this many renewals per realization.
 constexpr double kRenewalsPerStepMax = 16;
-// The second-order theory is given where the first order is still meaningful.
-constexpr double kSecondOrderEpsMax = 0.3;
 // Each realization of a sub-band spans this many of the segments serving its lowest point.
 constexpr double kSegmentsPerRealization = 6;
 // Precision-driven runs stop growing at kMaxRealizationsPerBand (session.hpp) or 2e9
@@ -553,17 +551,17 @@ RunResult RunSession::result() const {
   // is (for a smooth C_x that is the plain mean over the bins; a periodic force spectrum's
   // zeros are narrower than a bin). The theory at the point's omega beside it.
   const LumpedTheory theory(s.params);
-  // The second-order theory beside it where it applies (docs/model.md §7).
+  // The second-order theory beside it wherever it can be computed (docs/model.md §7), and
+  // which theory holds here (§7.4).
   std::optional<SecondOrderTheory> second;
-  if (landmarks(s.params).coupling_eps > kSecondOrderEpsMax) {
-    result.theory2_note = "eps beyond 0.3: the O(eps^2) expansion is not trusted there";
-  } else {
-    try {
-      second.emplace(s.params);
-    } catch (const InputError& e) {
-      result.theory2_note = e.what();
-    }
+  try {
+    second.emplace(s.params);
+  } catch (const InputError& e) {
+    result.theory2_note = e.what();
   }
+  const TheoryChoice holds = best_theory(s.params);
+  result.theory_kind = holds.kind;
+  result.theory_kind_note = holds.reason;
   for (std::size_t b = 0; b < s.bands.size(); ++b) {
     const BandTotals& totals = s.bands[b];
     SubBand& band = result.sub_bands[b];

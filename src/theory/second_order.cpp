@@ -263,9 +263,6 @@ struct PeriodicSecondOrder {
 
 }  // namespace
 
-// Beyond it the ripple region (omega ~ 2 pi v / a) goes wrong by tens of percent.
-constexpr double kPeriodicEpsMax = 0.25;
-
 struct SecondOrderTheory::Impl {
   LumpedTheory first_order;
   Renewal renewal;
@@ -287,12 +284,12 @@ struct SecondOrderTheory::Impl {
     drive_excess2 = (p.F_drive - p.F_kin) * (p.F_drive - p.F_kin);
     if (renewal == Renewal::periodic) {
       const double eps = landmarks(p).coupling_eps;
-      if (eps > kPeriodicEpsMax) {
+      if (eps > kSecondOrderPeriodicComputedEpsMax) {
         char message[160];
         std::snprintf(
             message, sizeof message,
-            "eps: the second-order theory of periodic renewal holds to eps %.2f (here %.3f; docs/model.md §7)",
-            kPeriodicEpsMax, eps);
+            "eps: the second-order theory of periodic renewal is computed to eps %.2f (here %.3f; docs/model.md §7.2)",
+            kSecondOrderPeriodicComputedEpsMax, eps);
         throw InputError(message);
       }
       twin.renewal = Renewal::poisson;

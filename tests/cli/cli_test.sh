@@ -117,12 +117,25 @@ expect_refused merge-precision-run "fixed realization range" merge "$work/prec.s
 cmp -s "$work/all.tsv" "$work/merged2.tsv" || fail "a resumed part merges differently from the whole run"
 expect_refused range-unaligned "multiple of 8" run $split --realizations-range 4:8 --out "$work/out"
 
-# Warnings outside the first-order theory, without refusing.
+# The best theory that holds, by the measured limits (docs/model.md §7.4): the second order
+# in the reference case (eps 0.075), none at poisson eps 0.25 with 6 miniblocks (a warning).
+"$bin" theory --case reference --omega-min 1 --omega-max 10 > "$work/kind.tsv" 2> "$work/kind.err" || fail "theory failed"
+grep -q '^# theory_kind = second_order  # the best theory that holds here' "$work/kind.tsv" \
+  || fail "reference theory table does not name the second order"
+[ ! -s "$work/kind.err" ] || fail "warning in the reference case: $(cat "$work/kind.err")"
+"$bin" theory --set N=6 --set alpha=1.5 --omega-min 1 --omega-max 10 > "$work/kind.tsv" 2> "$work/kind.err" \
+  || fail "theory at eps 0.25 failed"
+grep -q '^# theory_kind = none .*eps = 0.25: the second order holds to eps 0.15 for poisson renewal' "$work/kind.tsv" \
+  || fail "eps 0.25 table does not say that no theory holds"
+grep -q "no theory holds here" "$work/kind.err" || fail "no warning at eps 0.25"
+
+# Where no theory holds (stalling forces): a warning, without refusing.
 "$bin" run --set N=7 --set F_drive=8 --set F_kin=6 --set a=3e-4 --omega-min 100 --omega-max 1000 \
   --precision 0.3 --out "$work/stall" --no-plot 2> "$work/stall.err"
 status=$?
 [ $status -ne 2 ] || fail "stall-region run refused"
-grep -q "first-order theory does not hold" "$work/stall.err" || fail "no warning in the stall region"
+grep -q "no theory holds here (theory_kind = none): alpha F_kin >= 2" "$work/stall.err" || fail "no warning in the stall region"
+grep -q '^# theory_kind = none .*stall' "$work/stall.tsv" || fail "stall-region table does not say that no theory holds"
 # In its 30 s realizations (49 renewal times a/v) some already stall: exit 3.
 [ $status -eq 3 ] || fail "partly stalled run exited $status, expected 3"
 grep -q "^# stationary = false  # .* realizations slide slower than v/2.*some realizations stalled" "$work/stall.tsv" \

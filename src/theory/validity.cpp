@@ -1,0 +1,56 @@
+// Which spectrum theory holds where: the measured limits of docs/model.md §7.4.
+#include <cstdio>
+
+#include "slidespec/theory.hpp"
+
+namespace slidespec {
+
+namespace {
+
+std::string eps_text(double eps) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", eps);
+  return text;
+}
+
+}  // namespace
+
+const char* theory_kind_name(TheoryKind kind) {
+  switch (kind) {
+    case TheoryKind::second_order:
+      return "second_order";
+    case TheoryKind::first_order:
+      return "first_order";
+    case TheoryKind::none:
+      break;
+  }
+  return "none";
+}
+
+TheoryChoice best_theory(const Parameters& p) {
+  const Landmarks l = landmarks(p);
+  if (l.forces_can_stall && p.drive == Drive::spring)
+    return {TheoryKind::none,
+            "alpha F_kin >= 2 (F_drive - F_kin): a constant force would stall the block; the spring keeps it "
+            "sliding at v, intermittently, and no theory is expected to hold (docs/model.md §9)"};
+  if (l.forces_can_stall)
+    return {TheoryKind::none,
+            "alpha F_kin >= 2 (F_drive - F_kin): the random forces can stall the block (docs/model.md §8)"};
+  const bool poisson = p.renewal == Renewal::poisson;
+  const double first_limit = poisson ? kFirstOrderPoissonEpsMax : kFirstOrderPeriodicEpsMax;
+  const double second_limit = poisson ? kSecondOrderPoissonEpsMax : kSecondOrderPeriodicEpsMax;
+  std::string why_not_second;
+  try {
+    SecondOrderTheory{p};
+    if (l.coupling_eps <= second_limit) return {TheoryKind::second_order, ""};
+    why_not_second = "the second order holds to eps " + eps_text(second_limit) + " for " +
+                     (poisson ? "poisson" : "periodic") + " renewal";
+  } catch (const InputError& e) {
+    why_not_second = e.what();
+  }
+  if (l.coupling_eps <= first_limit) return {TheoryKind::first_order, why_not_second};
+  return {TheoryKind::none, "eps = " + eps_text(l.coupling_eps) + ": " + why_not_second + ", the first order to " +
+                                eps_text(first_limit) + " (docs/model.md §7.4)"};
+}
+
+}  // namespace slidespec

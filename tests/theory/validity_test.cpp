@@ -1,0 +1,146 @@
+// Which theory holds where (docs/model.md §7.4): the eps limits are the ones the measured
+// validity map (tools/validity_map.tsv) supports, and best_theory names the best theory
+// inside them, none outside.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "slidespec/theory.hpp"
+
+using namespace slidespec;
+
+namespace {
+
+Parameters flat(int N, double eps, Renewal renewal) {
+  // eps = alpha F_kin / ((F_drive - F_kin) sqrt(6 N)) with F_kin = F_drive - F_kin = 5.
+  Parameters p = ParameterBuilder("reference").set("N", std::to_string(N)).build();
+  p.alpha = eps * std::sqrt(6.0 * N);
+  p.renewal = renewal;
+  return p;
+}
+
+// Over all points of the map's runs at one (renewal, N, eps), open and ring pooled (the same
+// process, two seeds): the criterion, >= 85% within 2 standard errors, none beyond 4.
+struct Pooled {
+  int points = 0;
+  double within_two[2] = {0, 0};  // points within 2 standard errors, first and second order
+  double worst[2] = {0, 0};       // largest deviation in standard errors (NaN: not computed)
+  bool holds(int order) const {
+    return std::isfinite(worst[order]) && worst[order] <= 4 && within_two[order] >= 0.85 * points;
+  }
+};
+
+using Key = std::tuple<std::string, int, double>;  // renewal, N, eps
+
+std::map<Key, Pooled> read_map() {
+  std::ifstream in(std::string(SLIDESPEC_SOURCE_DIR) + "/tools/validity_map.tsv");
+  std::string line;
+  std::getline(in, line);
+  std::map<Key, Pooled> map;
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::vector<std::string> f;
+    for (std::string x; std::getline(fields, x, '\t');) f.push_back(x);
+    if (f.size() < 13 || f[5] != "all") continue;
+    Pooled& p = map[{f[0], std::stoi(f[2]), std::stod(f[3])}];
+    const int points = std::stoi(f[6]);
+    p.points += points;
+    for (int order = 0; order < 2; ++order) {
+      const double worst = std::stod(f[order ? 10 : 7]), within = std::stod(f[order ? 12 : 9]);
+      p.worst[order] = std::isnan(worst) || std::isnan(p.worst[order]) ? NAN : std::fmax(p.worst[order], worst);
+      p.within_two[order] += within * points;
+    }
+  }
+  return map;
+}
+
+}  // namespace
+
+// Each limit is a grid eps at which the theory holds for every N of the map, with every
+// smaller eps holding too, and at the next grid eps it fails for some N: the limits are
+// neither looser nor tighter than the measurement.
+TEST(TheoryValidity, LimitsAreTheMeasuredOnes) {
+  const std::map<Key, Pooled> map = read_map();
+  ASSERT_GT(map.size(), 90u) << "tools/validity_map.tsv is missing or short";
+  struct Limit {
+    const char* renewal;
+    int order;
+    double eps_max;
+  };
+  for (const Limit& limit :
+       {Limit{"poisson", 0, kFirstOrderPoissonEpsMax}, Limit{"periodic", 0, kFirstOrderPeriodicEpsMax},
+        Limit{"poisson", 1, kSecondOrderPoissonEpsMax}, Limit{"periodic", 1, kSecondOrderPeriodicEpsMax}}) {
+    const std::string what = std::string(limit.renewal) + (limit.order ? " second order" : " first order");
+    bool limit_on_grid = false;
+    double next = INFINITY;
+    for (const auto& [key, pooled] : map) {
+      const auto& [renewal, N, eps] = key;
+      if (renewal != limit.renewal) continue;
+      if (eps <= limit.eps_max + 1e-9) {
+        limit_on_grid |= std::fabs(eps - limit.eps_max) < 1e-9;
+        EXPECT_TRUE(pooled.holds(limit.order)) << what << " fails at N = " << N << ", eps = " << eps;
+      } else {
+        next = std::fmin(next, eps);
+      }
+    }
+    EXPECT_TRUE(limit_on_grid) << what << ": " << limit.eps_max << " is not an eps of the map";
+    bool fails_next = false;
+    for (const auto& [key, pooled] : map)
+      if (std::get<0>(key) == limit.renewal && std::get<2>(key) == next) fails_next |= !pooled.holds(limit.order);
+    EXPECT_TRUE(fails_next) << what << " holds for every N at eps " << next << ", beyond its limit " << limit.eps_max;
+  }
+}
+
+TEST(TheoryValidity, TheSecondOrderInsideItsLimitsNothingOutside) {
+  const TheoryChoice reference = best_theory(ParameterBuilder("reference").build());  // eps 0.075
+  EXPECT_EQ(reference.kind, TheoryKind::second_order);
+  EXPECT_EQ(reference.reason, "");
+  EXPECT_STREQ(theory_kind_name(reference.kind), "second_order");
+  // Poisson N = 6 at eps 0.25: the second order misses half the points (docs/model.md §7.4).
+  const TheoryChoice beyond = best_theory(flat(6, 0.25, Renewal::poisson));
+  EXPECT_EQ(beyond.kind, TheoryKind::none);
+  EXPECT_NE(beyond.reason.find("eps = 0.25"), std::string::npos) << beyond.reason;
+  EXPECT_STREQ(theory_kind_name(beyond.kind), "none");
+  // Periodic renewal holds to a smaller eps than poisson: eps 0.12 is inside one, not the other.
+  EXPECT_EQ(best_theory(flat(4, 0.12, Renewal::poisson)).kind, TheoryKind::second_order);
+  EXPECT_EQ(best_theory(flat(4, 0.12, Renewal::periodic)).kind, TheoryKind::none);
+  // Stalling forces: no theory, whatever else.
+  const TheoryChoice stall = best_theory(flat(6, 0.34, Renewal::poisson));
+  EXPECT_EQ(stall.kind, TheoryKind::none);
+  EXPECT_NE(stall.reason.find("stall"), std::string::npos) << stall.reason;
+}
+
+// Where the second order cannot be computed (two touching levels), the first order holds
+// within its own, smaller limit.
+TEST(TheoryValidity, TheFirstOrderWhereTheSecondIsNotComputed) {
+  // Both levels' noise scaled by one factor scales eps by it. Few contacts (2 miniblocks of 2
+  // microblocks, all touching) keep the stall (docs/model.md §8) far beyond the limit.
+  const auto tree = [](double factor) {
+    const Parameters base = ParameterBuilder("hierarchical").set("touching=1,2").build();
+    return ParameterBuilder("hierarchical")
+        .set("touching=1,2")
+        .set("N=2")
+        .set("N_2=2")
+        .set("alpha", std::to_string(base.level(1).alpha * factor))
+        .set("alpha_2", std::to_string(base.level(2).alpha * factor))
+        .build();
+  };
+  const double eps = landmarks(tree(1)).coupling_eps;
+  ASSERT_FALSE(landmarks(tree(3 * kFirstOrderPoissonEpsMax / eps)).forces_can_stall);
+  const Parameters inside = tree(0.8 * kFirstOrderPoissonEpsMax / eps);
+  ASSERT_THROW(SecondOrderTheory{inside}, InputError);
+  ASSERT_NEAR(landmarks(inside).coupling_eps, 0.8 * kFirstOrderPoissonEpsMax, 1e-6);
+  const TheoryChoice first = best_theory(inside);
+  EXPECT_EQ(first.kind, TheoryKind::first_order);
+  EXPECT_NE(first.reason.find("touching"), std::string::npos) << first.reason;
+  EXPECT_STREQ(theory_kind_name(first.kind), "first_order");
+  const TheoryChoice none = best_theory(tree(1.2 * kFirstOrderPoissonEpsMax / eps));
+  EXPECT_EQ(none.kind, TheoryKind::none);
+  EXPECT_NE(none.reason.find("the first order to 0.05"), std::string::npos) << none.reason;
+}
