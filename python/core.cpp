@@ -354,6 +354,7 @@ PYBIND11_MODULE(_core, m) {
         // As `slidespec theory --order 2` computes C_x2.
         const std::unique_ptr<SecondOrderTheory> second = order == 2 ? std::make_unique<SecondOrderTheory>(p) : nullptr;
         const std::vector<double> omegas = to_vector(omega);
+        check_theory_omegas(p, omegas);
         std::vector<double> values;
         {
           py::gil_scoped_release release;
@@ -385,8 +386,10 @@ PYBIND11_MODULE(_core, m) {
       "eq1",
       [](const std::string& case_name, const Overrides& overrides, const Array& omega) {
         const Parameters p = build(case_name, overrides);
+        const std::vector<double> omegas = to_vector(omega);
+        check_theory_omegas(p, omegas);
         std::vector<double> values;
-        for (double w : to_vector(omega)) values.push_back(eq1_asymptote(p, w));
+        for (double w : omegas) values.push_back(eq1_asymptote(p, w));
         return to_array(values);
       },
       "The paper's Eq. (1) asymptote [m^2 s] at omegas [rad/s].");

@@ -30,6 +30,14 @@ double spring_low_frequency_limit(const Parameters& p);
 /// The paper's Eq. (1) asymptote, prefactor / omega^4 [m^2 s].
 double eq1_asymptote(const Parameters& p, double omega);
 
+/// The lowest omega [rad/s] at which C_x (rising as D / (pi omega^2) below v/a) and the
+/// Eq. (1) asymptote both fit in a double, rounded up to three significant digits; 0 where
+/// neither grows without bound. Above it both are exact to rounding at any omega.
+double lowest_theory_omega(const Parameters& p);
+/// Throws InputError naming the first of `omegas` below lowest_theory_omega(p), and that
+/// lowest omega.
+void check_theory_omegas(const Parameters& p, const std::vector<double>& omegas);
+
 /// C_x(omega) = sum over contacts j of S_f,j(omega) |G_0j(omega)|^2 [m^2 s] at each omega,
 /// from a sparse complex solve per frequency over every block of the tree (O(blocks) for
 /// chains of children; the flat model is the one-level tree).

@@ -118,6 +118,13 @@ def test_theory_is_the_command_line():
     # The same values one at a time, for a scalar, and for an array's shape.
     assert ss.theory(p, float(omega[10])) == values[10]
     assert ss.theory(p, omega.reshape(7, 7)).shape == (7, 7)
+    # Exact wherever the numbers fit in a double, refused below with the lowest omega.
+    d = 5.0**2 * 1e-3 * 5e-4 / (12 * 30 * (10.0 - 5.0) ** 2)  # alpha^2 F_kin^2 a v / (12 N (F_drive - F_kin)^2)
+    assert ss.theory("reference", 1e-14) == pytest.approx(d / (np.pi * 1e-28), rel=1e-12)
+    with pytest.raises(ValueError, match="below 2.81e-80 rad/s"):
+        ss.theory("reference", [1.0, 1e-300])
+    with pytest.raises(ValueError, match="below 2.81e-80 rad/s"):
+        ss.eq1("reference", 1e-100)
 
 
 def test_second_order_theory_is_the_command_line():

@@ -114,6 +114,7 @@ class TheoryCommand final : public Command {
   int run() override {
     const Parameters p = model_.build();
     const std::vector<double> omegas = theory_omegas();
+    check_theory_omegas(p, omegas);
     if (order_ != 1 && order_ != 2) throw InputError("order: need 1 or 2");
     // Built before any work so that a model it does not cover is refused at once.
     const std::unique_ptr<SecondOrderTheory> second = order_ == 2 ? std::make_unique<SecondOrderTheory>(p) : nullptr;

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 #include "model/linear_structure.hpp"
@@ -15,6 +17,18 @@ namespace {
 constexpr int kMostPointsPerDecade = 1000;
 constexpr long kMostPoints = 100000;
 }  // namespace
+
+void check_theory_omegas(const Parameters& p, const std::vector<double>& omegas) {
+  const double lowest = lowest_theory_omega(p);
+  for (const double omega : omegas)
+    if (omega < lowest) {
+      char message[200];
+      std::snprintf(message, sizeof message,
+                    "omega = %.3g rad/s: below %.3g rad/s, the lowest at which C_x and C_eq1 fit in a double", omega,
+                    lowest);
+      throw InputError(message);
+    }
+}
 
 std::vector<double> log_spaced_omegas(double omega_min, double omega_max, int points_per_decade) {
   if (!(omega_min > 0) || !(omega_max > omega_min) || !std::isfinite(omega_max))
@@ -50,38 +64,139 @@ double random_force_spectrum(const Parameters& p, int level, double omega) {
 }
 
 double eq1_asymptote(const Parameters& p, double omega) {
-  return landmarks(p).eq1_prefactor / (omega * omega * omega * omega);
+  const double prefactor = landmarks(p).eq1_prefactor;
+  const double omega4 = omega * omega * omega * omega;
+  // Below about 1e-77 rad/s omega^4 is subnormal (a few bits) or zero: divide step by step.
+  if (omega4 < std::numeric_limits<double>::min()) return prefactor / omega / omega / omega / omega;
+  return prefactor / omega4;
 }
+
+double lowest_theory_omega(const Parameters& p) {
+  const Landmarks l = landmarks(p);
+  // C_x -> D / (pi omega^2) below every corner; C_eq1 = prefactor / omega^4. In logarithms,
+  // so that the thresholds themselves neither underflow nor overflow.
+  const double log_largest = std::log(std::numeric_limits<double>::max());
+  double log_lowest = -INFINITY;
+  if (l.diffusion > 0) log_lowest = 0.5 * (std::log(l.diffusion / M_PI) - log_largest);
+  if (l.eq1_prefactor > 0) log_lowest = std::max(log_lowest, 0.25 * (std::log(l.eq1_prefactor) - log_largest));
+  if (!std::isfinite(log_lowest)) return 0;
+  // Up to three significant digits, so that the value a message names is itself valid.
+  const double lowest = std::exp(log_lowest) * (1 + 1e-9);
+  const double unit = std::pow(10.0, std::floor(std::log10(lowest)) - 2);
+  return std::ceil(lowest / unit) * unit;
+}
+
+namespace {
+using Complex = std::complex<double>;
+using SparseC = Eigen::SparseMatrix<Complex>;
+
+/// Z = K - omega^2 M - i omega D factorized and solved for the block's column of G = Z^-1.
+class BlockResponse {
+ public:
+  BlockResponse(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M,
+                const Eigen::SparseMatrix<double>& D)
+      : K_(K.cast<Complex>()), M_(M.cast<Complex>()), D_(D.cast<Complex>()) {}
+
+  /// Z^-1 times `right`; empty when Z cannot be factorized.
+  Eigen::VectorXcd solve(double omega, const Eigen::VectorXcd& right) {
+    const SparseC Z = K_ - (omega * omega) * M_ - Complex(0.0, omega) * D_;
+    if (!analyzed_) {
+      solver_.analyzePattern(Z);
+      analyzed_ = true;
+    }
+    solver_.factorize(Z);
+    if (solver_.info() != Eigen::Success) return {};
+    return solver_.solve(right);
+  }
+
+ private:
+  SparseC K_, M_, D_;
+  Eigen::SparseLU<SparseC> solver_;
+  bool analyzed_ = false;
+};
+
+/// The structure in coordinates y_0 = q_0 (the block), y_j = q_j - q_0: q = T y. Below the
+/// slowest internal corner every coordinate moves with the block; in q the solve then
+/// cancels (det Z ~ omega D_total from terms of order K^2, exact only to eps K / (omega
+/// D_total)); in y the translation is a coordinate of its own and nothing cancels. The
+/// springs are relative, so K's column sums vanish but for a spring to the ground: sums
+/// within rounding of their terms are that rounding and set to zero.
+struct TranslationFrame {
+  Eigen::SparseMatrix<double> K, M, D;
+};
+
+TranslationFrame translation_frame(const model::LinearStructure& s) {
+  const int n = s.coordinates();
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int j = 0; j < n; ++j) {
+    entries.emplace_back(j, 0, 1.0);
+    if (j > 0) entries.emplace_back(j, j, 1.0);
+  }
+  Eigen::SparseMatrix<double> T(n, n);
+  T.setFromTriplets(entries.begin(), entries.end());
+  const Eigen::SparseMatrix<double> Tt = T.transpose();
+  TranslationFrame frame{Tt * s.stiffness * T, Tt * s.mass * T, Tt * s.damping * T};
+  const double rounding = 16.0 * n * std::numeric_limits<double>::epsilon();
+  Eigen::VectorXd column_scale = Eigen::VectorXd::Zero(n);
+  for (int k = 0; k < s.stiffness.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(s.stiffness, k); it; ++it)
+      column_scale(it.col()) += std::fabs(it.value());
+  for (int k = 0; k < frame.K.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(frame.K, k); it; ++it) {
+      if (it.row() != 0 && it.col() != 0) continue;
+      const double scale = it.row() == 0 && it.col() == 0 ? column_scale.sum() : column_scale(it.row() + it.col());
+      if (std::fabs(it.value()) <= rounding * scale) it.valueRef() = 0.0;
+    }
+  return frame;
+}
+
+// Below a thousandth of the corner the direct solve would cancel to eps K_00 / (omega
+// D_total) (2e-13 there) and the frame's translation outweighs the rest 1000 to 1; above
+// it the direct solve is exact to rounding.
+constexpr double kTranslationShare = 1e-3;
+
+/// Where the internal springs outweigh the damping forces at omega on every coordinate
+/// (omega D_jj < K_jj), the block's translation dominates the response.
+double translation_corner(const model::LinearStructure& s) {
+  double corner = INFINITY;
+  const Eigen::VectorXd K = Eigen::VectorXd(s.stiffness.diagonal()), D = Eigen::VectorXd(s.damping.diagonal());
+  for (int j = 1; j < s.coordinates(); ++j)
+    if (D(j) > 0) corner = std::min(corner, K(j) / D(j));
+  return corner;
+}
+}  // namespace
 
 std::vector<double> exact_spectrum(const Parameters& p, const std::vector<double>& omegas) {
   const model::LinearStructure s = model::tree_structure(p);
   const std::vector<int> level_of = model::level_of_coordinates(p);
-  using Complex = std::complex<double>;
-  using SparseC = Eigen::SparseMatrix<Complex>;
-  const SparseC K = s.stiffness.cast<Complex>();
-  const SparseC M = s.mass.cast<Complex>();
-  const SparseC D = s.damping.cast<Complex>();
-  Eigen::SparseLU<SparseC> solver;
-  bool analyzed = false;
-  Eigen::VectorXcd unit_block = Eigen::VectorXcd::Zero(s.coordinates());
-  unit_block(0) = 1.0;
+  BlockResponse direct(s.stiffness, s.mass, s.damping);
+  const TranslationFrame frame = translation_frame(s);
+  BlockResponse translating(frame.K, frame.M, frame.D);
+  const double corner = translation_corner(s);
+  const Eigen::VectorXcd unit_block = Eigen::VectorXcd::Unit(s.coordinates(), 0);
 
   std::vector<double> spectrum;
   spectrum.reserve(omegas.size());
   for (const double omega : omegas) {
-    // Dynamic stiffness Z = K - omega^2 M - i omega D; Z is symmetric, so the block's
-    // row of G = Z^-1 is its column: one solve gives every G_0i.
-    const SparseC Z = K - (omega * omega) * M - Complex(0.0, omega) * D;
-    if (!analyzed) {
-      solver.analyzePattern(Z);
-      analyzed = true;
+    // G_0j times `scale`: omega G_0j in the translation frame, where G_0j alone can
+    // exceed a double while C_x does not. Z is symmetric, so the block's row of G is its
+    // column (and T^T e_0 = e_0): one solve gives every G_0j.
+    Eigen::VectorXcd G0;
+    double scale = 1.0;
+    if (omega < kTranslationShare * corner) {
+      const Eigen::VectorXcd y = translating.solve(omega, omega * unit_block);
+      // G_0j = y_0 + y_j: kept where y_j does not cancel y_0 (the translation dominates).
+      if (y.size() > 0 && (y.tail(y.size() - 1).cwiseAbs().maxCoeff() <= 0.5 * std::abs(y(0)) || y.size() == 1)) {
+        G0 = y.array() + y(0);
+        G0(0) = y(0);
+        scale = omega;
+      }
     }
-    solver.factorize(Z);
+    if (G0.size() == 0) G0 = direct.solve(omega, unit_block);
     // A singular or non-finite Z (extreme parameters) leaves the factors unusable.
-    if (solver.info() != Eigen::Success)
+    if (G0.size() == 0)
       throw InputError("parameters: the dynamic stiffness at omega = " + std::to_string(omega) +
                        " cannot be factorized (parameters too extreme)");
-    const Eigen::VectorXcd G0 = solver.solve(unit_block);
     if (!G0.allFinite())
       throw InputError("parameters: the response at omega = " + std::to_string(omega) + " is not finite");
     // The contacts of a level share one force spectrum: sum their responses first.
@@ -92,7 +207,7 @@ std::vector<double> exact_spectrum(const Parameters& p, const std::vector<double
     double total = 0.0;
     for (int l = 1; l <= p.levels; ++l)
       if (p.touches(l)) total += random_force_spectrum(p, l, omega) * per_level[static_cast<std::size_t>(l)];
-    spectrum.push_back(total);
+    spectrum.push_back(total / scale / scale);
   }
   return spectrum;
 }

@@ -194,6 +194,8 @@ omega-min-tiny|--omega-min|run --omega-min 1e-10 --no-plot
 omega-max-huge|--omega-max|run --omega-max 1e300 --no-plot
 omega-span-huge|points|theory --omega-min 1e-300 --omega-max 1e300 --points 1000
 theory-omega-tiny-max|omega|theory --omega-min 1 --omega-max 1
+theory-omega-below-double|lowest at which C_x and C_eq1 fit|theory --omega 1e-300,1
+theory-omega-min-below-double|lowest at which C_x and C_eq1 fit|theory --omega-min 1e-100 --omega-max 1e-90
 points-zero|points|run --points 0 --no-plot
 points-negative|--points|run --points -3 --no-plot
 points-huge|points|run --points 100000000 --no-plot

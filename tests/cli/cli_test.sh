@@ -158,11 +158,16 @@ status=$?
 grep -q "^# stationary = false" "$work/stalled.tsv" || fail "stalled run not marked stationary = false"
 grep -q '"stationary": false' "$work/stalled.json" || fail "stalled run's JSON not marked stationary: false"
 grep -q "^# stationary = true" "$work/short.tsv" || fail "a healthy run not marked stationary = true"
-# A theory row beyond a double's range is not reported as success: exit 3 and a warning.
-"$bin" theory --omega 1e-300,1 > "$work/tiny.tsv" 2> "$work/tiny.err"
+# Theory holds at any omega where its numbers fit in a double, and refuses below, naming
+# the lowest omega that works (for the reference case C_eq1 = 1.1e-10 / omega^4 leaves a
+# double below 2.8e-80 rad/s).
+"$bin" theory --omega 1e-300,1 --out "$work/tiny" 2> "$work/tiny.err"
 status=$?
-[ $status -eq 3 ] || fail "theory with an inf row exited $status, expected 3"
-grep -q "inf or nan" "$work/tiny.err" || fail "theory with an inf row gave no warning: $(cat "$work/tiny.err")"
+[ $status -eq 2 ] || fail "theory below the lowest omega exited $status, expected 2"
+grep -q "below 2.81e-80 rad/s" "$work/tiny.err" || fail "theory refusal does not name the lowest omega: $(cat "$work/tiny.err")"
+[ ! -e "$work/tiny.tsv" ] || fail "refused theory wrote its table"
+"$bin" theory --omega 2.81e-80,1e-14 > "$work/tiny.tsv" || fail "theory at the lowest omega failed"
+! grep -qiE "inf|nan" "$work/tiny.tsv" || fail "theory at the lowest omega printed inf or nan"
 "$bin" theory --omega 1,10 > /dev/null || fail "theory on ordinary omegas did not exit 0"
 
 [ $failures -eq 0 ] && echo "cli: all checks passed"

@@ -173,3 +173,41 @@ TEST(SampledTheory, TendsToTheContinuousSpectrumAtLeastAsTheSquareOfTheStep) {
     }
   }
 }
+
+// Far below v/a every block moves with the big block: C_x = N S_f(omega) / (omega^2 (N m
+// eta1)^2) = D / (pi omega^2) * (the force spectrum's shape), to (omega tau)^2 with tau the
+// slowest internal time. Written here from docs/model.md §4, independently of the solve.
+namespace {
+double brownian_limit(const Parameters& p, double omega) {
+  const double drag = p.F_drive - p.F_kin;  // = N m eta1 v
+  const double f_kin = p.F_kin / p.N;
+  const double s2 = p.alpha * p.alpha * f_kin * f_kin / 12;
+  const double lambda = p.v / p.a;
+  const double force =
+      p.renewal == Renewal::poisson
+          ? s2 * lambda / (M_PI * (lambda * lambda + omega * omega))
+          : s2 * (p.a / p.v) / (2 * M_PI) * std::pow(std::sin(omega * p.a / (2 * p.v)) / (omega * p.a / (2 * p.v)), 2);
+  // N S_f v^2 / drag^2 / omega^2, divided step by step so that no factor leaves a double.
+  return p.N * force * (p.v / drag) * (p.v / drag) / omega / omega;
+}
+
+}  // namespace
+
+TEST(Theory, ExactDownToTheLowestOmegaADoubleHolds) {
+  for (const char* change : {"N=30", "N=1", "N=100", "renewal=periodic", "chain=ring"}) {
+    const Parameters p = ParameterBuilder("reference").set(change).build();
+    const double lowest = lowest_theory_omega(p);
+    EXPECT_GT(lowest, 1e-90) << change;
+    EXPECT_LT(lowest, 1e-70) << change;
+    for (double omega = 1e-6; omega > lowest; omega /= 10)
+      EXPECT_NEAR(theory_at(p, omega) / brownian_limit(p, omega), 1.0, 1e-12) << change << " at " << omega;
+    EXPECT_NEAR(theory_at(p, lowest) / brownian_limit(p, lowest), 1.0, 1e-12) << change;
+    // The value the refusal names is the boundary: C_eq1 fits there and not 1% below.
+    EXPECT_TRUE(std::isfinite(eq1_asymptote(p, lowest))) << change;
+    EXPECT_FALSE(std::isfinite(eq1_asymptote(p, 0.99 * lowest))) << change;
+    EXPECT_NEAR(eq1_asymptote(p, lowest) * std::pow(lowest, 2) * std::pow(lowest, 2), landmarks(p).eq1_prefactor,
+                1e-14 * landmarks(p).eq1_prefactor);
+    EXPECT_THROW(check_theory_omegas(p, {1, 0.99 * lowest}), InputError) << change;
+    EXPECT_NO_THROW(check_theory_omegas(p, {lowest, 1}));
+  }
+}
