@@ -9,12 +9,14 @@
 #include <condition_variable>
 #include <exception>
 #include <memory>
+#include <new>
 #include <mutex>
 #include <string>
 #include <thread>
 #include <utility>
 #include <vector>
 
+#include "io/atomic_file.hpp"
 #include "io/tables.hpp"
 #include "analysis/report.hpp"
 #include "slidespec/analysis.hpp"
@@ -309,8 +311,14 @@ PYBIND11_MODULE(_core, m) {
   py::register_exception_translator([](std::exception_ptr error) {
     try {
       if (error) std::rethrow_exception(error);
+    } catch (const FileError& e) {  // before InputError, which it is
+      PyErr_SetString(PyExc_OSError, e.what());
     } catch (const InputError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const io::WriteError& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
+    } catch (const std::bad_alloc&) {
+      PyErr_SetString(PyExc_MemoryError, "out of memory: the work needs more than this machine has");
     }
   });
   m.attr("version") = SLIDESPEC_VERSION;
@@ -355,15 +363,24 @@ PYBIND11_MODULE(_core, m) {
         const std::unique_ptr<SecondOrderTheory> second = order == 2 ? std::make_unique<SecondOrderTheory>(p) : nullptr;
         const std::vector<double> omegas = to_vector(omega);
         check_theory_omegas(p, omegas);
+        // In chunks of about a tenth of a second, between which Ctrl-C is heard.
+        constexpr std::size_t kChunk = 10000;
         std::vector<double> values;
-        {
-          py::gil_scoped_release release;
-          if (second) {
-            values.reserve(omegas.size());
-            for (double frequency : omegas) values.push_back((*second)(frequency));
-          } else {
-            values = exact_spectrum(p, omegas);
+        values.reserve(omegas.size());
+        for (std::size_t first = 0; first < omegas.size(); first += kChunk) {
+          const std::vector<double> chunk(
+              omegas.begin() + static_cast<std::ptrdiff_t>(first),
+              omegas.begin() + static_cast<std::ptrdiff_t>(std::min(first + kChunk, omegas.size())));
+          {
+            py::gil_scoped_release release;
+            if (second) {
+              for (double frequency : chunk) values.push_back((*second)(frequency));
+            } else {
+              const std::vector<double> part = exact_spectrum(p, chunk);
+              values.insert(values.end(), part.begin(), part.end());
+            }
           }
+          if (PyErr_CheckSignals() != 0) throw py::error_already_set();
         }
         return to_array(values);
       },

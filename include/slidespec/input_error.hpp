@@ -13,4 +13,12 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Bad input that is a file the system will not give: missing, unreadable, or a place
+/// where outputs cannot be created. The CLI treats it as bad input (status 2); Python
+/// raises OSError.
+class FileError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 }  // namespace slidespec

@@ -409,3 +409,38 @@ def test_analyze_takes_the_command_lines_window_and_resampling():
     assert before._data["estimator"]["name"] == "welch"
     with pytest.raises(ValueError, match="not uniform"):
         ss.analyze(table[:, 0], table[:, 1], units="um", resample="off")
+
+
+def test_ctrl_c_interrupts_a_long_theory():
+    # 3e6 omegas take about 30 s; Ctrl-C is heard between chunks of a tenth of a second.
+    omega = np.geomspace(0.1, 1e5, 3_000_000)
+    signalled = []
+    timer = threading.Timer(0.3, lambda: (signalled.append(time.monotonic()), os.kill(os.getpid(), signal.SIGINT)))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        ss.theory("reference", omega)
+    stopped = time.monotonic() - signalled[0]
+    timer.join()
+    assert stopped < 2.0
+
+
+MEMORY_CHILD = textwrap.dedent("""
+    import resource
+    import slidespec as ss
+    ss.synth(duration=10.0)  # everything loaded before the limit
+    size = next(int(line.split()[1]) for line in open("/proc/self/status") if line.startswith("VmSize:")) * 1024
+    resource.setrlimit(resource.RLIMIT_AS, (size + 300_000_000, resource.RLIM_INFINITY))
+    try:
+        ss.synth(duration=9e4)  # 9e7 samples: 720 MB for x alone
+    except MemoryError as e:
+        print("MemoryError", e)
+    t, x = ss.synth(duration=10.0)  # and the process goes on
+    print("alive", x.size)
+""")
+
+
+def test_memory_exhaustion_raises_memory_error():
+    done = subprocess.run([sys.executable, "-c", MEMORY_CHILD], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert "MemoryError out of memory" in done.stdout, done.stdout
+    assert "alive 10001" in done.stdout, done.stdout

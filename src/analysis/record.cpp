@@ -357,13 +357,19 @@ bool looks_like_decimal_commas(const std::string& line) {
   return false;
 }
 
+// A record's line holds a few numbers: a longer one is not a record (/dev/zero, a stream
+// without newlines) and ends the read at once.
+constexpr std::streamsize kLongestRecordLine = std::streamsize{1} << 16;
+// Some 5e7 samples (20 bytes a line): far beyond any lab record, within a machine's memory.
+constexpr std::uint64_t kMostRecordBytes = std::uint64_t{1} << 30;
+
 class RecordReader {
  public:
   RecordReader(const std::string& source, const RecordFormat& format) : source_(source), format_(format) {}
 
   Record read(std::istream& in) {
     std::string line;
-    for (int line_number = 1; std::getline(in, line); ++line_number) {
+    for (int line_number = 1; read_line(in, line, line_number); ++line_number) {
       if (line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
       raw_line_ = line;
       const auto comment = line.find('#');
@@ -404,6 +410,23 @@ class RecordReader {
   }
 
  private:
+  /// The next line of `in` (false at its end), refusing a line or a record beyond the caps.
+  bool read_line(std::istream& in, std::string& line, int line_number) {
+    buffer_.resize(static_cast<std::size_t>(kLongestRecordLine) + 1);
+    in.getline(buffer_.data(), kLongestRecordLine + 1);
+    const std::streamsize got = in.gcount();
+    if (in.fail() && !in.eof() && got == kLongestRecordLine)
+      throw InputError(source_ + ": line " + std::to_string(line_number) + ": longer than " +
+                       std::to_string(kLongestRecordLine) + " characters: not a record of numbers");
+    if (got == 0 && !in) return false;
+    bytes_ += static_cast<std::uint64_t>(got);
+    if (bytes_ > kMostRecordBytes)
+      throw InputError(source_ + ": more than " + std::to_string(kMostRecordBytes >> 30) +
+                       " GiB: beyond the largest record analyze reads (cut a window of it first)");
+    line.assign(buffer_.data(), static_cast<std::size_t>(in.eof() ? got : got - 1));  // less the newline
+    return true;
+  }
+
   [[noreturn]] void fail(int where, const std::string& what) const {
     const std::string hint =
         looks_like_decimal_commas(raw_line_) ? " (decimal commas? write numbers with a point, e.g. sed 's/,/./g')" : "";
@@ -631,6 +654,8 @@ class RecordReader {
   }
 
   std::string source_;
+  std::vector<char> buffer_;  // one line
+  std::uint64_t bytes_ = 0;   // read so far
   std::string place_ = "line";
   RecordFormat format_;
   std::vector<std::string> names_;
@@ -691,7 +716,7 @@ Record record_from_samples(const std::vector<double>& time, const std::vector<do
 Record read_record_file(const std::string& path, const RecordFormat& format) {
   if (path == "-") return read_record(std::cin, "stdin", format);
   std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open");
+  if (!in) throw FileError(path + ": cannot open");
   return read_record(in, path, format);
 }
 

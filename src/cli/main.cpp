@@ -54,12 +54,13 @@ int main(int argc, char** argv) {
   } catch (const InputError& e) {
     if (speaks) std::cerr << "slidespec: error: " << e.what() << "\n";
     return 2;
-  } catch (const std::bad_alloc&) {
-    // Every size is checked against its input first; what remains is a machine too small.
-    if (speaks) std::cerr << "slidespec: error: out of memory: the input asks for more than this machine has\n";
-    return 2;
   } catch (const std::exception& e) {
-    std::cerr << "slidespec: failed: " << e.what() << "\n";
+    // Every size is checked against its input first, so running out of memory is a
+    // machine too small for the work: a failure while working (1), not bad input (2).
+    if (dynamic_cast<const std::bad_alloc*>(&e))
+      std::cerr << "slidespec: failed: out of memory: the work needs more than this machine has\n";
+    else
+      std::cerr << "slidespec: failed: " << e.what() << "\n";
 #ifdef SLIDESPEC_MPI
     // The other ranks may be waiting in a collective this rank will never reach.
     if (mpi.size() > 1) mpi.abort(1);

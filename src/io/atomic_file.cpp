@@ -34,7 +34,7 @@ void write_all(int fd, const std::string& temp, const std::string& content) {
       const std::string why = std::strerror(errno);
       ::close(fd);
       ::unlink(temp.c_str());
-      throw std::runtime_error("cannot write " + temp + ": " + why);
+      throw WriteError("cannot write " + temp + ": " + why);
     }
     data += written;
     left -= static_cast<size_t>(written);
@@ -42,7 +42,7 @@ void write_all(int fd, const std::string& temp, const std::string& content) {
   fchmod(fd, 0644);
   if (::fsync(fd) != 0 || ::close(fd) != 0) {
     ::unlink(temp.c_str());
-    throw std::runtime_error("cannot flush " + temp);
+    throw WriteError("cannot flush " + temp);
   }
 }
 
@@ -68,7 +68,7 @@ OutputSet::~OutputSet() {
 void OutputSet::add(const std::string& path, const std::string& content) {
   std::string temp = path + ".tmp.XXXXXX";
   const int fd = mkstemp(temp.data());
-  if (fd < 0) throw std::runtime_error("cannot create " + temp + ": " + std::strerror(errno));
+  if (fd < 0) throw WriteError("cannot create " + temp + ": " + std::strerror(errno));
   write_all(fd, temp, content);
   pending_.push_back({path, temp});
 }
@@ -76,7 +76,7 @@ void OutputSet::add(const std::string& path, const std::string& content) {
 std::string OutputSet::add_written_by_other(const std::string& path, const std::string& extension) {
   std::string temp = path + ".tmp.XXXXXX" + extension;
   const int fd = mkstemps(temp.data(), static_cast<int>(extension.size()));
-  if (fd < 0) throw std::runtime_error("cannot create " + temp + ": " + std::strerror(errno));
+  if (fd < 0) throw WriteError("cannot create " + temp + ": " + std::strerror(errno));
   ::close(fd);
   pending_.push_back({path, temp});
   return temp;
@@ -104,7 +104,7 @@ void OutputSet::commit() {
     const int fd = ::open(p.temp.c_str(), O_RDONLY);
     if (fd < 0 || ::fsync(fd) != 0) {
       if (fd >= 0) ::close(fd);
-      throw std::runtime_error("cannot flush " + p.temp);
+      throw WriteError("cannot flush " + p.temp);
     }
     ::close(fd);
   }
@@ -126,7 +126,7 @@ void OutputSet::commit() {
       for (const Pending& p : pending_)
         if (!p.temp.empty()) ::unlink(p.temp.c_str());
       pending_.clear();
-      throw std::runtime_error("cannot keep the old " + kept + " while replacing it: " + why);
+      throw WriteError("cannot keep the old " + kept + " while replacing it: " + why);
     }
   }
   for (std::size_t k = 0; k < pending_.size(); ++k) {
@@ -147,7 +147,7 @@ void OutputSet::commit() {
     for (std::size_t j = k; j < pending_.size(); ++j)
       if (!pending_[j].temp.empty()) ::unlink(pending_[j].temp.c_str());
     pending_.clear();
-    throw std::runtime_error("cannot write " + failed + ": " + why + " (no output of the set was changed)");
+    throw WriteError("cannot write " + failed + ": " + why + " (no output of the set was changed)");
   }
   remove_backups();
   for (const Pending& p : pending_) sync_directory(p.path);
@@ -164,7 +164,7 @@ OutputLock::OutputLock(const std::vector<std::string>& prefixes) {
     // again until the locked file is the one at `path`.
     for (int attempt = 0;; ++attempt) {
       const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-      if (fd < 0) throw InputError(prefix + ": cannot create the lock file " + path + ": " + std::strerror(errno));
+      if (fd < 0) throw FileError(prefix + ": cannot create the lock file " + path + ": " + std::strerror(errno));
       if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
         ::close(fd);
         throw InputError(prefix + ": another slidespec is writing this output prefix (" + path +
@@ -200,13 +200,13 @@ void check_output_prefix(const std::string& prefix) {
     throw InputError("--out " + prefix + ": is a directory; give a prefix such as " + prefix + "/spectrum");
   const std::string dir = directory_of(prefix);
   if (!std::filesystem::is_directory(dir))
-    throw InputError("--out " + prefix + ": directory " + dir + " does not exist");
-  if (::access(dir.c_str(), W_OK) != 0) throw InputError("--out " + prefix + ": directory " + dir + " is not writable");
+    throw FileError("--out " + prefix + ": directory " + dir + " does not exist");
+  if (::access(dir.c_str(), W_OK) != 0) throw FileError("--out " + prefix + ": directory " + dir + " is not writable");
 }
 
 std::string read_file(const std::string& path, const std::string& what, std::size_t most_bytes) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(what + ": cannot read " + path);
+  if (!in) throw FileError(what + ": cannot read " + path);
   std::string bytes;
   char chunk[1 << 16];
   while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {

@@ -2,10 +2,18 @@
 #pragma once
 
 #include <cstddef>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace slidespec::io {
+
+/// The system failed a write while working (a full disk, say): not the input's fault. The
+/// CLI exits with status 1; Python raises OSError.
+class WriteError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 /// The largest run state read (bytes): far above any run's, far below a machine's memory.
 inline constexpr std::size_t kMostStateBytes = std::size_t{1} << 30;
@@ -27,7 +35,7 @@ class OutputSet {
   OutputSet& operator=(const OutputSet&) = delete;
   ~OutputSet();  // removes the temporaries of an uncommitted set
 
-  /// Writes `content` to the temporary of `path` (throws std::runtime_error, nothing visible).
+  /// Writes `content` to the temporary of `path` (throws WriteError, nothing visible).
   void add(const std::string& path, const std::string& content);
   /// A fresh empty temporary for `path`, ending in `extension` (".png"), for another program
   /// to write; it joins the set. Returns its name.
@@ -69,7 +77,7 @@ class OutputLock {
 /// itself is durable; a file already gone is fine.
 void remove_durably(const std::string& path);
 
-/// The whole of a file (a saved run state, say); InputError "WHAT: cannot read PATH", or
+/// The whole of a file (a saved run state, say); FileError "WHAT: cannot read PATH", or
 /// naming the limit when it holds more than `most_bytes` (so an endless stream ends).
 std::string read_file(const std::string& path, const std::string& what, std::size_t most_bytes = kMostStateBytes);
 

@@ -531,7 +531,7 @@ void ParameterBuilder::build_levels(Parameters& p) const {
 
 std::vector<std::string> read_parameter_file(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw InputError("parameter file '" + path + "': cannot be read");
+  if (!in) throw FileError("parameter file '" + path + "': cannot be read");
   nlohmann::json doc;
   try {
     in >> doc;

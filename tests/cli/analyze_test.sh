@@ -27,6 +27,19 @@ expect_refused text-in-numbers "line 3" analyze "$work/text.csv" $out
 expect_refused single-line "line 2" analyze "$work/single.csv" $out
 expect_refused backwards-time "line 4" analyze "$work/backwards.csv" $out
 expect_refused missing-column "no column 'pos'" analyze "$work/rec.csv" --column pos $out
+# Endless streams end, with a message: a stream without newlines at its first long line,
+# from a pipe and from a named pipe (a stream of lines ends at the 1 GiB record cap).
+timeout 60 bash -c "cat /dev/zero | '$bin' analyze - --out '$work/endless'" 2> "$work/stream.err"
+status=$?
+[ $status -eq 2 ] || fail "analyze of /dev/zero through a pipe exited $status, expected 2"
+grep -q "line 1: longer than 65536 characters" "$work/stream.err" || fail "no cap named: $(cat "$work/stream.err")"
+mkfifo "$work/fifo"
+( cat /dev/zero > "$work/fifo" 2> /dev/null & )
+timeout 60 "$bin" analyze "$work/fifo" --out "$work/endless" 2> "$work/stream.err"
+status=$?
+[ $status -eq 2 ] || fail "analyze of an endless named pipe exited $status, expected 2"
+grep -q "longer than 65536 characters" "$work/stream.err" || fail "no cap named: $(cat "$work/stream.err")"
+ls "$work" | grep -q "^endless\." && fail "a refused endless read wrote outputs"
 expect_refused bad-units furlong analyze "$work/rec.csv" --units furlong $out
 expect_refused fit-beta "'alpha' (of --compare-case) or 'power-law'" analyze "$work/rec.csv" --fit beta --compare-case reference $out
 expect_refused fit-without-case "compare-case" analyze "$work/rec.csv" --fit alpha $out

@@ -170,5 +170,16 @@ grep -q "below 2.81e-80 rad/s" "$work/tiny.err" || fail "theory refusal does not
 ! grep -qiE "inf|nan" "$work/tiny.tsv" || fail "theory at the lowest omega printed inf or nan"
 "$bin" theory --omega 1,10 > /dev/null || fail "theory on ordinary omegas did not exit 0"
 
+# Running out of memory is a failure while working (1), not bad input (2): a record of
+# 9e7 samples under a 400 MB address space (skipped where the binary cannot start under it,
+# as a sanitizer build cannot).
+if (ulimit -v 400000; "$bin" cases > /dev/null 2>&1); then
+  (ulimit -v 400000; "$bin" synth --duration 9e4 --out "$work/huge" 2> "$work/huge.err")
+  status=$?
+  [ $status -eq 1 ] || fail "out of memory exited $status, expected 1: $(cat "$work/huge.err")"
+  grep -q "out of memory" "$work/huge.err" || fail "out of memory not named: $(cat "$work/huge.err")"
+  [ ! -e "$work/huge.csv" ] || fail "a run out of memory wrote its record"
+fi
+
 [ $failures -eq 0 ] && echo "cli: all checks passed"
 exit $((failures > 0))
