@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <iostream>
@@ -330,6 +331,7 @@ class RunCommand final : public Command {
     if (std::error_code ignored; std::filesystem::exists(options.out + ".state", ignored))
       throw InputError("--out: " + options.out + ".state holds an interrupted run; continue it with --resume " +
                        options.out + ", or remove it to start afresh");
+    if (context_.writes_outputs()) refuse_state_beyond_free_space(p, options.request, options.out);
     if (!options.quiet && context_.writes_outputs()) warn_if_no_theory_holds(p);
     catch_stop_signals();
     return exit_status(run_and_write(context_, session, options, options.out));
@@ -348,6 +350,29 @@ class RunCommand final : public Command {
                      io::format_number(plan.front().duration) +
                      " s the lowest point (omega = " + io::format_number(request.omega_min) +
                      " rad/s) needs; ask for at least that, or raise --omega-min");
+  }
+  /// A run of fixed realizations saves a state of at least (points + 2) doubles per
+  /// realization of each sub-band (its own periodogram means, control and speed) before
+  /// its outputs: refused at once where even that cannot fit.
+  static void refuse_state_beyond_free_space(const Parameters& p, const RunRequest& request, const std::string& out) {
+    if (request.realizations == 0) return;  // a precision-driven run's size is not known before
+    double bytes = 0;
+    for (const SubBand& band : plan_sub_bands(p, request)) {
+      const double points = static_cast<double>(
+          log_spaced_omegas(band.omega_low, band.omega_high * (1 + 1e-12), request.points_per_decade).size());
+      bytes += static_cast<double>(request.realizations) * (points + 2) * sizeof(double);
+    }
+    std::error_code error;
+    const std::filesystem::path directory = std::filesystem::absolute(out, error).parent_path();
+    const std::filesystem::space_info space = std::filesystem::space(directory, error);
+    if (error || static_cast<double>(space.available) >= bytes) return;
+    auto megabytes = [](double b) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.3g MB", b / 1e6);
+      return std::string(text);
+    };
+    throw InputError("--out " + out + ": the run's state needs at least " + megabytes(bytes) + " and " +
+                     directory.string() + " has " + megabytes(static_cast<double>(space.available)) + " free");
   }
   // A duration is rounded up to whole time steps: far below this.
   static constexpr double kDurationRoundingSlack = 1.01;

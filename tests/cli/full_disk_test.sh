@@ -14,6 +14,14 @@ if ! mount -t tmpfs -o size=320k tmpfs "$disk" 2> /dev/null; then
 fi
 trap 'umount "$disk"; rm -rf "$work"' EXIT
 
+# A run whose state alone cannot fit is refused before any work (its realizations' own
+# periodogram means alone take 8000 x 12 doubles, 770 kB, on a 320 kB disk).
+"$bin" run --omega-min 100 --omega-max 1000 --realizations 8000 --out "$disk/big" --quiet 2> "$work/err"
+status=$?
+[ $status -eq 2 ] || fail "a state that cannot fit exited $status, expected 2"
+grep -q "state needs at least .* MB free" "$work/err" || fail "no message naming the space: $(cat "$work/err")"
+[ -z "$(ls "$disk")" ] || fail "a refused run left files: $(ls "$disk")"
+
 band="--omega-min 100 --omega-max 1000 --precision 0.2"
 "$bin" run $band --seed 4 --out "$disk/out" --quiet || fail "the first run failed"
 for ext in tsv json png; do [ -s "$disk/out.$ext" ] || fail "the first run wrote no .$ext"; done
