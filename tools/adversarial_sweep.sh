@@ -206,6 +206,80 @@ attack work-keep "analyze" analyze $R --no-plot --quiet
 attack work-keep "plot" plot $T -o x.svg
 attack work-keep "cases" cases
 
+# 7. Results that must say what they are, streams, memory, and Python.
+# A run some of whose realizations stall is not a spectrum: exit 3, never 0.
+not_claimed() {  # NAME ARGS...: must end with exit 3 (or a refusal), never 0
+  local name=$1; shift
+  attacks=$((attacks + 1))
+  (mkdir -p scratch && cd scratch && timeout 60 "$bin" "$@" > /dev/null 2> "$logs/stderr")
+  local status=$?
+  rm -rf scratch
+  if [ $status -eq 124 ]; then hangs=$((hangs + 1)); report HANG "$name";
+  elif [ $status -ge 128 ]; then crashes=$((crashes + 1)); report CRASH "$name: $status";
+  elif [ $status -eq 0 ]; then nonsense=$((nonsense + 1)); report NONSENSE "$name exited 0";
+  fi
+}
+stall="--set N=7 --set F_kin=6 --set k1=0 --no-plot --quiet"
+for F in 8 8.1 8.2 8.3; do
+  not_claimed "partial stall F_drive=$F" run $stall --set F_drive=$F --omega-min 1 --omega-max 10 --realizations 32
+done
+not_claimed "short stall-capable" run $stall --set F_drive=8 --set a=3e-4 --omega-min 1000 --omega-max 10000 --precision 0.3
+for omega in 1e-300 1e-200 1e-100 5e-324 2.8e-80; do
+  attack refuse "theory --omega $omega" theory --omega "$omega,1"
+done
+attack refuse "theory --omega-min 1e-100" theory --omega-min 1e-100 --omega-max 1e-95
+for omega in 1e-79 1e-40 1e-20 1e-14 1e-13; do attack work-keep "theory --omega $omega" theory --omega "$omega"; done
+printf 't,x\n0,1\n0.001,1e158\n0.002,3\n' > huge.csv
+attack refuse "analyze huge values" analyze ../huge.csv --no-plot
+for stream in "cat /dev/zero" "cat /dev/urandom" "head -c 100000000 /dev/zero" "yes 1"; do
+  attacks=$((attacks + 1))
+  timeout 60 bash -c "$stream 2> /dev/null | '$bin' analyze - --out s --no-plot" > /dev/null 2> "$logs/stderr"
+  status=$?
+  if [ $status -eq 124 ]; then hangs=$((hangs + 1)); report HANG "analyze from $stream";
+  elif [ $status -ge 128 ]; then crashes=$((crashes + 1)); report CRASH "analyze from $stream: $status";
+  elif [ $status -eq 0 ]; then nonsense=$((nonsense + 1)); report NONSENSE "analyze from $stream exited 0";
+  fi
+  rm -f s.*
+done
+mkfifo fifo
+for sig in INT TERM; do
+  attacks=$((attacks + 1))
+  ( timeout 60 cat /dev/zero > fifo 2> /dev/null & )
+  timeout 60 "$bin" analyze fifo --out s --no-plot > /dev/null 2>&1
+  status=$?
+  [ $status -eq 124 ] && { hangs=$((hangs + 1)); report HANG "analyze from a fifo"; }
+  [ $status -eq 0 ] && { nonsense=$((nonsense + 1)); report NONSENSE "analyze from a fifo exited 0"; }
+done
+# Memory running out is a failure (1) with a message, never a crash or bad input.
+if (ulimit -v 400000; "$bin" cases > /dev/null 2>&1); then
+  for d in 5e4 9e4; do
+    attacks=$((attacks + 1))
+    (ulimit -v 400000; timeout 60 "$bin" synth --duration $d --out oom > /dev/null 2> "$logs/stderr")
+    status=$?
+    if [ $status -ge 128 ] || [ $status -eq 124 ] || ! grep -q "out of memory" "$logs/stderr"; then
+      crashes=$((crashes + 1)); report CRASH "synth out of memory: $status $(head -c 200 "$logs/stderr")"
+    fi
+    rm -f oom.*
+  done
+fi
+# Python: the same refusals as ValueError, memory as MemoryError, Ctrl-C heard.
+if [ -n "${PYTHONPATH:-}" ]; then
+  for call in 'ss.theory("reference", 1e-300)' 'ss.theory("reference", float("nan"))' 'ss.eq1("reference", 1e-100)' \
+      'ss.theory("reference", -1.0)' 'ss.run("reference", seed=1.5)' 'ss.run("reference", precision=0)' \
+      'ss.synth(duration=1e12)' 'ss.analyze([0, 1, 2], [0, 1e158, 2])' 'ss.Parameters(alpha="x")'; do
+    attacks=$((attacks + 1))
+    /usr/bin/python3 -c "import slidespec as ss
+try:
+    $call
+except (ValueError, TypeError):
+    raise SystemExit(2)
+raise SystemExit(0)" > /dev/null 2> "$logs/stderr"
+    status=$?
+    [ $status -eq 0 ] && { nonsense=$((nonsense + 1)); report NONSENSE "python $call accepted"; }
+    [ $status -ne 0 ] && [ $status -ne 2 ] && { crashes=$((crashes + 1)); report CRASH "python $call: $(tail -c 200 "$logs/stderr")"; }
+  done
+fi
+
 # 6. Signals: an interrupt at any moment leaves a run that resumes to the undisturbed result.
 "$bin" run --omega-min 10 --omega-max 1000 --precision 0.1 --seed 5 --out whole --no-plot --quiet
 for delay in 0.05 0.2 0.5 1 1.5 2; do

@@ -363,6 +363,10 @@ constexpr std::streamsize kLongestRecordLine = std::streamsize{1} << 16;
 // Some 5e7 samples (20 bytes a line): far beyond any lab record, within a machine's memory.
 constexpr std::uint64_t kMostRecordBytes = std::uint64_t{1} << 30;
 
+// A spectrum sums squares of a record's values over up to 1e8 samples: values up to this
+// keep every sum inside a double (no displacement or force is anywhere near it).
+constexpr double kLargestRecordValue = 1e30;
+
 class RecordReader {
  public:
   RecordReader(const std::string& source, const RecordFormat& format) : source_(source), format_(format) {}
@@ -401,7 +405,7 @@ class RecordReader {
         if (!std::isfinite(time[k])) fail(sample, "t is not a finite number");
         take_time(time[k], sample);
       }
-      record_.displacement.push_back(x[k] * metres_per(format_.unit.value_or(LengthUnit::m)));
+      record_.displacement.push_back(bounded(x[k] * metres_per(format_.unit.value_or(LengthUnit::m)), "m", sample));
     }
     if (x.size() < 2)
       throw InputError(source_ + ": a spectrum needs a record of many samples, not " + std::to_string(x.size()));
@@ -443,13 +447,25 @@ class RecordReader {
     if (fields.size() != names_.size())
       fail(line_number, std::to_string(fields.size()) + " fields, expected " + std::to_string(names_.size()) + " (" +
                             column_list(names_) + ")");
-    if (x_index_ >= 0) record_.displacement.push_back(number(fields, x_index_, line_number) * metres_per(record_.unit));
+    if (x_index_ >= 0)
+      record_.displacement.push_back(
+          bounded(number(fields, x_index_, line_number) * metres_per(record_.unit), "m", line_number));
     if (force_index_ >= 0) {
       const double normal = normal_index_ >= 0 ? number(fields, normal_index_, line_number) : 1;
-      record_.force.push_back(number(fields, force_index_, line_number) * normal * newtons_per_);
+      record_.force.push_back(
+          bounded(number(fields, force_index_, line_number) * normal * newtons_per_, "N", line_number));
     }
     if (time_index_ >= 0) take_time(number(fields, time_index_, line_number) * seconds_per_time_, line_number);
     last_line_ = line_number;
+  }
+
+  /// `value` in SI `unit`, refused beyond kLargestRecordValue.
+  double bounded(double value, const char* unit, int where) const {
+    if (std::fabs(value) <= kLargestRecordValue) return value;
+    char what[120];
+    std::snprintf(what, sizeof what, "%.3g %s is beyond %.0e %s: its spectrum would leave a double", value, unit,
+                  kLargestRecordValue, unit);
+    fail(where, what);
   }
 
   double number(const std::vector<std::string>& fields, int index, int line_number) const {

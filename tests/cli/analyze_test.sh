@@ -27,6 +27,9 @@ expect_refused text-in-numbers "line 3" analyze "$work/text.csv" $out
 expect_refused single-line "line 2" analyze "$work/single.csv" $out
 expect_refused backwards-time "line 4" analyze "$work/backwards.csv" $out
 expect_refused missing-column "no column 'pos'" analyze "$work/rec.csv" --column pos $out
+# Values whose squares leave a double would give inf or nan where a spectrum is claimed.
+printf 't,x\n0,1\n0.001,1e158\n0.002,3\n' > "$work/huge.csv"
+expect_refused huge-values "line 3: 1e+158 m is beyond 1e+30 m" analyze "$work/huge.csv" $out
 # Endless streams end, with a message: a stream without newlines at its first long line,
 # from a pipe and from a named pipe (a stream of lines ends at the 1 GiB record cap).
 timeout 60 bash -c "cat /dev/zero | '$bin' analyze - --out '$work/endless'" 2> "$work/stream.err"
