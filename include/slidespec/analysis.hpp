@@ -339,8 +339,8 @@ PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, doub
 /// Which theory a model comparison or an alpha fit uses.
 enum class ModelOrder {
   first,  ///< the exact first-order theory
-  best,   ///< the second order (docs/model.md §7) where it applies: poisson renewal on one
-          ///< touching level, eps <= 0.3; the first order elsewhere
+  best,   ///< the second order (docs/model.md §7) where it can be computed (one touching
+          ///< level, a constant force); the first order elsewhere
 };
 
 /// The order `order` gives at `params`: 2 where the second-order theory applies, else 1.

@@ -719,8 +719,9 @@ def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega
       gap refused), "off", "median" or an interval [s] (gaps and rate changes interpolated);
       the band is cut where interpolation filters it.
     theory_order: 2 (default) compares and fits with the second-order theory where it
-      applies (poisson, one touching level, eps <= 0.3), else the first; 1 the first
-      order always. The result's theory_order field says which was used.
+      can be computed (one touching level, a constant force), else the first; 1 the
+      first order always. The result's theory_order field says which was used; whether
+      either holds is the parameters' theory_kind (docs/model.md §7.4).
     Returns an Analysis. Raises ValueError for a malformed record or request.
     """
     if fit not in (None, "alpha"):

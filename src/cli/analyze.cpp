@@ -619,8 +619,9 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
       ->expected(2);
   analyze_
       ->add_option("--theory-order", o.theory_order,
-                   "2 (default): compare and fit with the second-order theory where it applies (poisson, "
-                   "one touching level, eps <= 0.3), else the first; 1: the first order always")
+                   "2 (default): compare and fit with the second-order theory where it can be computed (one "
+                   "touching level, a constant force, periodic renewal to eps 0.25), else the first; 1: the "
+                   "first order always (theory_kind in the output says whether either holds)")
       ->check(CLI::IsMember({1, 2}));
   analyze_->add_option("--normal-mass", o.normal_mass, "M, mass loading the slider [kg], for mu = M'/M");
   analyze_->add_option("--driving-mass", o.driving_mass, "M', hanging mass driving it [kg], for mu = M'/M");
