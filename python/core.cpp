@@ -323,6 +323,24 @@ PYBIND11_MODULE(_core, m) {
   });
   m.attr("version") = SLIDESPEC_VERSION;
 
+  // The Python functions' keyword defaults, from the structs the command line starts from.
+  const RunRequest run_default{};
+  py::dict run_defaults;
+  run_defaults["omega_min"] = run_default.omega_min;
+  run_defaults["omega_max"] = run_default.omega_max;
+  run_defaults["points"] = run_default.points_per_decade;
+  run_defaults["precision"] = run_default.precision;
+  run_defaults["seed"] = run_default.seed;
+  m.attr("run_defaults") = run_defaults;
+  const SensorRequest sensor_default{};
+  py::dict sensor_defaults;
+  sensor_defaults["sample_interval"] = sensor_default.sample_interval;
+  sensor_defaults["duration"] = sensor_default.duration;
+  sensor_defaults["resolution"] = sensor_default.resolution;
+  sensor_defaults["sensor_noise"] = sensor_default.sensor_noise;
+  sensor_defaults["seed"] = sensor_default.seed;
+  m.attr("sensor_defaults") = sensor_defaults;
+
   m.def(
       "cases",
       [] {

@@ -47,6 +47,9 @@ class ModelWarning(UserWarning):
 # Parameters
 
 _PARAMETERS = {row["key"]: row for row in _core.parameter_table()}
+# Keyword defaults, the command line's own (run's band, precision and seed; synth's sensor).
+_RUN = _core.run_defaults
+_SENSOR = _core.sensor_defaults
 
 
 def parameter_table():
@@ -206,7 +209,7 @@ def _as_parameters(params):
 # ---------------------------------------------------------------------------------------
 # Theory
 
-def omegas(omega_min=0.1, omega_max=1e5, points=8):
+def omegas(omega_min=_RUN["omega_min"], omega_max=_RUN["omega_max"], points=_RUN["points"]):
     """The log-spaced angular frequencies [rad/s] of `slidespec run` and `theory`:
     `points` per decade from omega_min to omega_max inclusive, as a numpy array."""
     return _core.log_spaced_omegas(float(omega_min), float(omega_max), int(points))
@@ -508,8 +511,9 @@ def _real(name, value):
     return float(value)
 
 
-def run(params, *, omega_min=0.1, omega_max=1e5, points=8, precision=None, duration=None,
-        realizations=None, seed=1, threads=0, simd="auto", progress=False):
+def run(params, *, omega_min=_RUN["omega_min"], omega_max=_RUN["omega_max"], points=_RUN["points"],
+        precision=None, duration=None, realizations=None, seed=_RUN["seed"], threads=0, simd="auto",
+        progress=False):
     """Simulates the spectrum C_x(omega) with error bars, beside the exact theory: `slidespec run`.
 
     params: Parameters or a case name.
@@ -542,7 +546,7 @@ def run(params, *, omega_min=0.1, omega_max=1e5, points=8, precision=None, durat
     p = _as_parameters(params)
     request = {"omega_min": _real("omega_min", omega_min), "omega_max": _real("omega_max", omega_max),
                "points_per_decade": _whole("points", points, _MOST_INT),
-               "precision": _real("precision", 0.05 if precision is None else precision),
+               "precision": _real("precision", _RUN["precision"] if precision is None else precision),
                "duration": float(duration or 0), "realizations": int(realizations or 0),
                "seed": _whole("seed", seed, _MOST_U64)}
     _whole("threads", threads, _MOST_INT)
@@ -756,8 +760,8 @@ def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega
     return Analysis(data)
 
 
-def synth(params="reference", *, sample_interval=1e-3, duration=1000.0, resolution=0.5e-6,
-          sensor_noise=0.25e-6, seed=1):
+def synth(params="reference", *, sample_interval=_SENSOR["sample_interval"], duration=_SENSOR["duration"],
+          resolution=_SENSOR["resolution"], sensor_noise=_SENSOR["sensor_noise"], seed=_SENSOR["seed"]):
     """A synthetic displacement-sensor record of the simulated slider: `slidespec synth`.
 
     sample_interval [s], duration [s]; resolution: quantization step q [m] (0 = exact);

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "analysis/report.hpp"
+#include "cli/command.hpp"
 #include "cli/plot.hpp"
 #include "io/atomic_file.hpp"
 #include "util/suggest.hpp"
@@ -635,12 +636,16 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
   synth_->add_option("--set", o.synth_overrides, "override a parameter, KEY=VALUE (repeatable)");
   synth_->add_option("--params", o.synth_params,
                      "JSON file of parameter overrides (as for run: a run's output JSON or its parameters block)");
-  synth_->add_option("--sample-interval", o.sensor.sample_interval, "sensor sampling interval [s] (default 1e-3)");
-  synth_->add_option("--duration", o.sensor.duration, "record length [s] (default 1000)");
-  synth_->add_option("--resolution", o.sensor.resolution, "sensor resolution q [m] (default 0.5e-6; 0 exact)");
-  synth_->add_option("--sensor-noise", o.sensor.sensor_noise,
-                     "rms noise before quantization [m] (default 0.25e-6, dithers the quantizer)");
-  synth_->add_option("--seed", o.sensor.seed, "random seed (default 1)");
+  const SensorRequest sensor_default{};
+  synth_->add_option("--sample-interval", o.sensor.sample_interval,
+                     with_default("sensor sampling interval [s]", sensor_default.sample_interval));
+  synth_->add_option("--duration", o.sensor.duration, with_default("record length [s]", sensor_default.duration));
+  synth_->add_option("--resolution", o.sensor.resolution,
+                     with_default("sensor resolution q [m], 0 for exact readings", sensor_default.resolution));
+  synth_->add_option(
+      "--sensor-noise", o.sensor.sensor_noise,
+      with_default("rms noise before quantization [m], which dithers the quantizer", sensor_default.sensor_noise));
+  synth_->add_option("--seed", o.sensor.seed, with_default("random seed", static_cast<double>(sensor_default.seed)));
   synth_->add_option("--units", o.synth_units, "unit of the x column: m|mm|um (default um)");
   synth_->add_option("--out", o.synth_out, "output prefix: PREFIX.csv (default record)");
 }

@@ -41,7 +41,15 @@ std::string with_default(const std::string& help, double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%g", value);
   std::string typed = text;
-  if (const auto e = typed.find("e+"); e != std::string::npos) typed.erase(e + 1, typed[e + 2] == '0' ? 2 : 1);
+  // 1e+05 and 5e-07 as a user types them: 1e5, 5e-7.
+  if (const auto e = typed.find('e'); e != std::string::npos) {
+    std::size_t digits = e + 1;
+    if (typed[digits] == '+')
+      typed.erase(digits, 1);
+    else if (typed[digits] == '-')
+      ++digits;
+    while (typed[digits] == '0' && digits + 1 < typed.size()) typed.erase(digits, 1);
+  }
   return help + " (default " + typed + ")";
 }
 
