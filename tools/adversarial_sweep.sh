@@ -5,8 +5,14 @@
 # crashes (a signal or "failed:"), hangs (over 30 s), inputs lost (an input's bytes
 # changed), finished work lost (a run that finished or was interrupted and cannot be
 # brought back bitwise) and nonsense accepted (a refusal expected, exit 0 seen).
-# Usage: SLIDESPEC=build/slidespec tools/adversarial_sweep.sh   (not part of ctest: ~10 min)
+# Usage: SLIDESPEC=build/slidespec [PYTHONPATH=build/python] tools/adversarial_sweep.sh [PART]
+# PART: refusals (files, numbers, options, figures, JSON, units: ~6 min), results (stalls,
+# theory, streams, memory, Python: ~3 min), signals (interrupts and resumes: ~4 min), or all
+# (the default). Not part of ctest.
 set -u
+part=${1:-all}
+case "$part" in all | refusals | results | signals) ;; *) echo "unknown part '$part'" >&2; exit 2 ;; esac
+in_part() { [ "$part" = all ] || [ "$part" = "$1" ]; }
 bin=$(realpath "${SLIDESPEC:?set SLIDESPEC to the slidespec executable}")
 work=$(mktemp -d)
 logs=$(mktemp -d)
@@ -78,6 +84,7 @@ R=../rec.csv
 T=../table.tsv
 S=../part
 
+if in_part refusals; then
 # 1. Every numeric option of every command, with every class of bad number.
 for value in '' nan -nan inf -inf -1 0 1e999 -1e999 abc 1e-320 0x10 ' 5' '5 ' 1,5 1.5.5 '+' '-' 99999999999999999999999; do
   for opt in --omega-min --omega-max --precision --work-budget; do
@@ -172,8 +179,9 @@ attack refuse "bad size word" run --size big
 attack refuse "bad dpi" run --dpi 0
 attack refuse "huge dpi" run --dpi 1e9
 attack refuse "unknown units" analyze $R --units km --no-plot
-attack refuse "unknown units cm" analyze $R --units cm --no-plot
-attack refuse "units inch" analyze $R --units inch --no-plot
+# cm and inch are known units (converted, never read as metres): they must work.
+attack work-keep "units cm" analyze $R --units cm --no-plot --quiet
+attack work-keep "units inch" analyze $R --units inch --no-plot --quiet
 attack refuse "resolution unit" analyze $R --resolution 1furlong --no-plot
 attack refuse "theory order 3" theory --order 3
 attack refuse "resume other seed" run --resume $S --seed 9 --no-plot
@@ -206,6 +214,149 @@ attack work-keep "analyze" analyze $R --no-plot --quiet
 attack work-keep "plot" plot $T -o x.svg
 attack work-keep "cases" cases
 
+
+# 8. Every command's every output over an input it reads; figure options, titles, JSON,
+# units and ignored options refused before any work (a default-band run takes minutes, so
+# a late refusal shows as a hang).
+# (run: .tsv .json .state and the figure; sweep's sub-runs .tsv .json .state; merge and
+# analyze: .tsv .json and the figure; synth: .csv; theory: .tsv.)
+for ext in tsv json png pdf svg state csv; do
+  fig=--no-plot
+  case $ext in png | pdf | svg) fig="--format $ext" ;; esac
+  cp p.json "o_run.$ext"; cp p.json "o_sw_alpha=0.4.$ext"; cp p.json "o_syn.$ext"; cp p.json "o_th.$ext"
+  cp part.state "o_mg.$ext"; cp rec.csv "o_an.$ext"; cp om.tsv "o_om.$ext"
+  # shellcheck disable=SC2086
+  case $ext in
+    csv) attack refuse "synth .$ext over its params" synth --params "../o_syn.$ext" --out ../o_syn ;;
+    *)
+      attack refuse "run .$ext over its params" run --params "../o_run.$ext" --out ../o_run $fig
+      [ $ext = state ] || {
+        attack refuse "merge .$ext over its part" merge "../o_mg.$ext" --out ../o_mg $fig
+        attack refuse "analyze .$ext over its record" analyze "../o_an.$ext" --out ../o_an $fig
+      }
+      case $ext in tsv | json | state)
+        attack refuse "sweep sub-run .$ext over its params" sweep alpha=0.4 --params "../o_sw_alpha=0.4.$ext" --out ../o_sw
+      esac
+      [ $ext = tsv ] && {
+        attack refuse "theory .$ext over its params" theory --params "../o_th.$ext" --out ../o_th
+        attack refuse "theory .$ext over its omega file" theory --omega-file "../o_om.$ext" --out ../o_om
+      }
+      ;;
+  esac
+done
+for ext in tsv json png pdf svg; do
+  fig=--no-plot
+  case $ext in png | pdf | svg) fig="--format $ext" ;; esac
+  cp p.json "o_sw.$ext"
+  # shellcheck disable=SC2086
+  attack refuse "sweep combined .$ext over its params" sweep alpha=0.4 --params "../o_sw.$ext" --out ../o_sw $fig
+done
+mkdir -p pd
+for f in fig6.tsv fig6.json fig6.png fig6.pdf fig6.svg; do
+  cp rec.csv "pd/$f"
+  fmt=png
+  case $f in *.pdf) fmt=pdf ;; *.svg) fmt=svg ;; esac
+  attack refuse "paper fig6 $f over its record" paper fig6 --record "../pd/$f" --out-dir ../pd --format $fmt
+done
+for f in fig2_reference.tsv fig2_fast.json fig2_short-renewal.state; do
+  cp p.json "pd/$f"
+  attack refuse "paper fig2 over an existing $f as --record" paper fig2 --record "../pd/$f" --out-dir ../pd
+done
+for fmt in png pdf svg; do
+  cp table.tsv "pl.$fmt"
+  attack refuse "plot .$fmt over its table" plot "../pl.$fmt" -o "../pl.$fmt"
+  attack refuse "plot .$fmt over its table, absolute" plot "$work/pl.$fmt" -o "../pl.$fmt"
+done
+
+# Figure options that cannot be drawn, for every command that draws.
+for bad in "--size 0x5" "--size 7x0" "--size 7x" "--size x5" "--size 7x5x3" "--size -7x5" "--size nanxnan" \
+  "--size infx5" "--size 1e9x5" "--size 7X5" "--size 7,5" "--dpi 0" "--dpi -1" "--dpi nan" "--dpi inf" \
+  "--dpi 1e-300" "--dpi 1e6" "--dpi many" "--format PNG" "--format jpg" "--format 'png '" "--format ''"; do
+  # shellcheck disable=SC2086
+  eval "set -- $bad"
+  attack refuse "run $bad" run "$@"
+  attack refuse "sweep $bad" sweep alpha=0.3,0.6 "$@"
+  attack refuse "merge $bad" merge ../part.state --out m "$@"
+  attack refuse "analyze $bad" analyze $R --out a "$@"
+  attack refuse "paper fig2 $bad" paper fig2 "$@"
+  case "$bad" in --format*) continue ;; esac
+  attack refuse "plot $bad" plot $T -o x.png "$@"
+done
+# Titles matplotlib cannot typeset, and names that become titles.
+for title in '$\frac{1}{$' '$x^$' '$a_b_c$' '$\nosuchcommand$' '$\sqrt[$' '$}$' '${$'; do
+  attack refuse "plot title $title" plot $T -o x.png --title "$title"
+done
+cp rec.csv 'r$\frac{1$.csv'
+attack refuse "analyze a record whose name is broken mathtext" analyze '../r$\frac{1$.csv' --out a
+
+# Figure options given where no figure is drawn: they would be ignored.
+for opt in "--format pdf" "--size 3x3" "--dpi 300"; do
+  # shellcheck disable=SC2086
+  attack refuse "run --no-plot $opt" run --no-plot $opt
+  # shellcheck disable=SC2086
+  attack refuse "analyze --no-plot $opt" analyze $R --out a --no-plot $opt
+done
+
+# Options that conflict, repeat or would be ignored.
+attack refuse "theory --omega with --omega-min" theory --omega 1,2 --omega-min 5
+attack refuse "theory --omega with --points" theory --omega 1,2 --points 3
+attack refuse "theory --omega-file with --omega-max" theory --omega-file ../om.tsv --omega-max 5
+attack refuse "paper fig6 --precision" paper fig6 --precision 0.1
+attack refuse "paper fig6 --seed" paper fig6 --seed 3
+attack refuse "paper fig6 --omega-min" paper fig6 --omega-min 1
+attack refuse "paper fig6 --work-budget" paper fig6 --work-budget 1e9
+attack refuse "sweep key also --set" sweep alpha=0.3,0.6 --set alpha=0.5 --no-plot
+attack refuse "sweep key twice" sweep alpha=0.3 alpha=0.6 --no-plot
+attack refuse "seed twice" run --seed 1 --seed 2 --no-plot
+attack refuse "out twice" theory --out a --out b
+attack refuse "set key twice" theory --set alpha=0.3 --set alpha=0.6
+attack refuse "analyze --fit-band without --fit" analyze $R --out a --no-plot --fit-band 1 10
+attack refuse "analyze --set without --compare-case" analyze $R --out a --no-plot --set alpha=1
+attack refuse "analyze --normal-force without a friction column" analyze $R --out a --no-plot --normal-force 10
+attack refuse "analyze --machine-stiffness without slip" analyze $R --out a --no-plot --machine-stiffness 1e6
+attack refuse "analyze --dt beside a time column" analyze $R --out a --no-plot --dt 0.01
+attack refuse "resume with another case" run --resume $S --case fast --no-plot
+attack refuse "resume with another band" run --resume $S --omega-min 1 --no-plot
+
+# Units: unknown spellings are refused, never read as metres.
+for u in km M Mm furlong 'um ' '' µ pm; do
+  attack refuse "analyze --units '$u'" analyze $R --out a --no-plot --units "$u"
+  attack refuse "synth --units '$u'" synth --units "$u" --out s
+done
+for header in 't,x [km]' 't,x (furlong)' 't [ms],x' 't,x [mum]'; do
+  printf '%s\n0,1\n0.001,2\n0.002,3\n' "$header" > hu.csv
+  attack refuse "record header '$header'" analyze ../hu.csv --out a --no-plot
+done
+
+# Parameter files: JSON a strict reader refuses, and values of the wrong type.
+printf '{"alpha": NaN}' > j_nan.json
+printf '{"alpha": Infinity}' > j_infinity.json
+printf '{"alpha": 0.5} // note' > j_comment.json
+printf '{"alpha": 0.5,}' > j_comma.json
+printf "{'alpha': 0.5}" > j_quote.json
+printf '' > j_empty.json
+printf '{"alpha": {"value": 0.5}}' > j_nested.json
+printf '{"alpha": [0.5]}' > j_array.json
+printf '{"alpha": null}' > j_null.json
+printf '{"N": 2.5}' > j_fraction.json
+printf '{"alpha": 1e-320}' > j_subnormal.json
+printf '{"alpha": 0.5}{"alpha": 0.6}' > j_two.json
+printf '{"alpha": 0.5, "\\u0061lpha": 0.6}' > j_escaped_twice.json
+printf '{"alpha\\u0000": 0.5}' > j_nul_key.json
+python3 -c "print('[' * 100000 + ']' * 100000)" > j_deep.json
+python3 -c "print('{\"a\":' * 50000 + '1' + '}' * 50000)" > j_deep_objects.json
+for f in j_*.json; do
+  attack refuse "params $f" run --params "../$f" --no-plot
+  attack refuse "synth params $f" synth --params "../$f" --out s
+done
+# A byte-order mark may be ignored (RFC 8259 8.1), and a number in a string reads as the
+# command line reads its words: both are the parameter meant.
+printf '\xef\xbb\xbf{"alpha": 0.5}' > ok_bom.json
+printf '{"alpha": "0.5"}' > ok_string.json
+for f in ok_bom.json ok_string.json; do attack work-keep "params $f" theory --params "../$f" --omega 1; done
+fi
+
+if in_part results; then
 # 7. Results that must say what they are, streams, memory, and Python.
 # A run some of whose realizations stall is not a spectrum: exit 3, never 0.
 not_claimed() {  # NAME ARGS...: must end with exit 3 (or a refusal), never 0
@@ -280,6 +431,50 @@ raise SystemExit(0)" > /dev/null 2> "$logs/stderr"
   done
 fi
 
+
+# 9. A spring-driven block that stalls in part (a soft spring reloads slowly): its mean
+# speed near v/2 is no spectrum either.
+for k in 1e-2 0.3 0.4 0.5 0.6; do
+  not_claimed "spring partial stall k_drive=$k" run $stall --set F_drive=8 --set drive=spring --set k_drive=$k \
+    --omega-min 1 --omega-max 10 --realizations 32
+done
+# Python: types and files as the command line checks them.
+if [ -n "${PYTHONPATH:-}" ]; then
+  for call in 'ss.run("reference", seed=True)' 'ss.run("reference", realizations=8.0)' 'ss.run("reference", omega_min=None)' \
+      'ss.run("reference", threads=-1)' 'ss.run("reference", simd=3)' 'ss.synth(duration="5")' 'ss.synth(seed=-1)' \
+      'ss.theory("reference", "1")' 'ss.theory("reference", 1, order=1.5)' 'ss.Parameters(N=2.5)' \
+      'ss.analyze(None, [0.0, 1.0, 2.0] * 100, dt=0.01, points=2.5)' \
+      'ss.analyze(None, [0.0, 1.0, 2.0] * 100, dt="0.01")' 'ss.analyze(None, [0.0, 1.0, 2.0] * 100, dt=0.01, units=1)' \
+      'ss.analyze(None, [0.0, 1.0, 2.0] * 100, dt=0.01, omega_min="1")' 'ss.omegas(1, 10, points=2.5)'; do
+    attacks=$((attacks + 1))
+    /usr/bin/python3 -c "import slidespec as ss
+try:
+    $call
+except (ValueError, TypeError):
+    raise SystemExit(2)
+raise SystemExit(0)" > /dev/null 2> "$logs/stderr"
+    status=$?
+    [ $status -eq 0 ] && { nonsense=$((nonsense + 1)); report NONSENSE "python $call accepted"; }
+    [ $status -ne 0 ] && [ $status -ne 2 ] && { crashes=$((crashes + 1)); report CRASH "python $call: $(tail -c 200 "$logs/stderr")"; }
+  done
+  # Files: what cannot be read is OSError (or ValueError for what is not a table), at once.
+  for path in /dev/zero /dev/urandom "$work/adir" "$work/none.tsv" "$work/big.json" "$work/rec.csv"; do
+    attacks=$((attacks + 1))
+    (ulimit -v 2000000; timeout 30 /usr/bin/python3 -c "import sys, slidespec as ss
+try:
+    ss.read(sys.argv[1])
+except (OSError, ValueError):
+    raise SystemExit(2)
+raise SystemExit(0)" "$path" > /dev/null 2> "$logs/stderr")
+    status=$?
+    if [ $status -eq 124 ]; then hangs=$((hangs + 1)); report HANG "python ss.read($path)";
+    elif [ $status -eq 0 ]; then nonsense=$((nonsense + 1)); report NONSENSE "python ss.read($path) accepted";
+    elif [ $status -ne 2 ]; then crashes=$((crashes + 1)); report CRASH "python ss.read($path): $(tail -c 200 "$logs/stderr")"; fi
+  done
+fi
+fi
+
+if in_part signals; then
 # 6. Signals: an interrupt at any moment leaves a run that resumes to the undisturbed result.
 "$bin" run --omega-min 10 --omega-max 1000 --precision 0.1 --seed 5 --out whole --no-plot --quiet
 for delay in 0.05 0.2 0.5 1 1.5 2; do
@@ -323,6 +518,44 @@ for k in 1 2 3; do
   "$bin" run --resume cut --no-plot --quiet 2> /dev/null
   cmp -s cut.tsv whole.tsv || { work_lost=$((work_lost + 1)); report LOST "SIGKILL while drawing ($k)"; }
 done
+
+# Signals without a handler (HUP, QUIT) and a SIGKILL in a sweep: what was checkpointed resumes.
+for sig in HUP QUIT; do
+  for delay in 0.5 1.5; do
+    attacks=$((attacks + 1))
+    rm -f cut.*
+    "$bin" run --omega-min 10 --omega-max 1000 --precision 0.1 --seed 5 --out cut --no-plot --quiet \
+      --checkpoint-every 0.1 2> /dev/null &
+    pid=$!
+    sleep $delay
+    kill -s $sig $pid 2> /dev/null
+    wait $pid 2> /dev/null
+    status=$?
+    if [ -e cut.state ]; then timeout 120 "$bin" run --resume cut --no-plot --quiet 2> /dev/null; status=$?; fi
+    if [ -e cut.tsv ] && ! cmp -s cut.tsv whole.tsv; then
+      work_lost=$((work_lost + 1)); report LOST "$sig after $delay s: resumed table differs"
+    elif [ ! -e cut.tsv ] && [ $status -lt 128 ]; then
+      work_lost=$((work_lost + 1)); report LOST "$sig after $delay s: status $status, no table"
+    fi
+  done
+done
+"$bin" sweep alpha=0.3,0.6 --omega-min 10 --omega-max 1000 --precision 0.1 --seed 5 --out wsw --no-plot --quiet
+for delay in 1 2.5; do
+  attacks=$((attacks + 1))
+  rm -f csw*
+  "$bin" sweep alpha=0.3,0.6 --omega-min 10 --omega-max 1000 --precision 0.1 --seed 5 --out csw --no-plot --quiet 2> /dev/null &
+  pid=$!
+  sleep $delay
+  kill -9 $pid
+  wait $pid 2> /dev/null
+  for a in 0.3 0.6; do
+    if [ -e "csw_alpha=$a.state" ]; then "$bin" run --resume "csw_alpha=$a" --no-plot --quiet 2> /dev/null; fi
+    if [ -e "csw_alpha=$a.tsv" ] && ! cmp -s "csw_alpha=$a.tsv" "wsw_alpha=$a.tsv"; then
+      work_lost=$((work_lost + 1)); report LOST "sweep SIGKILL after $delay s: alpha=$a resumed differs"
+    fi
+  done
+done
+fi
 
 echo "adversarial sweep: $attacks attacks: crashes $crashes, hangs $hangs, inputs lost $inputs_lost," \
   "finished work lost $work_lost, nonsense accepted $nonsense; other (unclear message or failed work) $other"

@@ -236,6 +236,11 @@ def _label_keys(label):
     return name, pairs
 
 
+def _literal(text):
+    """Text drawn as written: a '$' in a file name does not start mathtext."""
+    return text.replace("$", r"\$")
+
+
 def legend_labels(spectra):
     """Legend text per spectrum: the case (or the 'label' metadata, or the file name) and
     parameters with units and Greek symbols: those that differ between the files, or for
@@ -252,9 +257,9 @@ def legend_labels(spectra):
             record = spectrum.metadata.get("record")
             if record:  # the file's name, not its whole path
                 label = label.replace(record, os.path.basename(record))
-            labels.append(_mark_incomplete(spectrum, label))
+            labels.append(_mark_incomplete(spectrum, _literal(label)))
             continue
-        name = spectrum.metadata.get("case") or os.path.basename(spectrum.path)
+        name = _literal(spectrum.metadata.get("case") or os.path.basename(spectrum.path))
         keys = list(differing)
         if label:  # "reference + N=5, alpha=3": the set keys are named too
             name, pairs = _label_keys(label)
@@ -654,6 +659,20 @@ def _dpi(text):
     return value
 
 
+def check_title(title):
+    """An InputError for a title whose $...$ matplotlib cannot typeset (found before drawing).
+    An even number of unescaped dollar signs makes matplotlib read the title as mathtext."""
+    if not title or len(re.findall(r"(?<!\\)\$", title)) % 2 or "$" not in title:
+        return
+    from matplotlib.mathtext import MathTextParser
+    try:
+        MathTextParser("path").parse(title)
+    except ValueError as error:
+        reason = " ".join(str(error).split())
+        raise InputError(f"--title: matplotlib cannot typeset {title!r} ({reason[:200]}); "
+                         "escape a literal dollar as \\$") from None
+
+
 def parse_arguments(argv):
     parser = argparse.ArgumentParser(description="Plot slidespec spectra (TSV) to PNG, PDF or SVG.")
     parser.add_argument("files", nargs="+", metavar="FILE")
@@ -686,6 +705,7 @@ def main(argv=None):
     args = parse_arguments(argv)
     try:
         output_format(args.out)
+        check_title(args.title)
         spectra = [run for path in args.files for run in split_runs(read_spectrum(path))]
         fine = [None if not path or path == "-" else read_fine_theory(path)
                 for path in (args.theory.split(",") if args.theory else [])] or None

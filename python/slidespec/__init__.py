@@ -19,9 +19,12 @@ naming the key; files that cannot be read raise OSError. Ctrl-C during run() rai
 KeyboardInterrupt carrying what the run accumulated as `error.result`; resume() continues it.
 """
 
+import errno
 import json
 import math
+import os
 import re
+import stat
 import warnings
 from collections.abc import Mapping
 
@@ -212,11 +215,15 @@ def _as_parameters(params):
 def omegas(omega_min=_RUN["omega_min"], omega_max=_RUN["omega_max"], points=_RUN["points"]):
     """The log-spaced angular frequencies [rad/s] of `slidespec run` and `theory`:
     `points` per decade from omega_min to omega_max inclusive, as a numpy array."""
-    return _core.log_spaced_omegas(float(omega_min), float(omega_max), int(points))
+    return _core.log_spaced_omegas(_real("omega_min", omega_min), _real("omega_max", omega_max),
+                                   _whole("points", points, _MOST_INT))
 
 
 def _positive_omegas(omega):
-    w = np.asarray(omega, dtype=float)
+    given = np.asarray(omega)
+    if given.dtype.kind not in "iuf":
+        raise TypeError(f"omega: expected numbers [rad/s], got {given.dtype.name} values")
+    w = given.astype(float)
     if not np.all(np.isfinite(w)) or not np.all(w > 0):
         raise ValueError("omega: every angular frequency must be a positive finite number [rad/s]")
     return w
@@ -233,7 +240,7 @@ def theory(params, omega, order=1):
     docs/model.md section 7)."""
     p = _as_parameters(params)
     w = _positive_omegas(omega)
-    values = _core.theory(*p._args(), w.ravel(), int(order)).reshape(w.shape)
+    values = _core.theory(*p._args(), w.ravel(), _whole("order", order, _MOST_INT)).reshape(w.shape)
     return float(values) if w.ndim == 0 else values
 
 
@@ -636,6 +643,9 @@ def _read_table(text, path):
     return data
 
 
+_MOST_TABLE_BYTES = 1 << 30
+
+
 def read(path):
     """Reads an output of the command line (`slidespec run`, `theory`, `analyze`, `merge`)
     as a Result (an Analysis for analyze's output).
@@ -643,9 +653,22 @@ def read(path):
     path: PREFIX.tsv (numbers to the table's 10 significant digits) or PREFIX.json (every
     bit). The TSV's column line may be plain or start with '#'. Columns keep the file's
     units: omega [rad/s]; C_x, stderr, theory [m^2 s]. Raises OSError when the
-    file cannot be read and ValueError when it is not a slidespec table."""
-    with open(path, encoding="utf-8") as f:
-        text = f.read()
+    file cannot be read (a directory, a device, a pipe, or over 1 GiB: a table is a few
+    kB) and ValueError when it is not a slidespec table."""
+    with open(path, "rb", buffering=0) as f:
+        info = os.fstat(f.fileno())
+        if not stat.S_ISREG(info.st_mode):
+            raise OSError(errno.EINVAL, "not a regular file (a slidespec table is a file)", str(path))
+        if info.st_size > _MOST_TABLE_BYTES:
+            raise OSError(errno.EFBIG, f"{info.st_size} bytes, more than a slidespec table's "
+                          f"{_MOST_TABLE_BYTES}", str(path))
+        raw = f.read(_MOST_TABLE_BYTES + 1)
+    if len(raw) > _MOST_TABLE_BYTES:
+        raise OSError(errno.EFBIG, f"more than a slidespec table's {_MOST_TABLE_BYTES} bytes", str(path))
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise ValueError(f"{path}: not UTF-8 text ({e.reason} at byte {e.start}): not a slidespec table") from None
     if text.lstrip().startswith("{"):
         try:
             data = json.loads(text)
@@ -732,6 +755,17 @@ def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega
         raise ValueError("fit: only 'alpha' can be fitted")
     if fit and compare is None:
         raise ValueError("fit='alpha' needs compare=Parameters(...)")
+    for name, value in (("units", units), ("estimator", estimator)):
+        if not isinstance(value, str):
+            raise TypeError(f"{name}: expected a word (str), got {type(value).__name__} {value!r}")
+    dt = 0.0 if dt is None else _real("dt", dt)
+    time_tolerance = _real("time_tolerance", time_tolerance)
+    omega_min, omega_max = _real("omega_min", omega_min), _real("omega_max", omega_max)
+    resolution, sensor_noise = _real("resolution", resolution), _real("sensor_noise", sensor_noise)
+    points = _whole("points", points, _MOST_INT)
+    theory_order = _whole("theory_order", theory_order, 2)
+    if not isinstance(resample, str):
+        resample = _real("resample", resample)
     time = np.empty(0) if t is None else np.asarray(t, dtype=float).ravel()
     samples = np.asarray(x, dtype=float).ravel()
     record = {"dt": float(dt or 0), "units": str(units), "time_tolerance": float(time_tolerance),

@@ -362,6 +362,43 @@ def test_run_checks_types_as_the_command_line(kwargs, error, word):
         ss.run("reference", **request)
 
 
+@pytest.mark.parametrize("call, error, word", [
+    (lambda: ss.analyze(None, RECORD, dt=0.01, points=2.5), TypeError, "points"),
+    (lambda: ss.analyze(None, RECORD, dt="0.01"), TypeError, "dt"),
+    (lambda: ss.analyze(None, RECORD, dt=0.01, units=1), TypeError, "units"),
+    (lambda: ss.analyze(None, RECORD, dt=0.01, omega_min="1"), TypeError, "omega_min"),
+    (lambda: ss.analyze(None, RECORD, dt=0.01, theory_order=1.0), TypeError, "theory_order"),
+    (lambda: ss.omegas(1, 10, points=2.5), TypeError, "points"),
+    (lambda: ss.omegas("1", 10), TypeError, "omega_min"),
+    (lambda: ss.theory("reference", "1"), TypeError, "omega"),
+    (lambda: ss.theory("reference", [1, "2"]), TypeError, "omega"),
+    (lambda: ss.theory("reference", 1, order=1.5), TypeError, "order"),
+    (lambda: ss.synth(duration="5"), TypeError, "duration"),
+    (lambda: ss.synth(seed=-1, duration=1.0), ValueError, "seed"),
+])
+def test_analyze_theory_and_omegas_check_types_as_the_command_line(call, error, word):
+    with pytest.raises(error, match=word):
+        call()
+
+
+RECORD = [0.0, 1.0, 2.0] * 100
+
+
+def test_read_refuses_what_is_not_a_table_file_with_oserror(tmp_path):
+    for path in ("/dev/zero", "/dev/urandom", str(tmp_path), str(tmp_path / "none.tsv")):
+        with pytest.raises(OSError):
+            ss.read(path)
+    huge = tmp_path / "huge.tsv"
+    with open(huge, "wb") as f:  # sparse: no disk used
+        f.truncate((1 << 30) + 1)
+    with pytest.raises(OSError, match="more than"):
+        ss.read(huge)
+    binary = tmp_path / "binary.tsv"
+    binary.write_bytes(b"\xff\xfe\x00garbage")
+    with pytest.raises(ValueError, match="UTF-8"):
+        ss.read(binary)
+
+
 def test_synth_checks_types_as_the_command_line():
     with pytest.raises(TypeError, match="seed"):
         ss.synth(seed=2.5, duration=1.0)

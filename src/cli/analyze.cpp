@@ -9,6 +9,7 @@
 
 #include "analysis/report.hpp"
 #include "cli/command.hpp"
+#include "cli/outputs.hpp"
 #include "cli/plot.hpp"
 #include "io/atomic_file.hpp"
 #include "util/suggest.hpp"
@@ -420,7 +421,8 @@ int command_analyze(Options o) {
     const std::string reason = !f.power_verdict.ok   ? f.power_verdict.reason
                                : !f.alpha_verdict.ok ? f.alpha_verdict.reason
                                                      : f.slope_verdict.reason;
-    o.title = (o.title.empty() ? o.file : o.title) + " - fit FAILED: " + reason.substr(0, reason.find(':'));
+    o.title =
+        (o.title.empty() ? literal_title(o.file) : o.title) + " - fit FAILED: " + reason.substr(0, reason.find(':'));
   }
   io::OutputSet outputs;  // the table, the JSON and the picture appear together or not at all
   outputs.add(o.out + ".tsv", analysis_table(o, s, f));
@@ -553,8 +555,8 @@ int paper_fig6(const std::string& record, const std::string& directory, const Fi
   o.fit = "alpha";
   o.quiet = quiet;
   o.figure = figure;
-  o.title = "Fig. 6: the concrete-fit model (" + std::string(record.empty() ? "synthetic record" : record) +
-            ", alpha fitted)";
+  o.title = "Fig. 6: the concrete-fit model (" +
+            (record.empty() ? std::string("synthetic record") : literal_title(record)) + ", alpha fitted)";
   return command_analyze(o);
 }
 

@@ -30,12 +30,14 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", SLIDESPEC_VERSION);
   const auto commands = cli::make_commands(app, context);
   cli::require_whole_numbers(app);
+  cli::declare_option_rules(app);
   const bool speaks = context.writes_outputs();
   try {
     app.parse(argc, argv);
     for (const auto& command : commands) {
       if (!command->subcommand()) continue;
       cli::refuse_empty_values(command->subcommand());
+      cli::refuse_repeated_keys(command->subcommand());
       const cli::Files files = command->files();
       cli::check_files(files);
       std::vector<std::string> prefixes;

@@ -153,6 +153,46 @@ void require_whole_numbers(CLI::App& app) {
   }
 }
 
+void declare_option_rules(CLI::App& app) {
+  for (CLI::App* command : app.get_subcommands([](CLI::App*) { return true; })) {
+    auto option = [&](const char* name) { return command->get_option_no_throw(name); };
+    // No figure is drawn: its format, size and resolution would be ignored.
+    if (CLI::Option* no_plot = option("--no-plot"))
+      for (const char* name : {"--format", "--size", "--dpi"})
+        if (CLI::Option* figure = option(name)) no_plot->excludes(figure);
+    // Omegas listed or read from a file replace the log grid and its density.
+    for (const char* list : {"--omega", "--omega-file"})
+      if (CLI::Option* given = option(list))
+        for (const char* grid : {"--omega-min", "--omega-max", "--points"})
+          if (CLI::Option* ignored = option(grid)) given->excludes(ignored);
+    // A fit's band needs a fit; a compared case's overrides and theory order need the case.
+    const std::pair<const char*, const char*> needs[] = {
+        {"--fit-band", "--fit"}, {"--set", "--compare-case"}, {"--theory-order", "--compare-case"}};
+    if (command->get_name() == "analyze")
+      for (const auto& [dependent, needed] : needs)
+        if (option(dependent) && option(needed)) option(dependent)->needs(option(needed));
+  }
+}
+
+void refuse_repeated_keys(const CLI::App& command) {
+  // KEY of each KEY=VALUE of --set, and of a sweep's KEY=VALUES.
+  std::set<std::string> set_keys;
+  if (const CLI::Option* set = command.get_option_no_throw("--set"))
+    for (const std::string& assignment : set->results()) {
+      const std::string key = assignment.substr(0, assignment.find('='));
+      if (!set_keys.insert(key).second)
+        throw InputError("--set: " + key + " is given twice (" + key + "=...); give each parameter once");
+    }
+  if (command.get_name() != "sweep") return;
+  if (const CLI::Option* values = command.get_option_no_throw("values"))
+    for (const std::string& word : values->results()) {
+      const std::string key = word.substr(0, word.find('='));
+      if (word.find('=') != std::string::npos && set_keys.count(key) != 0)
+        throw InputError("sweep: " + key + " is swept and also given by --set " + key +
+                         "=...; the --set value would be ignored: leave it out");
+    }
+}
+
 void Files::outputs_of(const std::string& prefix, const std::string& option,
                        std::initializer_list<std::string> extensions) {
   if (prefix.empty()) throw InputError(option + ": empty output prefix");
@@ -182,6 +222,15 @@ void check_files(const Files& files) {
       if (in.path != "-" && same_file(out.path, in.path))
         throw InputError(out.option + ": the output " + out.path + " would replace the input " + in.path + " (" +
                          in.option + "); choose another output name");
+}
+
+std::string literal_title(const std::string& text) {
+  std::string title;
+  for (const char c : text) {
+    if (c == '$') title += '\\';
+    title += c;
+  }
+  return title;
 }
 
 }  // namespace slidespec::cli

@@ -38,6 +38,16 @@ struct Files {
 /// plain decimal digits only: "-1" would otherwise wrap to 2^64-1.
 void require_whole_numbers(CLI::App& app);
 
+/// Options that would be ignored are refused at parsing (CLI11 excludes and needs): the
+/// figure's --format, --size and --dpi beside --no-plot; theory's grid (--omega-min,
+/// --omega-max, --points) beside --omega or --omega-file; analyze's --fit-band without
+/// --fit, and --set or --theory-order without --compare-case.
+void declare_option_rules(CLI::App& app);
+
+/// A parameter given twice to --set (the first would be ignored), and a swept key also
+/// given by --set, are refused.
+void refuse_repeated_keys(const CLI::App& command);
+
 /// Every option given an empty value ("--out ''", "--resume ''") is refused: an empty
 /// name or number means nothing, and would otherwise read as the option not given.
 void refuse_empty_values(const CLI::App& command);
@@ -49,5 +59,9 @@ void refuse_empty_values(const CLI::App& command);
 /// and by inode); a JSON input is at most 1 MiB of strict JSON (no trailing data, no key
 /// twice in an object). Throws InputError naming the file and the option.
 void check_files(const Files& files);
+
+/// A file name (or other text not meant as mathtext) as a figure title: each '$' escaped,
+/// so that matplotlib draws it as written instead of typesetting between dollar signs.
+std::string literal_title(const std::string& text);
 
 }  // namespace slidespec::cli

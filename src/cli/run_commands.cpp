@@ -23,6 +23,7 @@
 #include "io/atomic_file.hpp"
 #include "util/suggest.hpp"
 #include "io/tables.hpp"
+#include "run/session.hpp"
 #include "slidespec/simd.hpp"
 #include "slidespec/theory.hpp"
 
@@ -351,16 +352,18 @@ class RunCommand final : public Command {
                      " s the lowest point (omega = " + io::format_number(request.omega_min) +
                      " rad/s) needs; ask for at least that, or raise --omega-min");
   }
-  /// A run of fixed realizations saves a state of at least (points + 2) doubles per
-  /// realization of each sub-band (its own periodogram means, control and speed) before
-  /// its outputs: refused at once where even that cannot fit.
+  /// A run saves a state of at least (points + 2) doubles per realization of each
+  /// sub-band (its own periodogram means, control and speed) before its outputs: refused
+  /// at once where even that cannot fit. A run of fixed realizations knows its count; a
+  /// run to a precision runs at least its first round of realizations in every sub-band.
   static void refuse_state_beyond_free_space(const Parameters& p, const RunRequest& request, const std::string& out) {
-    if (request.realizations == 0) return;  // a precision-driven run's size is not known before
+    const double realizations =
+        static_cast<double>(request.realizations > 0 ? request.realizations : run_detail::kInitialRealizations);
     double bytes = 0;
     for (const SubBand& band : plan_sub_bands(p, request)) {
       const double points = static_cast<double>(
           log_spaced_omegas(band.omega_low, band.omega_high * (1 + 1e-12), request.points_per_decade).size());
-      bytes += static_cast<double>(request.realizations) * (points + 2) * sizeof(double);
+      bytes += realizations * (points + 2) * sizeof(double);
     }
     std::error_code error;
     const std::filesystem::path directory = std::filesystem::absolute(out, error).parent_path();
@@ -637,6 +640,13 @@ class PaperCommand final : public Command {
   int run() override {
     const auto& cases = found()->second;
     if (!record_.empty() && figure_ != "fig6") throw InputError("paper: --record is for fig6 only");
+    // fig6 analyzes a record: the options of the simulating figures would be ignored.
+    if (figure_ == "fig6")
+      for (const char* name :
+           {"--omega-min", "--omega-max", "--precision", "--seed", "--threads", "--work-budget", "--simd"})
+        if (subcommand().count(name) > 0)
+          throw InputError(std::string("paper fig6: ") + name +
+                           " does not apply (fig6 analyzes a record, synthetic or --record; it simulates nothing)");
     RunOptions options = options_;
     if (figure_ == "fig6")
       return context_.writes_outputs() ? paper_fig6(record_, directory_, options.figure, options.quiet) : 0;

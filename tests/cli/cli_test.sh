@@ -149,6 +149,17 @@ status=$?
 grep -q "^# stationary = false  # the random forces can stall the block.*too short to tell" "$work/stall-short.tsv" \
   || fail "short stall-capable run not marked as unable to tell"
 
+# A spring-driven block that sticks in part (a soft spring reloads it slowly): about half
+# its realizations slide slower than v/2, and that is no spectrum either (exit 3).
+for k in 0.4 0.5; do
+  "$bin" run --set N=7 --set F_drive=8 --set F_kin=6 --set k1=0 --set drive=spring --set k_drive=$k \
+    --omega-min 1 --omega-max 10 --realizations 32 --out "$work/spring-stall" --no-plot --quiet 2> /dev/null
+  status=$?
+  [ $status -eq 3 ] || fail "spring-driven partial stall (k_drive $k) exited $status, expected 3"
+  grep -q "^# stationary = false  # .* realizations slide slower than v/2.*some realizations stalled" \
+    "$work/spring-stall.tsv" || fail "spring-driven partial stall (k_drive $k) not marked as stalled"
+done
+
 # Where the forces stall the block there is no spectrum: said in the table, the JSON and
 # the exit status (3), while every named case is stationary.
 "$bin" run --set N=7 --set F_drive=8 --set F_kin=6 --set k1=0 --omega-min 1 --omega-max 1000 --precision 0.1 \
