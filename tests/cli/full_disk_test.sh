@@ -44,5 +44,15 @@ rm "$disk/filler"
 "$bin" $finish --quiet || fail "'$finish' failed once there was room"
 cmp -s "$disk/out.tsv" "$work/sized.tsv" || fail "the finished run's table differs from an undisturbed run's"
 [ -e "$disk/out.state" ] && fail "the state stayed after its outputs were written"
+# A run to a precision runs at least a first round of realizations in every sub-band:
+# refused before any work where even their state cannot fit (six sub-bands of 64
+# realizations, about 30 kB, with 8 kB free).
+head -c $(( 320 * 1024 - $(du -sb "$disk" | cut -f1) - 8192 )) /dev/zero > "$disk/filler" 2> /dev/null
+"$bin" run --omega-min 0.1 --omega-max 1e5 --precision 0.1 --out "$disk/wide" --quiet 2> "$work/err"
+status=$?
+[ $status -eq 2 ] || fail "a precision run whose first round cannot fit exited $status, expected 2"
+grep -q "state needs at least .* MB free" "$work/err" || fail "no message naming the space: $(cat "$work/err")"
+ls "$disk" | grep -q '^wide' && fail "a refused precision run left files: $(ls "$disk")"
+rm "$disk/filler"
 [ $failures -eq 0 ] && echo "full_disk: a full disk changed no file of the set and lost no run ($(head -c 120 "$work/err"))"
 exit $((failures > 0))
