@@ -287,7 +287,10 @@ for title in '$\frac{1}{$' '$x^$' '$a_b_c$' '$\nosuchcommand$' '$\sqrt[$' '$}$' 
   attack refuse "plot title $title" plot $T -o x.png --title "$title"
 done
 cp rec.csv 'r$\frac{1$.csv'
-attack refuse "analyze a record whose name is broken mathtext" analyze '../r$\frac{1$.csv' --out a
+# A file name is drawn as written, '$' and all: the figure must be drawn.
+attack work-keep "analyze a record whose name is broken mathtext" analyze '../r$\frac{1$.csv' --out a --quiet
+cp table.tsv 'q$x^$.tsv'
+attack work-keep "plot a table whose name is broken mathtext" plot '../q$x^$.tsv' -o q.png
 
 # Figure options given where no figure is drawn: they would be ignored.
 for opt in "--format pdf" "--size 3x3" "--dpi 300"; do
@@ -505,7 +508,9 @@ for delay in 0.05 0.2 0.5 1 1.5 2; do
   done
 done
 # A SIGKILL while the figure is drawn (a slow plotter), then the resume.
-printf '#!/bin/sh\necho $$ > plotting\nsleep 60\n' > slow.sh
+# The plotter starts with the run and reads its work when the run is done: it signals
+# "drawing" once its standard input has ended.
+printf '#!/bin/sh\ncat > /dev/null\necho $$ > plotting\nsleep 60\n' > slow.sh
 chmod +x slow.sh
 for k in 1 2 3; do
   attacks=$((attacks + 1))
@@ -540,13 +545,13 @@ for sig in HUP QUIT; do
   done
 done
 "$bin" sweep alpha=0.3,0.6 --omega-min 10 --omega-max 1000 --precision 0.1 --seed 5 --out wsw --no-plot --quiet
-for delay in 1 2.5; do
+for delay in 0.3 0.8; do
   attacks=$((attacks + 1))
   rm -f csw*
   "$bin" sweep alpha=0.3,0.6 --omega-min 10 --omega-max 1000 --precision 0.1 --seed 5 --out csw --no-plot --quiet 2> /dev/null &
   pid=$!
   sleep $delay
-  kill -9 $pid
+  kill -9 $pid 2> /dev/null
   wait $pid 2> /dev/null
   for a in 0.3 0.6; do
     if [ -e "csw_alpha=$a.state" ]; then "$bin" run --resume "csw_alpha=$a" --no-plot --quiet 2> /dev/null; fi
