@@ -95,6 +95,10 @@ struct Landmarks {
   double omega_s;
   /// The block's resonance, sqrt((N k0 + k_drive) / M) [rad/s] (omega_c for a force; k_drive = 0).
   double omega_resonance;
+  /// drive = spring: d0 = F_drive / k_drive [m], how far the load point leads the block's
+  /// steady place, so that the spring's mean force k_drive d0 balances the contacts' mean
+  /// friction F_kin + eta1 (sum of touching masses) v = F_drive; 0 for a force.
+  double spring_offset;
 };
 
 Landmarks landmarks(const Parameters& p);

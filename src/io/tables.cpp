@@ -99,6 +99,7 @@ std::string metadata_lines(const Parameters& p, const std::string& case_name) {
     out << "# omega_s = " << format_number(l.omega_s)
         << "  # k_drive v/(F_drive - F_kin) [rad/s], C_x flattens below it\n"
         << "# omega_resonance = " << format_number(l.omega_resonance) << "  # sqrt((N k0 + k_drive)/M) [rad/s]\n"
+        << "# d0 = " << format_number(l.spring_offset) << "  # F_drive/k_drive [m], the spring's mean stretch\n"
         << "# C_x_zero = " << format_number(spring_low_frequency_limit(p))
         << "  # C_x(0) [m^2 s] of the first-order theory\n"
         << "# mean_speed = " << format_number(p.v) << "  # [m/s] the load point's v exactly; diffusion_D = 0\n";
@@ -173,6 +174,7 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
   if (spring) {
     doc["landmarks"]["omega_s"] = l.omega_s;
     doc["landmarks"]["omega_resonance"] = l.omega_resonance;
+    doc["landmarks"]["d0"] = l.spring_offset;
     doc["landmarks"]["C_x_zero"] = spring_low_frequency_limit(p);
   }
   doc["request"] = {{"omega_min", request.omega_min},

@@ -114,11 +114,13 @@ Landmarks landmarks(const Parameters& p) {
     l.forces_can_stall = resistance >= drive_excess;
   }
   l.omega_resonance = l.omega_c;
+  l.spring_offset = 0;
   if (p.drive == Drive::spring) {
     // The load point holds the block near its steady place: no diffusion, and below omega_s
     // the spring, not the drag (F_drive - F_kin) / v of the contacts, sets the response.
     l.diffusion = 0;
     l.omega_s = p.k_drive * p.v / drive_excess;
+    l.spring_offset = p.F_drive / p.k_drive;
     l.omega_resonance = std::sqrt((p.blocks(1) * p.level(1).k0 + p.k_drive) / p.M);
   }
   return l;

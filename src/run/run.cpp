@@ -16,6 +16,7 @@
 #include "slidespec/estimator.hpp"
 #include "slidespec/stepper.hpp"
 #include "slidespec/theory.hpp"
+#include "stepper/kernel.hpp"
 
 namespace slidespec {
 
@@ -42,6 +43,19 @@ constexpr double kMaxStepsPerBand = 2e9;
 constexpr std::uint64_t kChunkBatches = 32;
 
 struct Interrupted {};
+// A realization's block ran away: the stepper made its increments NaN (stepper/kernel.hpp).
+struct RanAway {};
+
+/// Whether no value is NaN or inf: x * 0 is 0 for a finite x and NaN otherwise, summed in
+/// four independent chains so the check costs a fraction of a cycle per value.
+bool all_finite(const double* data, std::size_t count) {
+  double sum[4] = {0, 0, 0, 0};
+  std::size_t k = 0;
+  for (; k + 4 <= count; k += 4)
+    for (int j = 0; j < 4; ++j) sum[j] += data[k + j] * 0.0;
+  for (; k < count; ++k) sum[0] += data[k] * 0.0;
+  return sum[0] + sum[1] + sum[2] + sum[3] == 0;
+}
 
 EstimatorConfig estimator_config(const SubBand& band, int points_per_decade) {
   EstimatorConfig config;
@@ -63,6 +77,17 @@ double renewals_per_second(const Parameters& p) {
   for (int l = 1; l <= p.levels; ++l)
     if (p.touches(l)) rate += static_cast<double>(p.blocks(l)) * p.renewal_rate(l);
   return rate;
+}
+
+/// The frequency a sub-band's time step must serve: its top point, and for a block held
+/// by a spring at least omega_s. Below omega_s C_x stops rising (docs/model.md §9), so what
+/// lies above the step's Nyquist frequency is not negligible against the band as an
+/// omega^-2 spectrum's is: a step set by a band far below omega_s (or by the renewals)
+/// would alias the spectrum near omega_s into it (2% at 0.01 rad/s for omega_s = 1 rad/s
+/// and a 2.7 s step). At omega_s dt <= 0.3 the aliases come from beyond 20 omega_s, where
+/// C_x has fallen by 1e-5.
+double step_frequency(const Parameters& p, const SubBand& band) {
+  return p.drive == Drive::spring ? std::max(band.omega_high, landmarks(p).omega_s) : band.omega_high;
 }
 
 /// The relative excess of a realization's forcing over what the model prescribes:
@@ -128,7 +153,7 @@ std::vector<SpectrumPoint> band_spectrum(const BandTotals& totals, const Spectru
 std::vector<BatchRecord> run_batches_of(const Parameters& p, const SubBand& band, const StepperConfig& stepper_config,
                                         const RunRequest& request, std::uint64_t first, std::uint64_t count,
                                         std::int64_t steps, const std::atomic<bool>* stop,
-                                        const std::function<void(double)>& chunk_progress) {
+                                        const std::function<void(double)>& chunk_progress, bool& ran_away) {
   const EstimatorConfig config = estimator_config(band, request.points_per_decade);
   std::map<std::size_t, BatchRecord> records;
   std::map<std::uint64_t, std::shared_ptr<SpectrumEstimator>> estimators;  // by first realization
@@ -142,6 +167,7 @@ std::vector<BatchRecord> run_batches_of(const Parameters& p, const SubBand& band
           estimators[batch_first] = estimator;
           return [&, estimator, batch_count](const double* data, std::size_t n) {
             if (stop && stop->load(std::memory_order_relaxed)) throw Interrupted{};
+            if (!all_finite(data, n * static_cast<std::size_t>(batch_count))) throw RanAway{};
             estimator->push(data, n);
             const auto done = lane_steps_done += static_cast<std::int64_t>(n) * batch_count;
             if (chunk_progress) chunk_progress(static_cast<double>(done) / lane_steps_planned);
@@ -167,6 +193,8 @@ std::vector<BatchRecord> run_batches_of(const Parameters& p, const SubBand& band
           estimators.erase(batch_first);
         });
   } catch (const Interrupted&) {
+  } catch (const RanAway&) {
+    ran_away = true;
   }
   std::vector<BatchRecord> prefix;
   for (std::size_t batch = 0; records.count(batch) != 0; ++batch) prefix.push_back(std::move(records[batch]));
@@ -321,7 +349,7 @@ std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& reque
     SubBand band;
     band.omega_low = omegas[first];
     band.omega_high = omegas[last];
-    band.dt = std::min(kOmegaDtMax / band.omega_high, kRenewalsPerStepMax / renewals_per_second(p));
+    band.dt = std::min(kOmegaDtMax / step_frequency(p, band), kRenewalsPerStepMax / renewals_per_second(p));
     const double segment =
         SpectrumEstimator(estimator_config(band, request.points_per_decade), 1).segment_duration(band.omega_low);
     band.duration =
@@ -436,7 +464,7 @@ std::uint64_t batches_of(std::uint64_t realizations) {
 /// Runs this process's share of the band's next `chunk` realizations (a contiguous run of
 /// its batches) and returns its records, fewer when stopped.
 std::vector<BatchRecord> run_chunk(const RunSession::Impl& s, std::size_t b, const BandWork& work, std::uint64_t chunk,
-                                   const RunSession::Control& control, const Communicator& comm) {
+                                   const RunSession::Control& control, const Communicator& comm, bool& ran_away) {
   const BandTotals& totals = s.bands[b];
   const std::uint64_t chunk_batches = batches_of(chunk);
   const std::uint64_t share_first = chunk_batches * comm.rank() / comm.size() * kBatchRealizations;
@@ -455,7 +483,8 @@ std::vector<BatchRecord> run_chunk(const RunSession::Impl& s, std::size_t b, con
   };
   const std::uint64_t chunk_first = s.request.first_realization + totals.realizations;
   return run_batches_of(s.params, s.plan[b], work.stepper, s.request, chunk_first + share_first,
-                        share_end - share_first, work.steps, comm.size() > 1 ? nullptr : control.stop, chunk_progress);
+                        share_end - share_first, work.steps, comm.size() > 1 ? nullptr : control.stop, chunk_progress,
+                        ran_away);
 }
 
 /// Every process's records of a chunk, in realization order (the shares are contiguous).
@@ -512,7 +541,20 @@ bool RunSession::advance(const Control& control) {
       }
       const std::uint64_t chunk =
           std::min(totals.planned - totals.realizations, batches_per_process * kBatchRealizations * comm.size());
-      std::vector<BatchRecord> records = gather_across_ranks(comm, run_chunk(s, b, work, chunk, control, comm));
+      bool ran_away = false;
+      std::vector<BatchRecord> records =
+          gather_across_ranks(comm, run_chunk(s, b, work, chunk, control, comm, ran_away));
+      if (comm.any(ran_away)) {
+        // No spectrum exists: the run ends here, saying why, with what came before.
+        char why[300];
+        std::snprintf(why, sizeof why,
+                      "a realization of sub-band %zu ran away (its block moved over %.0e times v dt in one step, "
+                      "xi growing without bound): the model's linear part is unstable",
+                      b, stepper::kRunawayAdvances);
+        s.runaway = why;
+        clock.add();
+        return true;
+      }
       const bool whole = records.size() == batches_of(chunk);
       totals.realizations += realizations_in(records);
       for (BatchRecord& record : records) totals.batches.push_back(std::move(record));
@@ -606,6 +648,10 @@ RunResult RunSession::result() const {
     result.mean_speed_error = n > 1 ? std::sqrt(variance / (n - 1)) : INFINITY;
   }
   check_stationarity(s, result);
+  if (!s.runaway.empty()) {
+    result.stationary = false;
+    result.stationarity = s.runaway;
+  }
   result.reached_precision = 0;
   for (const RunPoint& point : result.points)
     result.reached_precision = std::max(result.reached_precision, point.standard_error / point.C_x);

@@ -25,7 +25,7 @@ constexpr int kBatchRealizations = 8;
 constexpr std::uint64_t kInitialRealizations = 64;
 // Bump whenever a change alters any number a run produces (stepper, renewal, estimator):
 // saved states of other numerics are refused on resume and merge, which are bitwise.
-constexpr int kNumericsVersion = 3;
+constexpr int kNumericsVersion = 4;
 // A precision-driven sub-band stops growing here (see run.cpp).
 constexpr std::uint64_t kMaxRealizationsPerBand = std::uint64_t{1} << 16;
 
@@ -76,6 +76,7 @@ struct RunSession::Impl {
   std::vector<std::int64_t> steps;  // per sub-band realization
   std::vector<run_detail::BandTotals> bands;
   double wall_seconds = 0;  // over every advance, including before a resume
+  std::string runaway;      // why the run stopped: a realization's block ran away ("" if none)
 
   Impl(const Parameters& p, const RunRequest& r, std::string name);
 };

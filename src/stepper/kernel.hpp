@@ -13,6 +13,10 @@
 
 namespace slidespec::stepper {
 
+/// A step that moves the block this many times its steady v dt has run away: far beyond
+/// any stable model's fastest slip. The kernel turns such a lane's increments into NaN.
+inline constexpr double kRunawayAdvances = 1e6;
+
 /// One call advances the lanes [lane0, lane0 + lanes) of a batch by `steps`.
 struct KernelArgs {
   const ExactStep* step;

@@ -107,3 +107,16 @@ TEST(SpringTheory, MovesAtVWithoutDiffusionInEveryTheory) {
   }
   EXPECT_THROW(SecondOrderTheory{p}, InputError);
 }
+
+// The load point leads the block's steady place by d0, so that the spring's mean force
+// balances the contacts' mean friction, written out from docs/model.md §1: the kinetic
+// friction plus the miniblocks' damping at v, F_kin + N m eta1 v (= F_drive).
+TEST(SpringTheory, TheSpringsMeanForceBalancesTheFriction) {
+  for (const char* k_drive : {"1e2", "1e4", "3e6"})
+    for (const char* noise : {"alpha=0.1", "alpha=3"}) {
+      const Parameters p = spring_model({"N=12", noise, "F_drive=7.5"}, k_drive);
+      const double friction = p.F_kin + p.N * p.m * p.eta1 * p.v;
+      EXPECT_NEAR(p.k_drive * landmarks(p).spring_offset / friction, 1.0, 1e-12) << k_drive << " " << noise;
+    }
+  EXPECT_EQ(landmarks(ParameterBuilder().build()).spring_offset, 0.0);
+}
