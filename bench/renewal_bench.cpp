@@ -47,14 +47,15 @@ void StepperRenewals(benchmark::State& state) {
   config.dt = 0.2;
   config.simd = paths[path_index];
   const std::int64_t steps = 300000 / state.range(0);
-  double renewals = 0;
+  double renewals = 0, lane_passes = 0;
   const double cpu_start = process_cpu_seconds();
   for (auto _ : state)
     run_batches(p, config, 0, 64, steps, 1, 64, {}, [&](std::size_t, std::vector<RealizationSummary> s) {
-      for (const RealizationSummary& r : s) renewals += double(r.renewals);
+      for (const RealizationSummary& r : s) renewals += double(r.renewals), lane_passes += double(r.renewal_passes);
     });
   const double cpu = process_cpu_seconds() - cpu_start;
   state.counters["renewals_per_cpu_s"] = renewals / cpu;
+  state.counters["lane_utilization"] = renewals / lane_passes;
   state.SetLabel(std::string(to_string(config.simd)) + (state.range(2) ? " periodic" : " poisson"));
 }
 
@@ -72,15 +73,16 @@ void RenewalsAcrossContacts(benchmark::State& state) {
   config.dt = kRenewalsPerLaneStep / (static_cast<double>(contacts) * rate);
   const auto steps =
       static_cast<std::int64_t>(kRenewalsPerContact * static_cast<double>(contacts) / kRenewalsPerLaneStep);
-  double renewals = 0;
+  double renewals = 0, lane_passes = 0;
   const double cpu_start = process_cpu_seconds();
   for (auto _ : state)
     run_batches(p, config, 0, 64, steps, 1, 8, {}, [&](std::size_t, std::vector<RealizationSummary> s) {
-      for (const RealizationSummary& r : s) renewals += double(r.renewals);
+      for (const RealizationSummary& r : s) renewals += double(r.renewals), lane_passes += double(r.renewal_passes);
     });
   const double cpu = process_cpu_seconds() - cpu_start;
   state.counters["renewals_per_cpu_s"] = renewals / cpu;
   state.counters["ns_per_renewal"] = 1e9 * cpu / renewals;
+  state.counters["lane_utilization"] = renewals / lane_passes;
   state.SetLabel(to_string(resolve_simd_path(config.simd)));
 }
 

@@ -30,6 +30,9 @@ struct RealizationSummary {
   double mean_offset = 0;      ///< time average of the miniblocks' mean offset from u_bar [m]
   std::uint64_t renewals = 0;  ///< renewals of all miniblocks together
   double jump_energy = 0;      ///< sum over renewals of (f_new - f_old)^2 [N^2]
+  /// Renewal passes of the realization's lane group: renewals / (passes x the path's
+  /// width), summed over realizations, is the renewal passes' lane utilization.
+  std::uint64_t renewal_passes = 0;
 };
 
 /// Receives the increments xi_{n+1} - xi_n of every realization of a batch, chunk by

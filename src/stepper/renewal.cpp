@@ -95,6 +95,7 @@ RenewalState::RenewalState(const std::vector<model::Contact>& contacts, const st
   phases_.assign(v.periodic ? rows * lanes : 0, 0.0);
   renewals_.assign(lanes, 0.0);
   jump_energy_.assign(lanes, 0.0);
+  passes_.assign(lanes, 0.0);
 
   // Stationary start: fresh forces; marks where a stationary renewal process puts them
   // ahead of x = 0 (memoryless for Poisson; a uniform phase per contact for periodic).
@@ -171,6 +172,7 @@ RenewalState& RenewalState::operator=(RenewalState&& other) noexcept {
   phases_ = std::move(other.phases_);
   renewals_ = std::move(other.renewals_);
   jump_energy_ = std::move(other.jump_energy_);
+  passes_ = std::move(other.passes_);
   bind();
   return *this;
 }
@@ -192,6 +194,7 @@ void RenewalState::bind() {
   v.phases = phases_.data();
   v.renewals = renewals_.data();
   v.jump_energy = jump_energy_.data();
+  v.passes = passes_.data();
 }
 
 double RenewalState::input_force(int k, int lane) const {

@@ -68,6 +68,7 @@ struct RenewalLanes {
   const double* phases = nullptr;      ///< [contact][lane] periodic: where in [0, a) it renews [m]
   double* renewals = nullptr;          ///< [lane]
   double* jump_energy = nullptr;       ///< [lane] sum of (f_new - f_old)^2 [N^2]
+  double* passes = nullptr;            ///< [lane] renewal passes of the lane's group (a diagnostic)
 };
 
 /// The renewal state of a batch of lanes: the storage behind RenewalLanes, and the
@@ -93,6 +94,9 @@ class RenewalState {
   /// Sum over the lane's renewals of (f_new - f_old)^2 [N^2]: the realized strength of
   /// the random forcing, whose expectation the model fixes (a control variate for run).
   double jump_energy(int lane) const { return jump_energy_[lane]; }
+  /// Renewal passes run by the lane's group while it stepped: renewals over passes times
+  /// the width is the lanes' utilization (a diagnostic: no result depends on it).
+  std::uint64_t passes(int lane) const { return static_cast<std::uint64_t>(passes_[lane]); }
 
  private:
   void bind();  // points view_ at the vectors
@@ -100,7 +104,7 @@ class RenewalState {
   std::vector<std::uint64_t> realization_low_, realization_high_, lane_index_;
   std::vector<double> force_sum_, next_mark_, events_, position_, cycles_, forces_, phases_;
   std::vector<double> upcoming_force_, upcoming_contact_, upcoming_spacing_;
-  std::vector<double> renewals_, jump_energy_;
+  std::vector<double> renewals_, jump_energy_, passes_;
 };
 
 }  // namespace slidespec::stepper

@@ -126,6 +126,7 @@ std::vector<RealizationSummary> Stepper::summaries() const {
     out[k].mean_offset = s.steps_done > 0 ? s.offset_sum[k] / static_cast<double>(s.steps_done) : 0.0;
     out[k].renewals = s.renewal.renewals(k);
     out[k].jump_energy = s.renewal.jump_energy(k);
+    out[k].renewal_passes = s.renewal.passes(k);
   }
   return out;
 }
