@@ -48,6 +48,8 @@ inline void expect_every_path_matches_scalar(const Parameters& p, StepperConfig 
       EXPECT_EQ(differing, 0u) << to_string(path) << " count " << count << " " << label;
       for (int k = 0; k < count; ++k) {
         EXPECT_TRUE(same_bits(scalar.summaries[k].xi_end, simd.summaries[k].xi_end));
+        EXPECT_TRUE(same_bits(scalar.summaries[k].mean_offset, simd.summaries[k].mean_offset));
+        EXPECT_TRUE(same_bits(scalar.summaries[k].jump_energy, simd.summaries[k].jump_energy));
         EXPECT_EQ(scalar.summaries[k].renewals, simd.summaries[k].renewals);
         EXPECT_GT(scalar.summaries[k].renewals, 100u);  // the renewal path is exercised
       }
