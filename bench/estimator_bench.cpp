@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <random>
 #include <vector>
 
@@ -105,6 +106,7 @@ using bench::process_cpu_seconds;
 
 struct Cost {
   double wall = 0, cpu = 0;
+  double renewals = 0, lane_passes = 0;  // renewals, and renewal passes times their lanes
 };
 
 /// Wall and CPU time of the plan `result` ran (same sub-bands, time steps, streams and
@@ -113,6 +115,7 @@ struct Cost {
 Cost replay_plan(const Parameters& p, const RunRequest& request, const RunResult& result, bool estimate) {
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = process_cpu_seconds();
+  double renewals = 0, lane_passes = 0;
   for (std::size_t b = 0; b < result.sub_bands.size(); ++b) {
     const SubBand& band = result.sub_bands[b];
     StepperConfig config;
@@ -127,11 +130,16 @@ Cost replay_plan(const Parameters& p, const RunRequest& request, const RunResult
       auto estimator = std::make_shared<SpectrumEstimator>(estimator_config, count);
       return [estimator](const double* data, std::size_t n) { estimator->push(data, n); };
     };
+    std::mutex counting;
     run_batches(p, config, 0, band.realizations, std::llround(band.duration / band.dt), result.threads, 8, make_sink,
-                {});
+                [&](std::size_t, std::vector<RealizationSummary> summaries) {
+                  const std::lock_guard<std::mutex> lock(counting);
+                  for (const RealizationSummary& r : summaries)
+                    renewals += double(r.renewals), lane_passes += double(r.renewal_passes);
+                });
   }
   return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-          process_cpu_seconds() - cpu_start};
+          process_cpu_seconds() - cpu_start, renewals, lane_passes};
 }
 
 // Args: threads. The reference case over 0.1 .. 1e5 rad/s at 5% precision: one
@@ -142,7 +150,7 @@ void ReferenceRun(benchmark::State& state) {
   RunRequest request;
   request.threads = static_cast<int>(state.range(0));
   Cost run, stepping, both;
-  double samples = 0;
+  double samples = 0, utilization = 0;
   for (auto _ : state) {
     const double cpu_start = process_cpu_seconds();
     const RunResult result = run_spectrum(p, request);
@@ -154,6 +162,7 @@ void ReferenceRun(benchmark::State& state) {
     both.wall += estimated.wall;
     both.cpu += estimated.cpu;
     samples = result.realization_steps;
+    utilization = alone.renewals / alone.lane_passes;
   }
   const double n = static_cast<double>(state.iterations());
   state.counters["run_s"] = run.wall / n;
@@ -166,6 +175,7 @@ void ReferenceRun(benchmark::State& state) {
   state.counters["stepping_share_of_run"] = stepping.cpu / run.cpu;
   state.counters["estimator_samples_per_cpu_s"] = samples * n / (both.cpu - stepping.cpu);
   state.counters["realization_steps"] = samples;
+  state.counters["lane_utilization"] = utilization;  // of the renewal passes, in the replay
 }
 BENCHMARK(ReferenceRun)->Arg(1)->Arg(2)->ArgName("threads")->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
