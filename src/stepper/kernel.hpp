@@ -13,15 +13,18 @@
 
 namespace slidespec::stepper {
 
-/// A step that moves the block this many times its steady v dt has run away: far beyond
-/// any stable model's fastest slip. The kernel turns such a lane's increments into NaN.
-inline constexpr double kRunawayAdvances = 1e6;
+/// A step that moves the block this many times its fastest plausible advance has run away
+/// (the fastest: v dt times 1 + (|F_drive| + the random forces' range) / (F_drive - F_kin),
+/// every force pushing one way against the drag). The kernel turns such a lane's
+/// increments into NaN.
+inline constexpr double kRunawayAdvances = 1e4;
 
 /// One call advances the lanes [lane0, lane0 + lanes) of a batch by `steps`.
 struct KernelArgs {
   const ExactStep* step;
-  double advance_per_step;  // v dt [m]: the steady sliding over one step
-  std::int64_t first_step;  // steps already taken, so x = v dt (first_step + s) + xi
+  double advance_per_step;   // v dt [m]: the steady sliding over one step
+  double runaway_increment;  // [m]: a step's xi increment beyond this has run away
+  std::int64_t first_step;   // steps already taken, so x = v dt (first_step + s) + xi
   std::int64_t steps;
   int lane0;
   int lanes;              // a multiple of the path's width

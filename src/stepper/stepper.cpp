@@ -1,6 +1,7 @@
 #include "slidespec/stepper.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <exception>
 #include <mutex>
@@ -21,6 +22,15 @@ stepper::GroupKernel compiled_kernel(SimdPath path, const stepper::ExactStep& st
     throw InputError("parameters levels, touching: the stepper is compiled for up to 3 levels (got " +
                      std::to_string(p.levels) + ")");
   return kernel;
+}
+
+/// The fastest advance per step against v dt that the forces can drive: every random force
+/// and the drive pushing one way against the drag (F_drive - F_kin at v).
+double fastest_advance(const Parameters& p) {
+  double range = 0;
+  for (int l = 1; l <= p.levels; ++l)
+    if (p.touches(l)) range += static_cast<double>(p.blocks(l)) * p.level(l).alpha * p.friction_per_miniblock();
+  return 1 + (std::fabs(p.F_drive) + range) / std::fabs(p.F_drive - p.F_kin);
 }
 }  // namespace
 
@@ -89,6 +99,7 @@ void Stepper::advance(std::int64_t steps, const IncrementSink& sink) {
   stepper::KernelArgs args{};
   args.step = &s.step;
   args.advance_per_step = s.params.v * s.config.dt;
+  args.runaway_increment = stepper::kRunawayAdvances * fastest_advance(s.params) * args.advance_per_step;
   args.stride = s.padded;
   args.z = s.z.data();
   args.xi = s.xi.data();
