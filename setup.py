@@ -57,7 +57,7 @@ class BuildWithCMake(build_py):
             (package / "bin").mkdir(parents=True, exist_ok=True)
             (package / "share" / "slidespec").mkdir(parents=True, exist_ok=True)
             shutil.copy2(build_dir / "slidespec", package / "bin" / "slidespec")
-            for tool in ("plot_spectra.py", "plot_server.py"):
+            for tool in ("plot_spectra.py", "plot_server.py", "plot_drives.py"):
                 shutil.copy2(root / "tools" / tool, package / "share" / "slidespec" / tool)
 
 

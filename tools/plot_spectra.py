@@ -691,6 +691,8 @@ def parse_arguments(argv):
     parser.add_argument("--omega-max", type=float, metavar="W")
     parser.add_argument("--no-eq1", action="store_true", help="leave out the Eq. (1) asymptote")
     parser.add_argument("--kind", choices=tuple(KINDS), default="displacement")
+    parser.add_argument("--layout", choices=("standard", "drives"), default="standard",
+                        help="drives: the drives figure of plot_drives.py")
     args = parser.parse_args(argv)
     for option in ("labels", "theory", "colors"):
         value = getattr(args, option)
@@ -714,7 +716,11 @@ def main(argv=None):
                       for s, label in zip(spectra, args.labels.split(","))]
         else:
             labels = legend_labels(spectra)
-        figure = render(spectra, labels, args, fine)
+        if args.layout == "drives":
+            import plot_drives  # pylint: disable=import-outside-toplevel
+            figure = plot_drives.render(spectra, labels, args, fine)
+        else:
+            figure = render(spectra, labels, args, fine)
         save_atomically(figure, args.out, args.dpi)
     except InputError as error:
         print(f"plot_spectra: {error}", file=sys.stderr)

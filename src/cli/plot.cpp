@@ -189,6 +189,7 @@ int plot(const std::vector<std::string>& tables, const std::string& out, const s
   std::string colors;
   for (const std::string& color : style.colors) colors += (colors.empty() ? "" : ",") + color;
   if (!colors.empty()) args.insert(args.end(), {"--colors", colors});
+  if (!style.layout.empty()) args.insert(args.end(), {"--layout", style.layout});
 
   ScratchDirectory scratch;
   std::string theory_lines;

@@ -15,6 +15,7 @@ struct FigureStyle {
   std::string size;                 ///< "WxH" in inches; empty: the tool's default
   double dpi = 150;                 ///< dots per inch (PNG; PDF and SVG are vector)
   std::vector<std::string> colors;  ///< matplotlib colours, one per table; empty: the cycle
+  std::string layout;               ///< the plotter's --layout (drives); empty: the standard figure
 
   /// --format, --size, --dpi on a command that writes PREFIX.<format>.
   void add_to(CLI::App& command);

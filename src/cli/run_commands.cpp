@@ -186,9 +186,12 @@ bool write_outputs(const Context& context, const RunSession& session, const RunR
     return false;
   }
   if (options.quiet) return true;
-  std::cerr << "slidespec: " << (result.complete ? "wrote " : "interrupted; wrote what accumulated to ") << out
-            << ".tsv, .json" << (options.no_plot ? "" : ", ." + options.figure.format) << " (" << result.points.size()
-            << " points, largest relative error " << io::format_number(result.reached_precision)
+  std::cerr << "slidespec: "
+            << (result.complete     ? "wrote "
+                : result.stationary ? "interrupted; wrote what accumulated to "
+                                    : "stopped; wrote what accumulated to ")
+            << out << ".tsv, .json" << (options.no_plot ? "" : ", ." + options.figure.format) << " ("
+            << result.points.size() << " points, largest relative error " << io::format_number(result.reached_precision)
             << ", measured mean speed " << io::format_number(result.mean_speed) << " m/s, " << result.wall_seconds
             << " s)\n";
   const RunRequest& request = session.request();
@@ -597,13 +600,39 @@ class PlotCommand final : public Command {
   FigureStyle figure_;
 };
 
-/// The paper's figures: which cases each overlays.
-const std::vector<std::pair<std::string, std::vector<std::string>>>& paper_figures() {
-  static const std::vector<std::pair<std::string, std::vector<std::string>>> figures = {
-      {"fig2", {"reference", "fast", "short-renewal", "many-contacts"}},
-      {"fig3", {"reference", "medium-noise", "weak-noise"}},
-      {"fig6", {}},                                  // a fit to a record through analyze, not runs
-      {"hierarchy", {"reference", "hierarchical"}},  // docs/model.md §6, docs/hierarchy.md
+/// One run of a paper figure: its tables' name, the named case and changes to it.
+struct PaperRun {
+  std::string name;
+  std::string case_name;
+  std::vector<std::string> changes;  ///< KEY=VALUE
+};
+
+/// The paper's figures (and the drives figure, docs/model.md §9): the runs each overlays.
+const std::vector<std::pair<std::string, std::vector<PaperRun>>>& paper_figures() {
+  // The drives: N = 12 at alpha = 0.4 pulled by a constant force and by springs whose
+  // omega_s = k_drive v / (F_drive - F_kin) is 0.1, 1 and 10 rad/s; and §8's stall example,
+  // which a constant force stalls for good, under a spring.
+  const std::vector<std::string> flat = {"N=12", "alpha=0.4"};
+  auto with = [](std::vector<std::string> base, std::initializer_list<const char*> more) {
+    base.insert(base.end(), more.begin(), more.end());
+    return base;
+  };
+  static const std::vector<std::pair<std::string, std::vector<PaperRun>>> figures = {
+      {"fig2",
+       {{"reference", "reference", {}},
+        {"fast", "fast", {}},
+        {"short-renewal", "short-renewal", {}},
+        {"many-contacts", "many-contacts", {}}}},
+      {"fig3",
+       {{"reference", "reference", {}}, {"medium-noise", "medium-noise", {}}, {"weak-noise", "weak-noise", {}}}},
+      {"fig6", {}},  // a fit to a record through analyze, not runs
+      {"hierarchy", {{"reference", "reference", {}}, {"hierarchical", "hierarchical", {}}}},  // docs/hierarchy.md
+      {"drives",
+       {{"force", "reference", flat},
+        {"spring1e3", "reference", with(flat, {"drive=spring", "k_drive=1e3"})},
+        {"spring1e4", "reference", with(flat, {"drive=spring", "k_drive=1e4"})},
+        {"spring1e5", "reference", with(flat, {"drive=spring", "k_drive=1e5"})},
+        {"stall_spring", "reference", {"N=7", "F_drive=8", "F_kin=6", "a=3e-4", "drive=spring", "k_drive=1e4"}}}},
   };
   return figures;
 }
@@ -613,7 +642,7 @@ class PaperCommand final : public Command {
   PaperCommand(CLI::App& app, const Context& context)
       : Command(app.add_subcommand("paper", "run the paper's cases and draw its figure")), context_(context) {
     CLI::App& c = subcommand();
-    c.add_option("figure", figure_, "fig2 | fig3 | fig6 | hierarchy")->required();
+    c.add_option("figure", figure_, "fig2 | fig3 | fig6 | hierarchy | drives")->required();
     c.add_option("--out-dir", directory_, "directory for the tables and the figure");
     c.add_option("--record", record_, "fig6: your own displacement record (as for analyze) instead of a synthetic one");
     request_.add_to(c);
@@ -632,8 +661,8 @@ class PaperCommand final : public Command {
     } else {
       files.outputs_of(prefix, "--out-dir", {"." + options_.figure.format});
     }
-    for (const std::string& name : cases)
-      files.outputs_of(prefix + "_" + name, "--out-dir", {".tsv", ".json", ".state"});
+    for (const PaperRun& run : cases)
+      files.outputs_of(prefix + "_" + run.name, "--out-dir", {".tsv", ".json", ".state"});
     return files;
   }
 
@@ -657,8 +686,10 @@ class PaperCommand final : public Command {
     io::check_output_prefix(directory_ + "/" + figure_);
     std::vector<Parameters> params;
     std::vector<double> work;
-    for (const std::string& name : cases) {
-      params.push_back(ParameterBuilder(name).build());
+    for (const PaperRun& run : cases) {
+      ParameterBuilder builder(run.case_name);
+      for (const std::string& change : run.changes) builder.set(change);
+      params.push_back(builder.build());
       validate_request(params.back(), options.request);
       work.push_back(planned_work(params.back(), options.request));
     }
@@ -671,9 +702,9 @@ class PaperCommand final : public Command {
     std::vector<std::string> tables;
     bool written = true;
     for (std::size_t k = 0; k < params.size(); ++k) {
-      const std::string out = directory_ + "/" + figure_ + "_" + cases[k];
+      const std::string out = directory_ + "/" + figure_ + "_" + cases[k].name;
       singles[k].no_plot = true;
-      RunSession session(params[k], singles[k].request, cases[k]);
+      RunSession session(params[k], singles[k].request, cases[k].case_name);
       const RunOutcome outcome = run_and_write(context_, session, singles[k], out);
       tables.push_back(out + ".tsv");
       written = written && outcome.written;
@@ -682,7 +713,10 @@ class PaperCommand final : public Command {
     progress.finish();
     if (!written) return kNotWritten;
     const std::string title = figure_ == "hierarchy" ? "flat and two-level contacts (the paper's Fig. 1c)"
+                              : figure_ == "drives"  ? "pulled by a constant force or through a spring"
                                                      : "Fig. " + figure_.substr(3) + " of the paper";
+    // The drives have their own layout: C_x, the drive's force, and the stall case.
+    if (figure_ == "drives") options.figure.layout = "drives";
     if (!writes) return 0;
     const std::string picture = options.figure.path(directory_ + "/" + figure_);
     const int status = plot(tables, picture, title, options.figure);
@@ -691,7 +725,7 @@ class PaperCommand final : public Command {
   }
 
  private:
-  using Figures = std::vector<std::pair<std::string, std::vector<std::string>>>;
+  using Figures = std::vector<std::pair<std::string, std::vector<PaperRun>>>;
   Figures::const_iterator found() const {
     const auto& figures = paper_figures();
     const auto it = std::find_if(figures.begin(), figures.end(), [&](const auto& f) { return f.first == figure_; });
