@@ -69,6 +69,9 @@ Deviations deviations(const Parameters& p, const RunResult& result) {
     d.within_two += std::fabs(z) <= 2;
     d.beyond_four += std::fabs(z) > 4;
     d.worst_z = std::max(d.worst_z, std::fabs(z));
+    if (std::fabs(z) > 4)
+      std::printf("[ spring ] |z| > 4 at omega = %.4g rad/s: C_x / theory = %.4f\n", point.omega,
+                  point.C_x / point.theory);
     const std::vector<double> omegas = point.bins.omegas();
     const std::vector<double> exact = exact_spectrum(p, omegas);
     for (std::size_t k = 0; k < omegas.size(); ++k) {
@@ -163,16 +166,19 @@ TEST_P(SpringRun, AgreesWithTheIndependentTheoryAndSlidesAtV) {
 }
 
 #ifdef SLIDESPEC_LONG_SPRING
+// Weak noise alpha = 0.1 (eps = 0.012); moderate noise at the first order's measured limit
+// for each renewal (docs/model.md §7.4): alpha = 0.4 for poisson (eps = 0.047 <= 0.05),
+// 0.2 for periodic (eps = 0.024 <= 0.025).
 INSTANTIATE_TEST_SUITE_P(
     Long, SpringRun,
     ::testing::Values(SpringCase{"open_poisson_weak", {"chain=open", "renewal=poisson", "alpha=0.1"}},
                       SpringCase{"open_poisson_moderate", {"chain=open", "renewal=poisson", "alpha=0.4"}},
                       SpringCase{"open_periodic_weak", {"chain=open", "renewal=periodic", "alpha=0.1"}},
-                      SpringCase{"open_periodic_moderate", {"chain=open", "renewal=periodic", "alpha=0.4"}},
+                      SpringCase{"open_periodic_moderate", {"chain=open", "renewal=periodic", "alpha=0.2"}},
                       SpringCase{"ring_poisson_weak", {"chain=ring", "renewal=poisson", "alpha=0.1"}},
                       SpringCase{"ring_poisson_moderate", {"chain=ring", "renewal=poisson", "alpha=0.4"}},
                       SpringCase{"ring_periodic_weak", {"chain=ring", "renewal=periodic", "alpha=0.1"}},
-                      SpringCase{"ring_periodic_moderate", {"chain=ring", "renewal=periodic", "alpha=0.4"}}),
+                      SpringCase{"ring_periodic_moderate", {"chain=ring", "renewal=periodic", "alpha=0.2"}}),
     [](const ::testing::TestParamInfo<SpringCase>& param) { return std::string(param.param.name); });
 #else
 INSTANTIATE_TEST_SUITE_P(Short, SpringRun,
