@@ -130,6 +130,27 @@ class SecondOrderTheory {
   std::shared_ptr<const Impl> impl_;
 };
 
+/// C_x(omega) of the quasi-static block at every order in eps (docs/model.md §7.5): the
+/// block's linear response times the force spectrum seen in time, the forces a Markov
+/// process with generator v u(G) L (poisson renewal in distance, u = 1 - G / (F_drive -
+/// F_kin)), its resolvent solved on Gauss-Legendre nodes of each contact's force. Holds
+/// where the block's own rates are far above v/a. The ratio to the first order tends to the
+/// exact quasi-static D / D_1 as omega -> 0 and to V / v above v/a. Throws InputError for
+/// periodic renewal, several touching levels, drive = spring, and where the forces can stall.
+class QuasiStaticTheory {
+ public:
+  explicit QuasiStaticTheory(const Parameters& p);
+  double operator()(double omega) const;
+  /// Quasi-static over first-order C_x at omega.
+  double ratio(double omega) const;
+  /// Nodes per contact's force (more for fewer contacts: 24 for N = 2, 5 for N = 30).
+  int force_nodes() const;
+  struct Impl;
+
+ private:
+  std::shared_ptr<const Impl> impl_;
+};
+
 }  // namespace slidespec
 
 namespace slidespec {
@@ -137,6 +158,7 @@ namespace slidespec {
 /// The spectrum theories in the order slidespec prefers them.
 enum class TheoryKind {
   second_order,  ///< SecondOrderTheory (docs/model.md §7.1-7.2)
+  quasi_static,  ///< QuasiStaticTheory (docs/model.md §7.5), beyond the second order's limit
   first_order,   ///< exact_spectrum, LumpedTheory (docs/model.md §4)
   none,          ///< no theory meets the simulation here
 };
@@ -149,18 +171,23 @@ inline constexpr double kFirstOrderPoissonEpsMax = 0.05;
 inline constexpr double kFirstOrderPeriodicEpsMax = 0.025;
 inline constexpr double kSecondOrderPoissonEpsMax = 0.15;
 inline constexpr double kSecondOrderPeriodicEpsMax = 0.1;
+/// The quasi-static spectrum (poisson renewal) holds up to this fraction of the stall
+/// boundary eps_stall = 2 (F_drive - F_kin) / (F_kin sqrt(6 N)), measured as the others.
+inline constexpr double kQuasiStaticPoissonStallFractionMax = 0.75;
 /// Beyond this SecondOrderTheory refuses periodic renewal: its ripple region (omega ~ 2 pi
 /// v / a) goes wrong by tens of percent there.
 inline constexpr double kSecondOrderPeriodicComputedEpsMax = 0.25;
 
-/// The best theory that holds for `p`, and why no better one does ("" for the second order).
+/// The best theory that holds for `p`, and why no better one does ("" for the second order):
+/// the second order inside its limit, else the quasi-static spectrum inside its own, else
+/// the first order inside its own, else none.
 struct TheoryChoice {
   TheoryKind kind = TheoryKind::none;
   std::string reason;
 };
 TheoryChoice best_theory(const Parameters& p);
 
-/// "second_order", "first_order" or "none", as outputs name it (theory_kind).
+/// "second_order", "quasi_static", "first_order" or "none", as outputs name it (theory_kind).
 const char* theory_kind_name(TheoryKind kind);
 
 }  // namespace slidespec

@@ -604,6 +604,9 @@ RunResult RunSession::result() const {
   const TheoryChoice holds = best_theory(s.params);
   result.theory_kind = holds.kind;
   result.theory_kind_note = holds.reason;
+  // Beyond the series' limit theory2 is the quasi-static spectrum where that holds (§7.5).
+  std::optional<QuasiStaticTheory> quasi_static;
+  if (holds.kind == TheoryKind::quasi_static) quasi_static.emplace(s.params);
   for (std::size_t b = 0; b < s.bands.size(); ++b) {
     const BandTotals& totals = s.bands[b];
     SubBand& band = result.sub_bands[b];
@@ -614,7 +617,8 @@ RunResult RunSession::result() const {
     const std::vector<SpectrumPoint> estimated = band_spectrum(totals, merged);
     const std::vector<SpectrumPoint> expected = merged.expected(std::cref(theory));
     const std::vector<SpectrumPoint> expected2 =
-        second ? merged.expected(std::cref(*second)) : std::vector<SpectrumPoint>();
+        quasi_static ? merged.expected(std::cref(*quasi_static))
+                     : (second ? merged.expected(std::cref(*second)) : std::vector<SpectrumPoint>());
     for (std::size_t k = 0; k < estimated.size(); ++k) {
       const SpectrumPoint& e = estimated[k];
       BinRange bins;

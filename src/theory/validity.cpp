@@ -1,4 +1,5 @@
 // Which spectrum theory holds where: the measured limits of docs/model.md §7.4.
+#include <cmath>
 #include <cstdio>
 
 #include "slidespec/theory.hpp"
@@ -13,12 +14,27 @@ std::string eps_text(double eps) {
   return text;
 }
 
+// With one touching level: the largest resistance of its forces, all at once, over
+// F_drive - F_kin (1 at the stall boundary, where it equals eps / eps_stall); 0 with several.
+double stall_fraction(const Parameters& p) {
+  int touching = 0;
+  for (int level = 1; level <= p.levels; ++level)
+    if (p.touches(level)) {
+      if (touching != 0) return 0;
+      touching = level;
+    }
+  const double contacts = static_cast<double>(p.blocks(touching));
+  return contacts * std::sqrt(3 * p.random_force_variance(touching)) / (p.F_drive - p.F_kin);
+}
+
 }  // namespace
 
 const char* theory_kind_name(TheoryKind kind) {
   switch (kind) {
     case TheoryKind::second_order:
       return "second_order";
+    case TheoryKind::quasi_static:
+      return "quasi_static";
     case TheoryKind::first_order:
       return "first_order";
     case TheoryKind::none:
@@ -48,6 +64,14 @@ TheoryChoice best_theory(const Parameters& p) {
   } catch (const InputError& e) {
     why_not_second = e.what();
   }
+  // The quasi-static spectrum: poisson renewal, one touching level, a constant force, and
+  // not too near the stall, where the block's time is spent ever nearer standstill.
+  const double near_stall = stall_fraction(p);
+  if (poisson && p.drive == Drive::force && near_stall > 0 && near_stall <= kQuasiStaticPoissonStallFractionMax)
+    return {TheoryKind::quasi_static, why_not_second};
+  if (poisson && p.drive == Drive::force && near_stall > 0)
+    why_not_second +=
+        ", the quasi-static spectrum to " + eps_text(kQuasiStaticPoissonStallFractionMax) + " of the stall boundary";
   if (l.coupling_eps <= first_limit) return {TheoryKind::first_order, why_not_second};
   return {TheoryKind::none, "eps = " + eps_text(l.coupling_eps) + ": " + why_not_second + ", the first order to " +
                                 eps_text(first_limit) + " (docs/model.md §7.4)"};

@@ -102,10 +102,17 @@ TEST(TheoryValidity, TheSecondOrderInsideItsLimitsNothingOutside) {
   EXPECT_EQ(reference.kind, TheoryKind::second_order);
   EXPECT_EQ(reference.reason, "");
   EXPECT_STREQ(theory_kind_name(reference.kind), "second_order");
-  // Poisson N = 6 at eps 0.25: the second order misses half the points (docs/model.md §7.4).
-  const TheoryChoice beyond = best_theory(flat(6, 0.25, Renewal::poisson));
+  // Poisson N = 6 at eps 0.2: the second order misses a quarter of the points (docs/model.md
+  // §7.4), the quasi-static spectrum holds (§7.5).
+  const TheoryChoice quasi = best_theory(flat(6, 0.2, Renewal::poisson));
+  EXPECT_EQ(quasi.kind, TheoryKind::quasi_static);
+  EXPECT_NE(quasi.reason.find("the second order holds to eps 0.15"), std::string::npos) << quasi.reason;
+  EXPECT_STREQ(theory_kind_name(quasi.kind), "quasi_static");
+  // Nearer the stall than the quasi-static spectrum's limit: none.
+  const double beyond_eps = 0.98 * std::sqrt(2.0 / 18) * std::fmin(1, kQuasiStaticPoissonStallFractionMax + 0.05);
+  const TheoryChoice beyond = best_theory(flat(6, beyond_eps, Renewal::poisson));
   EXPECT_EQ(beyond.kind, TheoryKind::none);
-  EXPECT_NE(beyond.reason.find("eps = 0.25"), std::string::npos) << beyond.reason;
+  EXPECT_NE(beyond.reason.find("the quasi-static spectrum to"), std::string::npos) << beyond.reason;
   EXPECT_STREQ(theory_kind_name(beyond.kind), "none");
   // Periodic renewal holds to a smaller eps than poisson: eps 0.12 is inside one, not the other.
   EXPECT_EQ(best_theory(flat(4, 0.12, Renewal::poisson)).kind, TheoryKind::second_order);
