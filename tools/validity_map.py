@@ -31,10 +31,11 @@ import sys
 import tempfile
 
 import map_table  # noqa: E402  (beside this script)
+import quasi_static  # noqa: E402
 
 COLUMNS = ("renewal", "chain", "N", "eps", "eps_stall", "range", "points", "dev1_sigma", "dev1_percent",
            "within2_1", "dev2_sigma", "dev2_percent", "within2_2", "theory2_source", "reached_precision",
-           "stationary", "mean_speed_ratio")
+           "stationary", "mean_speed_ratio", "dev3_sigma", "dev3_percent", "within2_3")
 NS = (2, 3, 4, 6, 12, 30)
 # The simulation lumps the chain (docs/numerics.md): open and ring ends give the same
 # process, so the ring runs, with their own seed, are an independent second sample.
@@ -95,6 +96,8 @@ def simulate(slidespec, work, renewal, chain, n, eps, precision):
         raise ValueError(f"{renewal} {chain} N={n} eps={eps}: the run wrote no table")
     header, data = read_tsv(prefix + ".tsv")
     source = "run"
+    if header.get("theory_kind") == "quasi_static":
+        data["theory2"] = [math.nan] * len(data["theory2"])  # the run's theory2 is the quasi-static one
     if all(math.isnan(x) for x in data["theory2"]):
         source = "none"
         if renewal == "poisson":
@@ -103,6 +106,13 @@ def simulate(slidespec, work, renewal, chain, n, eps, precision):
             _, theory = read_tsv(prefix + "_theory.tsv")
             data["theory2"] = [t * c2 / c1 for t, c1, c2 in zip(data["theory"], theory["C_x"], theory["C_x2"])]
             source = "ratio"
+    # The quasi-static spectrum (poisson, below the stall): the run's first order times the
+    # ratio of tools/quasi_static.py at the point's omega (smooth, so the bin average).
+    data["theory3"] = [math.nan] * len(data["theory"])
+    if renewal == "poisson" and eps < eps_stall(n):
+        rate = 0.5  # v/a [1/s], the reference case's
+        ratio = quasi_static.QuasiStatic(n, eps).ratio([w / rate for w in data["omega"]])
+        data["theory3"] = [t * r for t, r in zip(data["theory"], ratio)]
     return header, data, source
 
 
@@ -121,9 +131,10 @@ def rows_of(renewal, chain, n, eps, header, data, source):
         keep = [low <= w / rate < high for w in data["omega"]]
         d1 = deviations(data["theory"], data, keep)
         d2 = deviations(data["theory2"], data, keep)
+        d3 = deviations(data["theory3"], data, keep)
         speed = float(header["measured_mean_speed"]) / float(header["v"])
         out.append((renewal, chain, n, eps, round(eps_stall(n), 4), name, sum(keep), *d1[:2], d1[2], *d2[:2], d2[2],
-                    source, float(header["reached_precision"]), header["stationary"], speed))
+                    source, float(header["reached_precision"]), header["stationary"], speed, *d3[:2], d3[2]))
     return out
 
 

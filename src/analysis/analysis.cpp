@@ -452,6 +452,8 @@ std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Paramet
     };
     return expected_points(spectrum, sampled);
   };
+  if (model_order(params, order) == 2 && best_theory(params).kind == TheoryKind::quasi_static)
+    return aliased(QuasiStaticTheory(params));  // beyond the series' limit (docs/model.md §7.5)
   if (model_order(params, order) == 2) return aliased(SecondOrderTheory(params));
   return aliased(LumpedTheory(params));
 }
