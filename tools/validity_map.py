@@ -11,8 +11,9 @@ a decade), N in {2, 3, 4, 6, 12, 30}, eps from 0.05 (periodic renewal: 0.0125) t
 the stall boundary
 (eps_stall = sqrt(2 / (3 N)) with the reference forces), poisson and periodic renewal,
 open and ring chains (ring from N = 3), and writes, per run and point range (below v/a,
-around it, the omega^-4 range, all), the worst deviation of `theory` (first order) and
-`theory2` (second order) in standard errors and in per cent, and the fraction of points
+around it, the omega^-4 range, all), the worst deviation of `theory` (first order),
+`theory2` (second order) and, for poisson renewal, the quasi-static spectrum of
+docs/model.md §7.5 (the run's `theory` times the ratio of tools/quasi_static.py) in standard errors and in per cent, and the fraction of points
 within 2 standard errors. `theory2` is the run's where it offers one; for poisson renewal
 beyond the run's eps limit it is the run's `theory` times the second- over first-order
 ratio of `SLIDESPEC theory --order 2` at the point's omega (column theory2_source), which
@@ -184,22 +185,22 @@ def read_table(path):
 def summary(args):
     rows = [r for r in read_table(args.table) if r["range"] == "all"]
     print("| renewal | N | eps | eps / eps_stall | first order: worst (stderr, %); within 2 stderr |"
-          " second order: worst (stderr, %); within 2 stderr |")
-    print("|---|---|---|---|---|---|")
+          " second order: worst (stderr, %); within 2 stderr | quasi-static (§7.5) |")
+    print("|---|---|---|---|---|---|---|")
     keys = sorted({(r["renewal"], int(r["N"]), float(r["eps"])) for r in rows}, key=lambda k: (k[0] != "poisson", k[1:]))
     for renewal, n, eps in keys:
         runs = [r for r in rows if (r["renewal"], int(r["N"]), float(r["eps"])) == (renewal, n, eps)]
         cells = []
-        for order in ("1", "2"):
+        for order in ("1", "2", "3"):
             sigma = max(float(r[f"dev{order}_sigma"]) for r in runs)
             if math.isnan(sigma):
-                cells.append("not computed")
+                cells.append("not computed" if order != "3" or renewal == "poisson" else "not derived")
                 continue
             percent = max(float(r[f"dev{order}_percent"]) for r in runs)
             within = sum(float(r[f"within2_{order}"]) * int(r["points"]) for r in runs) / sum(
                 int(r["points"]) for r in runs)
             cells.append(f"{sigma:.1f}, {percent:.1f}%; {100 * within:.0f}%")
-        print(f"| {renewal} | {n} | {eps:g} | {eps / eps_stall(n):.2f} | {cells[0]} | {cells[1]} |")
+        print(f"| {renewal} | {n} | {eps:g} | {eps / eps_stall(n):.2f} | {cells[0]} | {cells[1]} | {cells[2]} |")
 
 
 def plot(args):
@@ -218,9 +219,12 @@ def plot(args):
             if not r:
                 continue
             ratio = [e / eps_stall(n) for e, _ in r]
-            for order, style in (("1", "o:"), ("2", "s-")):
+            for order, style in (("1", "o:"), ("2", "s-"), ("3", "^--")):
+                if order == "3" and renewal != "poisson":
+                    continue
+                name = {"1": "first order", "2": "second order", "3": "quasi-static"}[order]
                 top.plot(ratio, [float(x[f"dev{order}_sigma"]) for _, x in r], style, color=colors[n],
-                         label=f"N = {n}, {'first' if order == '1' else 'second'} order")
+                         label=f"N = {n}, {name}")
                 bottom.plot(ratio, [float(x[f"within2_{order}"]) for _, x in r], style, color=colors[n])
         top.axhline(4, color="grey", lw=0.8)
         top.axhline(2, color="grey", lw=0.8, ls="--")

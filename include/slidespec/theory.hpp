@@ -171,9 +171,15 @@ inline constexpr double kFirstOrderPoissonEpsMax = 0.05;
 inline constexpr double kFirstOrderPeriodicEpsMax = 0.025;
 inline constexpr double kSecondOrderPoissonEpsMax = 0.15;
 inline constexpr double kSecondOrderPeriodicEpsMax = 0.1;
-/// The quasi-static spectrum (poisson renewal) holds up to this fraction of the stall
-/// boundary eps_stall = 2 (F_drive - F_kin) / (F_kin sqrt(6 N)), measured as the others.
-inline constexpr double kQuasiStaticPoissonStallFractionMax = 0.75;
+/// The quasi-static spectrum (poisson renewal) holds up to a fraction of the stall boundary
+/// (eps / eps_stall, eps_stall = sqrt(2 / (3 N)) for the flat model) that grows with the
+/// number of contacts N, measured as the others: from N = 2, 3 and 6 of the map on (an N
+/// between grid values takes the smaller grid N's), and not at all for N = 1 (not measured).
+/// 0.95 is the map's last grid eps.
+inline constexpr int kQuasiStaticContacts[] = {2, 3, 6};
+inline constexpr double kQuasiStaticStallFractionMax[] = {0.55, 0.75, 0.95};
+/// The limit for `contacts` contacts (0 where it is not measured).
+double quasi_static_stall_fraction_max(double contacts);
 /// Beyond this SecondOrderTheory refuses periodic renewal: its ripple region (omega ~ 2 pi
 /// v / a) goes wrong by tens of percent there.
 inline constexpr double kSecondOrderPeriodicComputedEpsMax = 0.25;

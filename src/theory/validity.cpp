@@ -1,6 +1,8 @@
 // Which spectrum theory holds where: the measured limits of docs/model.md §7.4.
 #include <cmath>
 #include <cstdio>
+#include <iterator>
+#include <utility>
 
 #include "slidespec/theory.hpp"
 
@@ -16,18 +18,26 @@ std::string eps_text(double eps) {
 
 // With one touching level: the largest resistance of its forces, all at once, over
 // F_drive - F_kin (1 at the stall boundary, where it equals eps / eps_stall); 0 with several.
-double stall_fraction(const Parameters& p) {
+// Returns it with the number of touching contacts.
+std::pair<double, double> stall_fraction(const Parameters& p) {
   int touching = 0;
   for (int level = 1; level <= p.levels; ++level)
     if (p.touches(level)) {
-      if (touching != 0) return 0;
+      if (touching != 0) return {0, 0};
       touching = level;
     }
   const double contacts = static_cast<double>(p.blocks(touching));
-  return contacts * std::sqrt(3 * p.random_force_variance(touching)) / (p.F_drive - p.F_kin);
+  return {contacts * std::sqrt(3 * p.random_force_variance(touching)) / (p.F_drive - p.F_kin), contacts};
 }
 
 }  // namespace
+
+double quasi_static_stall_fraction_max(double contacts) {
+  double limit = 0;
+  for (std::size_t k = 0; k < std::size(kQuasiStaticContacts); ++k)
+    if (contacts >= kQuasiStaticContacts[k]) limit = kQuasiStaticStallFractionMax[k];
+  return limit;
+}
 
 const char* theory_kind_name(TheoryKind kind) {
   switch (kind) {
@@ -66,12 +76,13 @@ TheoryChoice best_theory(const Parameters& p) {
   }
   // The quasi-static spectrum: poisson renewal, one touching level, a constant force, and
   // not too near the stall, where the block's time is spent ever nearer standstill.
-  const double near_stall = stall_fraction(p);
-  if (poisson && p.drive == Drive::force && near_stall > 0 && near_stall <= kQuasiStaticPoissonStallFractionMax)
+  const auto [near_stall, contacts] = stall_fraction(p);
+  const double quasi_static_limit = quasi_static_stall_fraction_max(contacts);
+  if (poisson && p.drive == Drive::force && near_stall > 0 && near_stall <= quasi_static_limit)
     return {TheoryKind::quasi_static, why_not_second};
   if (poisson && p.drive == Drive::force && near_stall > 0)
-    why_not_second +=
-        ", the quasi-static spectrum to " + eps_text(kQuasiStaticPoissonStallFractionMax) + " of the stall boundary";
+    why_not_second += ", the quasi-static spectrum to " + eps_text(quasi_static_limit) + " of the stall boundary for " +
+                      eps_text(contacts) + " contacts (here " + eps_text(near_stall) + ")";
   if (l.coupling_eps <= first_limit) return {TheoryKind::first_order, why_not_second};
   return {TheoryKind::none, "eps = " + eps_text(l.coupling_eps) + ": " + why_not_second + ", the first order to " +
                                 eps_text(first_limit) + " (docs/model.md §7.4)"};

@@ -29,8 +29,10 @@ Parameters flat(int N, double eps, Renewal renewal) {
 // process, two seeds): the criterion, >= 85% within 2 standard errors, none beyond 4.
 struct Pooled {
   int points = 0;
-  double within_two[2] = {0, 0};  // points within 2 standard errors, first and second order
-  double worst[2] = {0, 0};       // largest deviation in standard errors (NaN: not computed)
+  // Points within 2 standard errors and the largest deviation in standard errors (NaN: not
+  // computed): first order, second order, quasi-static.
+  double within_two[3] = {0, 0, 0};
+  double worst[3] = {0, 0, 0};
   bool holds(int order) const {
     return std::isfinite(worst[order]) && worst[order] <= 4 && within_two[order] >= 0.85 * points;
   }
@@ -51,8 +53,9 @@ std::map<Key, Pooled> read_map() {
     Pooled& p = map[{f[0], std::stoi(f[2]), std::stod(f[3])}];
     const int points = std::stoi(f[6]);
     p.points += points;
-    for (int order = 0; order < 2; ++order) {
-      const double worst = std::stod(f[order ? 10 : 7]), within = std::stod(f[order ? 12 : 9]);
+    for (int order = 0; order < (f.size() >= 20 ? 3 : 2); ++order) {
+      const int worst_column[] = {7, 10, 17}, within_column[] = {9, 12, 19};
+      const double worst = std::stod(f[worst_column[order]]), within = std::stod(f[within_column[order]]);
       p.worst[order] = std::isnan(worst) || std::isnan(p.worst[order]) ? NAN : std::fmax(p.worst[order], worst);
       p.within_two[order] += within * points;
     }
@@ -97,6 +100,33 @@ TEST(TheoryValidity, LimitsAreTheMeasuredOnes) {
   }
 }
 
+// The quasi-static spectrum's limits (a fraction of the stall boundary per range of N): it
+// holds at every poisson eps of the map up to its N's limit, and for each limit below the
+// map's last eps it fails at the next grid eps for some N that has that limit.
+TEST(TheoryValidity, QuasiStaticLimitsAreTheMeasuredOnes) {
+  const std::map<Key, Pooled> map = read_map();
+  std::map<double, bool> fails_next;  // by limit
+  for (int N : {2, 3, 4, 6, 12, 30}) {
+    const double stall = std::sqrt(2.0 / (3.0 * N)), limit = quasi_static_stall_fraction_max(N);
+    double next = INFINITY;
+    int inside = 0;
+    for (const auto& [key, pooled] : map) {
+      const auto& [renewal, n, eps] = key;
+      if (renewal != "poisson" || n != N) continue;
+      if (eps <= limit * stall + 1e-9) {
+        ++inside;
+        EXPECT_TRUE(pooled.holds(2)) << "quasi-static fails at N = " << N << ", eps = " << eps;
+      } else {
+        next = std::fmin(next, eps);
+      }
+    }
+    EXPECT_GE(inside, 3) << N;
+    fails_next[limit] |= !std::isfinite(next) || !map.at({"poisson", N, next}).holds(2);
+  }
+  for (const auto& [limit, fails] : fails_next)
+    EXPECT_TRUE(fails) << "the quasi-static spectrum holds beyond " << limit << " of the stall for every N with it";
+}
+
 TEST(TheoryValidity, TheSecondOrderInsideItsLimitsNothingOutside) {
   const TheoryChoice reference = best_theory(ParameterBuilder("reference").build());  // eps 0.075
   EXPECT_EQ(reference.kind, TheoryKind::second_order);
@@ -109,8 +139,7 @@ TEST(TheoryValidity, TheSecondOrderInsideItsLimitsNothingOutside) {
   EXPECT_NE(quasi.reason.find("the second order holds to eps 0.15"), std::string::npos) << quasi.reason;
   EXPECT_STREQ(theory_kind_name(quasi.kind), "quasi_static");
   // Nearer the stall than the quasi-static spectrum's limit: none.
-  const double beyond_eps = 0.98 * std::sqrt(2.0 / 18) * std::fmin(1, kQuasiStaticPoissonStallFractionMax + 0.05);
-  const TheoryChoice beyond = best_theory(flat(6, beyond_eps, Renewal::poisson));
+  const TheoryChoice beyond = best_theory(flat(3, 0.4, Renewal::poisson));  // 0.85 of the stall
   EXPECT_EQ(beyond.kind, TheoryKind::none);
   EXPECT_NE(beyond.reason.find("the quasi-static spectrum to"), std::string::npos) << beyond.reason;
   EXPECT_STREQ(theory_kind_name(beyond.kind), "none");
