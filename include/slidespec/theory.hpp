@@ -143,7 +143,7 @@ class QuasiStaticTheory {
   double operator()(double omega) const;
   /// Quasi-static over first-order C_x at omega.
   double ratio(double omega) const;
-  /// Nodes per contact's force (more for fewer contacts: 24 for N = 2, 5 for N = 30).
+  /// Nodes per contact's force (more for fewer contacts: 24 for N = 2, 4 for N = 30).
   int force_nodes() const;
   struct Impl;
 

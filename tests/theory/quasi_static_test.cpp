@@ -125,7 +125,7 @@ TEST(QuasiStaticTheory, MatchesASimulatedSpectrumWhereTheSecondOrderDoesNot) {
 }
 
 #ifdef SLIDESPEC_LONG_LONG_TIME
-// At 1% a point, N = 2, 4, 6, 12 at 0.6-0.8 of the stall boundary.
+// At 1% a point, N = 2, 4, 6, 12 at 0.52-0.89 of the stall boundary (inside the limits).
 TEST(QuasiStaticTheoryLong, MatchesSimulatedSpectra) {
   RunRequest request;
   request.omega_min = 0.02;
@@ -133,8 +133,8 @@ TEST(QuasiStaticTheoryLong, MatchesSimulatedSpectra) {
   request.points_per_decade = 4;
   request.precision = 0.01;
   request.seed = 37;
-  expect_quasi_static_holds(poisson(2, 0.4), request, 4);
-  expect_quasi_static_holds(poisson(4, 0.3), request, 4);
+  expect_quasi_static_holds(poisson(2, 0.3), request, 1);
+  expect_quasi_static_holds(poisson(4, 0.3), request, 2);
   expect_quasi_static_holds(poisson(6, 0.25), request, 2);
   expect_quasi_static_holds(poisson(12, 0.2), request, 0);
 }
