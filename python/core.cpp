@@ -200,15 +200,33 @@ class Spectrum {
     r.resolution = request["resolution"].cast<double>();
     r.sensor_noise = request["sensor_noise"].cast<double>();
     r.estimator = parse_estimator(request["estimator"].cast<std::string>());
-    const std::vector<double> t = to_vector(time), samples = to_vector(x);
+    // Channels as named columns, read as a file with that header is (units from the format).
+    f.observable = parse_observable(format["observable"].cast<std::string>());
+    if (!format["force_units"].is_none()) f.force_unit = parse_force_unit(format["force_units"].cast<std::string>());
+    f.contact_area = format["contact_area"].cast<double>();
+    f.normal_force = format["normal_force"].cast<double>();
+    f.machine_stiffness = format["machine_stiffness"].cast<double>();
+    std::vector<std::string> names;
+    std::vector<std::vector<double>> columns;
+    if (time.size() > 0) names.push_back("t"), columns.push_back(to_vector(time));
+    if (x.size() > 0) names.push_back("x"), columns.push_back(to_vector(x));
+    if (!format["force"].is_none())
+      names.push_back("force"), columns.push_back(to_vector(format["force"].cast<Array>()));
+    if (!format["normal_stress"].is_none()) {
+      names.push_back("normal_stress (" + format["normal_stress_units"].cast<std::string>() + ")");
+      columns.push_back(to_vector(format["normal_stress"].cast<Array>()));
+    }
+    if (f.observable != Observable::displacement || f.machine_stiffness > 0)
+      f.force_column = format["force"].is_none() ? "" : "force";
     py::gil_scoped_release release;
-    Record record = record_from_samples(t, samples, f);
+    Record record = record_from_columns(names, columns, f);
     notes_ = record.notes;
     const std::vector<SteadySegment> steady = steady_segments(record);
     for (const SteadySegment& segment : steady)
       segments_.push_back({segment.start, segment.end, segment.mean_speed, segment.hold});
     if (!f.window) record = longest_steady(record, steady, notes_);
     spectrum_ = analyze_record(record, r);
+    record_ = std::move(record);
     request_ = r;
   }
 
@@ -225,15 +243,56 @@ class Spectrum {
     doc["segments"] = nlohmann::ordered_json::array();
     for (const auto& [start, end, speed, hold] : segments_)
       doc["segments"].push_back({{"start", start}, {"end", end}, {"mean_speed", speed}, {"hold", hold}});
+    return as_dict(doc);
+  }
+
+  static py::dict as_dict(const nlohmann::ordered_json& doc) {
     return py::module_::import("json").attr("loads")(doc.dump()).cast<py::dict>();
   }
 
   py::dict slope(double low, double high) const {
     const SlopeFit f = fit_slope(spectrum_, low, high);
-    return py::dict(py::arg("omega_low") = f.omega_low, py::arg("omega_high") = f.omega_high,
-                    py::arg("points") = f.points, py::arg("slope") = f.slope, py::arg("standard_error") = f.slope_error,
-                    py::arg("chi2_per_dof") = f.chi2_per_dof, py::arg("amplitude") = f.amplitude,
-                    py::arg("force_slope") = f.force_slope(), py::arg("reaches_floor") = f.reaches_floor);
+    return as_dict(detail::slope_fit_json(f, detail::judge_chi2(f.chi2_per_dof, f.points - 2)));
+  }
+
+  py::dict power_law(double low, double high) const {
+    PowerLawFit f;
+    {
+      py::gil_scoped_release release;
+      f = fit_power_law(spectrum_, low, high);
+    }
+    py::dict d = as_dict(detail::power_law_json(f, detail::judge_chi2(f.chi2_per_dof, f.dof)));
+    d["fit"] = to_array(f.model);
+    d["residual"] = to_array(f.residuals);
+    return d;
+  }
+
+  /// The compared case on the record's terms (its measured v, a spring for a machine).
+  Overrides record_terms(const std::string& case_name, const Overrides& overrides) const {
+    build(case_name, overrides);  // refused before any change
+    std::vector<std::string> assignments, notes;
+    for (const auto& [key, value] : overrides) assignments.push_back(key + "=" + value);
+    Overrides terms;
+    for (const std::string& assignment :
+         slidespec::record_terms(assignments, measured_speed(record_, spectrum_), record_.machine_stiffness, notes)) {
+      const auto equals = assignment.find('=');
+      terms.emplace_back(assignment.substr(0, equals), assignment.substr(equals + 1));
+    }
+    return terms;
+  }
+
+  py::dict model_fit(const std::string& case_name, const Overrides& overrides, const std::vector<std::string>& names,
+                     double low, double high, int theory_order) const {
+    const Parameters p = build(case_name, overrides);
+    ModelFit f;
+    {
+      py::gil_scoped_release release;
+      f = fit_model(spectrum_, p, names, low, high, order_of(theory_order));
+    }
+    py::dict d = as_dict(detail::model_fit_json(f, detail::judge_model(f)));
+    d["fit"] = to_array(f.model);
+    d["residual"] = to_array(f.residuals);
+    return d;
   }
 
   py::dict alpha(const std::string& case_name, const Overrides& overrides, double low, double high,
@@ -244,9 +303,9 @@ class Spectrum {
       py::gil_scoped_release release;
       f = fit_alpha(spectrum_, p, low, high, order_of(theory_order));
     }
-    return py::dict(py::arg("omega_low") = f.omega_low, py::arg("omega_high") = f.omega_high,
-                    py::arg("points") = f.points, py::arg("alpha") = f.alpha, py::arg("standard_error") = f.alpha_error,
-                    py::arg("chi2_per_dof") = f.chi2_per_dof, py::arg("theory_order") = f.theory_order);
+    Parameters fitted = p;
+    fitted.alpha = f.alpha;
+    return as_dict(detail::alpha_fit_json(f, detail::judge_alpha(f, fitted)));
   }
 
   int model_order_of(const std::string& case_name, const Overrides& overrides, int theory_order) const {
@@ -274,6 +333,7 @@ class Spectrum {
   }
 
   std::vector<std::string> notes_;
+  Record record_;  // the samples analyzed: their channels give the compared case's terms
   std::vector<std::tuple<double, double, double, bool>> segments_;
   RecordSpectrum spectrum_;
   AnalysisRequest request_;
@@ -450,6 +510,10 @@ PYBIND11_MODULE(_core, m) {
       .def("to_dict", &Spectrum::to_dict, "The fields of `slidespec analyze`'s JSON.")
       .def("fit_slope", &Spectrum::slope, "C_x ~ omega^slope over [low, high] rad/s.")
       .def("fit_alpha", &Spectrum::alpha, "alpha of a case fitted over [low, high] rad/s.")
+      .def("fit_power_law", &Spectrum::power_law, "A (omega/pivot)^s + floor fitted over [low, high] rad/s.")
+      .def("fit_model", &Spectrum::model_fit, "Model parameters fitted jointly over [low, high] rad/s.")
+      .def("record_terms", &Spectrum::record_terms,
+           "A case's overrides with the record's measured v and, for a machine, its spring drive.")
       .def("model", &Spectrum::model, "A case's spectrum seen through this estimator [m^2 s].")
       .def("model_order", &Spectrum::model_order_of, "The theory order a comparison uses (1 or 2).");
   m.def(

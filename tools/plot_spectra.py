@@ -434,7 +434,7 @@ def _plot_sensor_limits(axes, spectrum, columns, factor, keep, x, y):
     when one was given (--resolution, --sensor-noise) or fitted (--fit power-law), points
     indistinguishable from a given floor drawn hollow, and a fitted power law if there is one."""
     floor = columns["floor"] * factor
-    fitted = spectrum.number("power_law_floor")
+    fitted = spectrum.number("power_law_floor") or spectrum.number("model_fit_floor")
     if np.any(floor > 0):
         below = columns["below_floor"][keep] > 0
         if np.any(below):
@@ -581,8 +581,9 @@ def render(spectra, labels, args, fine_theories=None):
         handles.append(Line2D([], [], color="0.35", linewidth=1.3))
         model = ""
         if measured and spectra[0].metadata.get("case") and "alpha" in spectra[0].metadata:
-            fitted = (" (fit FAILED)" if spectra[0].metadata.get("alpha_fit_ok") == "false"
-                      else " (fitted)" if "fitted_alpha" in spectra[0].metadata else "")
+            meta = spectra[0].metadata
+            fitted = (" (fit FAILED)" if "false" in (meta.get("alpha_fit_ok"), meta.get("model_fit_ok"))
+                      else " (fitted)" if "fitted_alpha" in meta or "model_fit" in meta else "")
             model = (f": {spectra[0].metadata['case']}, "
                      f"{parameter_text('alpha', spectra[0].metadata['alpha'])}{fitted}")
         texts.append("model theory" + model if measured else "exact first-order theory")
@@ -609,8 +610,13 @@ def fit_legend(metadata):
     does not describe the data: a failed fit's numbers are no result."""
     slope = (metadata.get("power_law_slope") or metadata.get("slope") or "").split()
     text = f"fit: slope {float(slope[0]):.2f}" if slope and _is_float(slope[0]) else "fit"
-    if "false" in (metadata.get("power_law_fit_ok"), metadata.get("slope_fit_ok")):
-        chi2 = re.search(r"chi2/dof ([0-9.eE+-]+)", metadata.get("power_law", "") + metadata.get("slope", ""))
+    fitted = [(key[len("model_fit_"):], value.split()[0]) for key, value in metadata.items()
+              if key in ("model_fit_alpha", "model_fit_a", "model_fit_k_drive")]
+    if fitted:
+        text = "model fit: " + ", ".join(f"{name} = {float(value):.3g}" for name, value in fitted)
+    if "false" in (metadata.get("power_law_fit_ok"), metadata.get("slope_fit_ok"), metadata.get("model_fit_ok")):
+        chi2 = re.search(r"chi2/dof ([0-9.eE+-]+)", metadata.get("power_law", "") + metadata.get("slope", "")
+                         + metadata.get("model_fit", ""))
         return "fit FAILED" + (f" (chi²/dof {float(chi2.group(1)):.3g})" if chi2 else "") + f", not a result: {text}"
     return text
 

@@ -165,6 +165,12 @@ Record read_record_file(const std::string& path, const RecordFormat& format);
 Record record_from_samples(const std::vector<double>& time, const std::vector<double>& x, const RecordFormat& format,
                            const std::string& source = "record");
 
+/// Named columns of numbers (a time column among them unless format.dt > 0), read as a file
+/// with `names` as its header is: the same choice of columns, units from the names or
+/// `format`, force channels and checks, each sample named by its index in the InputError.
+Record record_from_columns(const std::vector<std::string>& names, const std::vector<std::vector<double>>& columns,
+                           const RecordFormat& format, const std::string& source = "record");
+
 /// The mean sliding motion x = x_0 + v (t - t_0) of the observed channel, fitted by least
 /// squares (of a force channel: its mean trend, x_0 in N and v in N/s).
 struct SlidingFit {
@@ -360,7 +366,8 @@ struct AlphaFit {
 };
 
 /// The model's spectrum at `params` (its own alpha) seen through the estimator, one value
-/// per point of `spectrum` [m^2 s], without the floor.
+/// per point of `spectrum`, without the floor: C_x [m^2 s], or for a force the spring's
+/// k_drive^2 C_x [N^2 s] (InputError unless drive = spring).
 std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Parameters& params,
                                    ModelOrder order = ModelOrder::best);
 
@@ -373,6 +380,60 @@ std::pair<double, double> default_alpha_band(const RecordSpectrum& spectrum, con
 /// alpha of `params` is ignored. Throws InputError when the band holds no point.
 AlphaFit fit_alpha(const RecordSpectrum& spectrum, const Parameters& params, double omega_low, double omega_high,
                    ModelOrder order = ModelOrder::best);
+
+/// The compared case on the record's terms (docs/analysis.md, "Comparing and fitting a model"):
+/// `case_name` with `overrides` ("KEY=VALUE"), its v the record's `measured_speed` [m/s] (when
+/// > 0) and, for a machine-driven record (`machine_stiffness` K > 0 [N/m]), drive = spring with
+/// k_drive = K; a key the overrides set is kept as set. Each choice made is appended to `notes`.
+Parameters record_model(const std::string& case_name, const std::vector<std::string>& overrides, double measured_speed,
+                        double machine_stiffness, std::vector<std::string>& notes);
+/// The overrides record_model applies: `overrides` and the record's terms after them.
+std::vector<std::string> record_terms(const std::vector<std::string>& overrides, double measured_speed,
+                                      double machine_stiffness, std::vector<std::string>& notes);
+/// The record's mean sliding speed [m/s]: the observed channel's, or for a force the
+/// displacement column's (0 when there is none).
+double measured_speed(const Record& record, const RecordSpectrum& spectrum);
+
+/// Model parameters a joint fit can vary (positive reals, fitted in their logarithm).
+inline const std::vector<std::string>& fittable_parameters() {
+  static const std::vector<std::string> names{"alpha", "a", "k_drive"};
+  return names;
+}
+/// "alpha,a" into its names; throws InputError naming --fit for an unknown or repeated one.
+std::vector<std::string> parse_fit_parameters(const std::string& list);
+
+/// Model parameters fitted jointly to a measured spectrum: C = T(theta) + floor, T the model's
+/// theory seen through the estimator (C_x, or k_drive^2 C_x for a force), by Levenberg-Marquardt
+/// in log theta with the white floor solved with them (held when the request gave it), weights
+/// from the model's level and each point's relative error, iterated.
+struct ModelFit {
+  std::vector<std::string> names;               ///< fitted model parameters, then "floor" when it was fitted
+  std::vector<double> values, errors;           ///< same order; errors scaled by sqrt(chi2/dof) when > 1
+  std::vector<std::vector<double>> covariance;  ///< same order and scaling
+  double omega_low = 0, omega_high = 0;         ///< [rad/s]
+  int points = 0, dof = 0;                      ///< points fitted (leaky ones left out); points - fitted values
+  double chi2_per_dof = 0;
+  bool converged = false;  ///< the iteration settled (relative chi2 change below 1e-9)
+  /// Parameters that ended at the search's edge, a factor 1e4 from their start: the band
+  /// does not bound them (the fit is no result).
+  std::vector<std::string> at_search_edge;
+  double floor = 0, floor_error = 0;  ///< white level [unit^2 s]; error 0 when given
+  bool floor_given = false;
+  /// alpha^2 / N: the level the band sets when N is not known (alpha is alpha at the given N).
+  double amplitude = 0, amplitude_error = 0;
+  int theory_order = 1;
+  Parameters fitted;              ///< the start with the fitted values
+  std::vector<double> theory;     ///< T at the fit per point of the spectrum (no floor)
+  std::vector<double> model;      ///< T + floor per point (NaN outside the band)
+  std::vector<double> residuals;  ///< (C - model) / sigma per point (NaN outside the band)
+  std::string undetermined;       ///< what the data cannot determine, in words
+};
+
+/// Fits `names` (a subset of fittable_parameters()) of `start` over [omega_low, omega_high];
+/// throws InputError when the band holds fewer points than fitted values + 1, or the model
+/// cannot be computed at the start.
+ModelFit fit_model(const RecordSpectrum& spectrum, const Parameters& start, const std::vector<std::string>& names,
+                   double omega_low, double omega_high, ModelOrder order = ModelOrder::best);
 
 /// What a displacement sensor records of a simulated slider.
 struct SensorRequest {

@@ -724,20 +724,33 @@ class Analysis(_Table):
         return f"<slidespec.Analysis: {len(self)} points{extra}>"
 
 
-def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega_min=0.0,
-            omega_max=0.0, points=8, fit_slope=None, compare=None, fit=None, fit_band=None,
-            theory_order=2, time_tolerance=0.01, estimator="auto", window=None, resample="auto"):
+def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, normal_stress=None,
+            normal_stress_units="MPa", contact_area=0.0, normal_force=0.0, machine_stiffness=0.0,
+            observable="auto", resolution=0.0, sensor_noise=0.0, omega_min=0.0, omega_max=0.0, points=8,
+            fit_slope=None, compare=None, fit=None, fit_band=None, theory_order=2, time_tolerance=0.01,
+            estimator="auto", window=None, resample="auto"):
     """Spectrum, slope and model fit of a sliding-distance record: `slidespec analyze`.
 
     t: sample times [s] (uniform within time_tolerance), or None with dt [s].
-    x: positions in `units` ("m", "mm", "um"); v t is fitted and removed.
+    x: positions in `units` ("m", "mm", "um", ...); v t is fitted and removed. None for a
+      record of a force alone.
+    force: the force channel (numpy array) in force_units "N", "kN", "MPa", "kPa" or "mu";
+      a stress times contact_area [m^2], mu times normal_force [N] or times normal_stress
+      (an array in normal_stress_units "MPa" or "kPa") and contact_area.
+    machine_stiffness: K [N/m]: the observable is the slip x - F/K, and a compared case is
+      driven through a spring k_drive = K. observable: "auto" (slip with K, force with a
+      force, else displacement), "displacement", "force" (C_F [N^2 s]) or "slip".
     resolution: the sensor's quantization step q [m]; sensor_noise: its rms noise [m];
-      together the white floor q^2/12 + sigma^2.
+      together the white floor q^2/12 + sigma^2 (given: held in fits; else fitted).
     omega_min, omega_max: band [rad/s] (0 = what the record allows); points per decade.
     fit_slope: (low, high) [rad/s]: fit C_x ~ omega^slope there.
-    compare: Parameters (or a case name) whose theory to set beside the data; with
-      fit="alpha", its alpha is fitted over fit_band (low, high) [rad/s] (default: the
-      usable band within 5 v/a .. omega_c/3, where Eq. (1)'s omega^-4 holds).
+    compare: Parameters (or a case name) whose theory to set beside the data, on the
+      record's terms: its v the measured mean speed and, with machine_stiffness, a spring
+      drive (keys the Parameters set are kept).
+    fit: "alpha" (the compared case's alpha), "power-law" (A (omega/pivot)^s + floor), or
+      model parameters fitted jointly with the floor, "alpha,a" or ["alpha", "a"] (any of
+      alpha, a, k_drive); over fit_band (low, high) [rad/s] (default: the usable band; for
+      "alpha" the usable band within 5 v/a .. omega_c/3).
     estimator: "auto" (Welch up to 1e7 samples, streaming beyond), "welch" (Hann, 50% overlap,
       8 segments of first differences: 9 x 2 pi / T to Nyquist) or "streaming" (the run's).
     window: (t0, t1) [s] in record time: only those samples (default: the longest steady
@@ -749,12 +762,17 @@ def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega
       can be computed (one touching level, a constant force), else the first; 1 the
       first order always. The result's theory_order field says which was used; whether
       either holds is the parameters' theory_kind (docs/model.md §7.4).
-    Returns an Analysis. Raises ValueError for a malformed record or request.
+    Returns an Analysis (ok False when a fit does not describe the data; each fit's ok and
+    failure say why). Raises ValueError for a malformed record or request.
     """
-    if fit not in (None, "alpha"):
-        raise ValueError("fit: only 'alpha' can be fitted")
-    if fit and compare is None:
-        raise ValueError("fit='alpha' needs compare=Parameters(...)")
+    names = None
+    if fit is not None and fit not in ("alpha", "power-law"):
+        names = list(fit) if isinstance(fit, (list, tuple)) else str(fit).split(",")
+        fit = ",".join(names)
+    if fit not in (None, "power-law") and compare is None:
+        raise ValueError(f"fit={fit!r} needs compare=Parameters(...)")
+    if fit == "power-law" and fit_slope is not None:
+        raise ValueError("fit='power-law' and fit_slope both fit a power law; give one (fit_band sets the band)")
     for name, value in (("units", units), ("estimator", estimator)):
         if not isinstance(value, str):
             raise TypeError(f"{name}: expected a word (str), got {type(value).__name__} {value!r}")
@@ -767,30 +785,53 @@ def analyze(t, x, *, dt=None, units="m", resolution=0.0, sensor_noise=0.0, omega
     if not isinstance(resample, str):
         resample = _real("resample", resample)
     time = np.empty(0) if t is None else np.asarray(t, dtype=float).ravel()
-    samples = np.asarray(x, dtype=float).ravel()
+    samples = np.empty(0) if x is None else np.asarray(x, dtype=float).ravel()
+    channel = None if force is None else np.asarray(force, dtype=float).ravel()
+    normal = None if normal_stress is None else np.asarray(normal_stress, dtype=float).ravel()
     record = {"dt": float(dt or 0), "units": str(units), "time_tolerance": float(time_tolerance),
               "window": None if window is None else (float(window[0]), float(window[1])),
               "resample": resample if isinstance(resample, str) else "interval",
-              "resample_interval": 0.0 if isinstance(resample, str) else float(resample)}
+              "resample_interval": 0.0 if isinstance(resample, str) else float(resample),
+              "force": channel, "force_units": force_units, "normal_stress": normal,
+              "normal_stress_units": str(normal_stress_units), "contact_area": float(contact_area),
+              "normal_force": float(normal_force), "machine_stiffness": float(machine_stiffness),
+              "observable": str(observable)}
     request = {"omega_min": float(omega_min), "omega_max": float(omega_max), "points_per_decade": int(points),
                "resolution": float(resolution), "sensor_noise": float(sensor_noise), "estimator": str(estimator)}
     spectrum = _core.Spectrum(time, samples, record, request)
     data = spectrum.to_dict()
+    usable = (data["usable_band"]["omega_low"], data["usable_band"]["omega_high"])
+    band = usable if fit_band is None else (float(fit_band[0]), float(fit_band[1]))
+    fits = []
     if fit_slope is not None:
         data["slope_fit"] = spectrum.fit_slope(float(fit_slope[0]), float(fit_slope[1]))
+        fits.append(data["slope_fit"])
+    if fit == "power-law":
+        data["power_law_fit"] = spectrum.fit_power_law(*band)
+        fits.append(data["power_law_fit"])
     if compare is not None:
         p = _as_parameters(compare)
-        if fit:
+        p = _rebuild_parameters(p.case, spectrum.record_terms(*p._args()))
+        if fit == "alpha":
             if fit_band is None:
-                fit_band = spectrum.default_alpha_band(*p._args())
-            data["alpha_fit"] = spectrum.fit_alpha(*p._args(), float(fit_band[0]), float(fit_band[1]),
-                                                   int(theory_order))
+                band = spectrum.default_alpha_band(*p._args())
+            data["alpha_fit"] = spectrum.fit_alpha(*p._args(), float(band[0]), float(band[1]), int(theory_order))
+            fits.append(data["alpha_fit"])
             p = p.replace(alpha=data["alpha_fit"]["alpha"])
+        elif names:
+            data["model_fit"] = spectrum.fit_model(*p._args(), names, float(band[0]), float(band[1]),
+                                                   int(theory_order))
+            fits.append(data["model_fit"])
+            p = p.replace(**{name: data["model_fit"]["parameters"][name]["value"] for name in names})
         data["compare_case"] = p.case
         data["model_parameters"] = p.to_dict()
         data["theory_order"] = spectrum.model_order(*p._args(), int(theory_order))
         for point, value in zip(data["points"], spectrum.model(*p._args(), int(theory_order))):
             point["theory"] = float(value)
+    for result in fits:
+        for point, value, residual in zip(data["points"], result.pop("fit", []), result.pop("residual", [])):
+            point["fit"], point["residual"] = float(value), float(residual)
+    data["ok"] = all(result["ok"] for result in fits)
     return Analysis(data)
 
 

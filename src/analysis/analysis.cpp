@@ -412,9 +412,9 @@ PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, doub
                    bound + " " + spectrum_unit(spectrum.observable) + "); ";
   }
   fit.undetermined = undetermined +
-                     "a power law and a white floor are all a band of this shape determines: the model's alpha, "
-                     "N and a enter only through the amplitude and the corner frequencies, and a machine-driven "
-                     "record's flat band below omega_s needs the spring drive, which slidespec does not model";
+                     "a power law and a white floor say nothing of the model's alpha, N and a, which enter only "
+                     "through the amplitude and the corner frequencies: fit them with --compare-case and --fit "
+                     "alpha,a (a machine-driven record through its spring with --machine-stiffness)";
   return fit;
 }
 
@@ -452,10 +452,22 @@ std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Paramet
     };
     return expected_points(spectrum, sampled);
   };
+  std::vector<double> values;
   if (model_order(params, order) == 2 && best_theory(params).kind == TheoryKind::quasi_static)
-    return aliased(QuasiStaticTheory(params));  // beyond the series' limit (docs/model.md §7.5)
-  if (model_order(params, order) == 2) return aliased(SecondOrderTheory(params));
-  return aliased(LumpedTheory(params));
+    values = aliased(QuasiStaticTheory(params));  // beyond the series' limit (docs/model.md §7.5)
+  else if (model_order(params, order) == 2)
+    values = aliased(SecondOrderTheory(params));
+  else
+    values = aliased(LumpedTheory(params));
+  if (spectrum.observable == Observable::force) {
+    // The spring's force -k_drive xi: what a machine's load cell reads of the model.
+    if (!(params.drive == Drive::spring && params.k_drive > 0))
+      throw InputError(
+          "the model's force spectrum is the spring's, k_drive^2 C_x: the compared case needs "
+          "drive = spring and k_drive > 0 (--set drive=spring --set k_drive=K)");
+    for (double& value : values) value = spring_force_spectrum(params, value);
+  }
+  return values;
 }
 
 namespace {

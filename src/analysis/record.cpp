@@ -390,6 +390,34 @@ class RecordReader {
     return record_;
   }
 
+  /// Named columns of numbers, read as a file with that header is: the same column choices,
+  /// units and checks, each sample named by its index.
+  Record from_columns(const std::vector<std::string>& names, const std::vector<std::vector<double>>& columns) {
+    place_ = "sample";
+    if (names.size() != columns.size() || names.empty())
+      throw InputError(source_ + ": " + std::to_string(names.size()) + " names for " + std::to_string(columns.size()) +
+                       " columns");
+    names_ = names;
+    for (std::size_t c = 1; c < columns.size(); ++c)
+      if (columns[c].size() != columns[0].size())
+        throw InputError(source_ + ": column " + names[c] + " has " + std::to_string(columns[c].size()) +
+                         " samples, column " + names[0] + " " + std::to_string(columns[0].size()));
+    choose_columns(0);
+    for (std::size_t k = 0; k < columns[0].size(); ++k)
+      take_row(
+          [&](int index) {
+            const double v = columns[std::size_t(index)][k];
+            if (!std::isfinite(v)) fail(int(k), "column " + names_[std::size_t(index)] + " is not a finite number");
+            return v;
+          },
+          int(k));
+    if (record_.samples() < 2)
+      throw InputError(source_ + ": a spectrum needs a record of many samples, not " +
+                       std::to_string(record_.samples()));
+    finish();
+    return record_;
+  }
+
   /// Samples given as numbers (t empty: format.dt), checked as lines of a file are.
   Record from_samples(const std::vector<double>& time, const std::vector<double>& x) {
     place_ = "sample";
@@ -447,16 +475,19 @@ class RecordReader {
     if (fields.size() != names_.size())
       fail(line_number, std::to_string(fields.size()) + " fields, expected " + std::to_string(names_.size()) + " (" +
                             column_list(names_) + ")");
-    if (x_index_ >= 0)
-      record_.displacement.push_back(
-          bounded(number(fields, x_index_, line_number) * metres_per(record_.unit), "m", line_number));
-    if (force_index_ >= 0) {
-      const double normal = normal_index_ >= 0 ? number(fields, normal_index_, line_number) : 1;
-      record_.force.push_back(
-          bounded(number(fields, force_index_, line_number) * normal * newtons_per_, "N", line_number));
-    }
-    if (time_index_ >= 0) take_time(number(fields, time_index_, line_number) * seconds_per_time_, line_number);
+    take_row([&](int index) { return number(fields, index, line_number); }, line_number);
     last_line_ = line_number;
+  }
+
+  /// One sample from the chosen columns, `value(index)` giving a column's number.
+  template <class Value>
+  void take_row(const Value& value, int where) {
+    if (x_index_ >= 0) record_.displacement.push_back(bounded(value(x_index_) * metres_per(record_.unit), "m", where));
+    if (force_index_ >= 0) {
+      const double normal = normal_index_ >= 0 ? value(normal_index_) : 1;
+      record_.force.push_back(bounded(value(force_index_) * normal * newtons_per_, "N", where));
+    }
+    if (time_index_ >= 0) take_time(value(time_index_) * seconds_per_time_, where);
   }
 
   /// `value` in SI `unit`, refused beyond kLargestRecordValue.
@@ -727,6 +758,12 @@ Record record_from_samples(const std::vector<double>& time, const std::vector<do
   check_format(format);
   if (time.empty() && !(format.dt > 0)) throw InputError(source + ": give the sample times or a positive dt");
   return RecordReader(source, format).from_samples(time, x);
+}
+
+Record record_from_columns(const std::vector<std::string>& names, const std::vector<std::vector<double>>& columns,
+                           const RecordFormat& format, const std::string& source) {
+  check_format(format);
+  return RecordReader(source, format).from_columns(names, columns);
 }
 
 Record read_record_file(const std::string& path, const RecordFormat& format) {

@@ -1,6 +1,11 @@
 #include "analysis/report.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
 #include "io/tables.hpp"
+#include "slidespec/theory.hpp"
 
 namespace slidespec::detail {
 
@@ -60,6 +65,122 @@ nlohmann::ordered_json spectrum_json(const RecordSpectrum& s, const std::vector<
     doc["points"].push_back(point);
   }
   return doc;
+}
+
+}  // namespace slidespec::detail
+
+namespace slidespec::detail {
+
+namespace {
+std::string short_number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
+}
+
+void add_reason(Verdict& verdict, const std::string& reason) {
+  verdict.reason += (verdict.ok ? "" : "; ") + reason;
+  verdict.ok = false;
+}
+
+nlohmann::ordered_json with_verdict(nlohmann::ordered_json doc, const Verdict& verdict) {
+  doc["ok"] = verdict.ok;
+  doc["failure"] = verdict.reason;
+  return doc;
+}
+}  // namespace
+
+Verdict judge_chi2(double chi2_per_dof, int dof) {
+  const double allowed = std::max(3.0, 1 + 5 * std::sqrt(2.0 / std::max(dof, 1)));
+  if (chi2_per_dof <= allowed) return {};
+  return {false, "chi2/dof " + short_number(chi2_per_dof) + " > " + short_number(allowed) +
+                     ": the fitted curve does not describe the data in the band"};
+}
+
+Verdict judge_alpha(const AlphaFit& fit, const Parameters& fitted) {
+  Verdict verdict = judge_chi2(fit.chi2_per_dof, fit.points - 1);
+  const TheoryChoice holds = best_theory(fitted);
+  if (holds.kind == TheoryKind::none) add_reason(verdict, "no theory holds at the fitted alpha: " + holds.reason);
+  return verdict;
+}
+
+Verdict judge_model(const ModelFit& fit) {
+  Verdict verdict = judge_chi2(fit.chi2_per_dof, fit.dof);
+  if (!fit.converged) add_reason(verdict, "the iteration did not settle: no minimum of chi2 was found");
+  for (const std::string& name : fit.at_search_edge)
+    add_reason(verdict, name +
+                            " ran to the edge of its search range (a factor 1e4 from the compared case's): the "
+                            "band does not bound it; fix it with --set and fit fewer parameters");
+  const TheoryChoice holds = best_theory(fit.fitted);
+  if (holds.kind == TheoryKind::none) add_reason(verdict, "no theory holds at the fitted parameters: " + holds.reason);
+  return verdict;
+}
+
+nlohmann::ordered_json slope_fit_json(const SlopeFit& f, const Verdict& verdict) {
+  return with_verdict({{"omega_low", f.omega_low},
+                       {"omega_high", f.omega_high},
+                       {"points", f.points},
+                       {"slope", f.slope},
+                       {"standard_error", f.slope_error},
+                       {"chi2_per_dof", f.chi2_per_dof},
+                       {"amplitude", f.amplitude},
+                       {"force_slope", f.force_slope()},
+                       {"reaches_floor", f.reaches_floor}},
+                      verdict);
+}
+
+nlohmann::ordered_json power_law_json(const PowerLawFit& p, const Verdict& verdict) {
+  nlohmann::ordered_json correlation = nlohmann::ordered_json::array();
+  for (const auto& row : p.correlation) correlation.push_back({row[0], row[1], row[2]});
+  return with_verdict({{"omega_low", p.omega_low},
+                       {"omega_high", p.omega_high},
+                       {"pivot", p.pivot},
+                       {"points", p.points},
+                       {"dof", p.dof},
+                       {"amplitude", p.amplitude},
+                       {"amplitude_error", p.amplitude_error},
+                       {"slope", p.slope},
+                       {"slope_error", p.slope_error},
+                       {"floor", p.floor},
+                       {"floor_error", p.floor_error},
+                       {"floor_given", p.floor_given},
+                       {"correlation", correlation},
+                       {"chi2_per_dof", p.chi2_per_dof},
+                       {"undetermined", p.undetermined}},
+                      verdict);
+}
+
+nlohmann::ordered_json alpha_fit_json(const AlphaFit& f, const Verdict& verdict) {
+  return with_verdict({{"omega_low", f.omega_low},
+                       {"omega_high", f.omega_high},
+                       {"points", f.points},
+                       {"alpha", f.alpha},
+                       {"standard_error", f.alpha_error},
+                       {"chi2_per_dof", f.chi2_per_dof},
+                       {"theory_order", f.theory_order}},
+                      verdict);
+}
+
+nlohmann::ordered_json model_fit_json(const ModelFit& m, const Verdict& verdict) {
+  nlohmann::ordered_json values = nlohmann::ordered_json::object();
+  for (std::size_t i = 0; i < m.names.size(); ++i)
+    values[m.names[i]] = {{"value", m.values[i]}, {"standard_error", m.errors[i]}};
+  return with_verdict({{"omega_low", m.omega_low},
+                       {"omega_high", m.omega_high},
+                       {"points", m.points},
+                       {"dof", m.dof},
+                       {"parameters", values},
+                       {"names", m.names},
+                       {"covariance", m.covariance},
+                       {"floor", m.floor},
+                       {"floor_error", m.floor_error},
+                       {"floor_given", m.floor_given},
+                       {"alpha2_over_N", {{"value", m.amplitude}, {"standard_error", m.amplitude_error}}},
+                       {"chi2_per_dof", m.chi2_per_dof},
+                       {"converged", m.converged},
+                       {"theory_order", m.theory_order},
+                       {"undetermined", m.undetermined}},
+                      verdict);
 }
 
 }  // namespace slidespec::detail

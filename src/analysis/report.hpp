@@ -18,4 +18,21 @@ std::string top_set_by(const RecordSpectrum& spectrum);
 /// variance, usable band, estimator, and every point (with `theory` per point when given).
 nlohmann::ordered_json spectrum_json(const RecordSpectrum& spectrum, const std::vector<double>& theory = {});
 
+/// Whether a fit describes the data (docs/analysis.md, "Judging a fit"): chi2/dof within a few
+/// of its standard deviations sqrt(2/dof) of 1, at least 3 allowed for correlated neighbours;
+/// an alpha or model fit also where a theory holds, and a model fit only once it settled.
+struct Verdict {
+  bool ok = true;
+  std::string reason;  ///< why not, in words ("" when ok)
+};
+Verdict judge_chi2(double chi2_per_dof, int dof);
+Verdict judge_alpha(const AlphaFit& fit, const Parameters& fitted);
+Verdict judge_model(const ModelFit& fit);
+
+/// Each fit's JSON object, with its verdict's ok and failure.
+nlohmann::ordered_json slope_fit_json(const SlopeFit& fit, const Verdict& verdict);
+nlohmann::ordered_json power_law_json(const PowerLawFit& fit, const Verdict& verdict);
+nlohmann::ordered_json alpha_fit_json(const AlphaFit& fit, const Verdict& verdict);
+nlohmann::ordered_json model_fit_json(const ModelFit& fit, const Verdict& verdict);
+
 }  // namespace slidespec::detail

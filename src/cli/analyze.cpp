@@ -59,21 +59,7 @@ struct AnalysisCommands::Options {
 namespace {
 
 using Options = AnalysisCommands::Options;
-
-// Below this share of the white floor at the top of the band, the floor line misleads.
-constexpr double kWhiteFloorShortfall = 0.5;
-// Faster than any friction experiment the model describes: the unit is the likely cause.
-constexpr double kImplausibleSpeed = 1.0;  // [m/s]
-// Exit status of a command whose outputs are written but do not hold what they claim.
-constexpr int kFitFailedStatus = 3;
-
-/// Whether a fit describes the data: chi2/dof within a few standard deviations of 1
-/// (chi2/dof has sd sqrt(2/dof)), at least 3 allowed for correlated neighbours; and an
-/// alpha that keeps the model inside its first-order theory (docs/model.md §4.1).
-struct Verdict {
-  bool ok = true;
-  std::string reason;
-};
+using detail::Verdict;
 
 std::string short_number(double x) {
   char text[32];
@@ -81,22 +67,12 @@ std::string short_number(double x) {
   return text;
 }
 
-Verdict judge_chi2(double chi2_per_dof, int dof) {
-  const double allowed = std::max(3.0, 1 + 5 * std::sqrt(2.0 / std::max(dof, 1)));
-  if (chi2_per_dof <= allowed) return {};
-  return {false, "chi2/dof " + short_number(chi2_per_dof) + " > " + short_number(allowed) +
-                     ": the fitted curve does not describe the data in the band"};
-}
-
-Verdict judge_alpha(const AlphaFit& fit, const Parameters& fitted) {
-  Verdict verdict = judge_chi2(fit.chi2_per_dof, fit.points - 1);
-  const TheoryChoice holds = best_theory(fitted);
-  if (holds.kind == TheoryKind::none) {
-    verdict.reason += (verdict.ok ? "" : "; ") + ("no theory holds at the fitted alpha: " + holds.reason);
-    verdict.ok = false;
-  }
-  return verdict;
-}
+// Below this share of the white floor at the top of the band, the floor line misleads.
+constexpr double kWhiteFloorShortfall = 0.5;
+// Faster than any friction experiment the model describes: the unit is the likely cause.
+constexpr double kImplausibleSpeed = 1.0;  // [m/s]
+// Exit status of a command whose outputs are written but do not hold what they claim.
+constexpr int kFitFailedStatus = 3;
 
 Parameters build_parameters(const std::string& case_name, const std::vector<std::string>& overrides) {
   ParameterBuilder builder(case_name);
@@ -157,10 +133,11 @@ struct Findings {
   std::optional<Parameters> model;  // the compared case, at the fitted alpha if fitted
   std::optional<AlphaFit> alpha;
   std::optional<PowerLawFit> power;
-  Verdict slope_verdict, alpha_verdict, power_verdict;
+  std::optional<ModelFit> joint;  // model parameters fitted jointly (--fit alpha,a)
+  Verdict slope_verdict, alpha_verdict, power_verdict, joint_verdict;
   std::vector<double> model_values;  // model seen through the estimator, per point
   int model_order = 1;               // the theory order of model_values
-  bool ok() const { return slope_verdict.ok && alpha_verdict.ok && power_verdict.ok; }
+  bool ok() const { return slope_verdict.ok && alpha_verdict.ok && power_verdict.ok && joint_verdict.ok; }
 };
 
 std::string analysis_table(const Options& o, const RecordSpectrum& s, const Findings& f) {
@@ -227,6 +204,25 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
         << "# power_law_fit_ok = " << (f.power_verdict.ok ? "true" : "false  # " + f.power_verdict.reason) << "\n"
         << "# undetermined = " << p.undetermined << "\n";
   }
+  if (f.joint) {
+    const ModelFit& m = *f.joint;
+    out << "# model_fit = " << C << " = " << o.compare_case << "'s theory ("
+        << (m.theory_order == 2 ? "second" : "first") << " order) + floor over " << number(m.omega_low) << " .. "
+        << number(m.omega_high) << " rad/s, " << m.points << " points, dof " << m.dof << ", chi2/dof "
+        << number(m.chi2_per_dof) << (m.converged ? "" : ", NOT converged") << "\n";
+    for (std::size_t i = 0; i < m.names.size(); ++i)
+      out << "# model_fit_" << m.names[i] << " = " << number(m.values[i]) << "  # +- " << number(m.errors[i])
+          << (m.names[i] == "floor" ? " " + unit + ", fitted" : "") << "\n";
+    if (m.floor_given) out << "# model_fit_floor = " << number(m.floor) << "  # " << unit << ", given\n";
+    out << "# model_fit_alpha2_over_N = " << number(m.amplitude) << "  # +- " << number(m.amplitude_error)
+        << ", the level the band sets\n# model_fit_correlation =";
+    for (std::size_t i = 0; i < m.names.size(); ++i)
+      for (std::size_t k = i + 1; k < m.names.size(); ++k)
+        out << " " << m.names[i] << "-" << m.names[k] << " "
+            << short_number(m.covariance[i][k] / std::sqrt(m.covariance[i][i] * m.covariance[k][k]));
+    out << "\n# model_fit_ok = " << (f.joint_verdict.ok ? "true" : "false  # " + f.joint_verdict.reason) << "\n"
+        << "# undetermined = " << m.undetermined << "\n";
+  }
   const std::string rate = force ? "C_Fdot = omega^2 C_F [N^2/s]" : "C_v = omega^2 C_x [m^2/s]";
   out << "# columns: omega [rad/s]; " << C << " " << unit << " estimate, mean over the bin's frequencies; stderr "
       << unit << " from the scatter between segments (streaming) or chi-square statistics (welch); floor " << unit
@@ -238,12 +234,14 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
   if (f.slope) out << "; fit " << unit << " the fitted power law inside its band";
   if (f.power)
     out << "; fit " << unit << " the fitted power law plus floor inside its band; residual (" << C << " - fit) / sigma";
+  if (f.joint)
+    out << "; fit " << unit << " the fitted model plus floor inside its band; residual (" << C << " - fit) / sigma";
   if (f.model)
-    out << "; theory [m^2 s] the model's " << (f.model_order == 2 ? "second" : "first")
+    out << "; theory " << unit << " the model's " << (f.model_order == 2 ? "second" : "first")
         << "-order theory seen through the estimator (no floor)";
   out << "\n# omega\t" << C << "\tstderr\tfloor\tbelow_floor\tn_avg\tbandwidth\t" << (force ? "C_Fdot" : "C_v")
-      << "\tdof\tsegment\tleaky\tC_low\tC_high" << (f.slope ? "\tfit" : "") << (f.power ? "\tfit\tresidual" : "")
-      << (f.model ? "\ttheory" : "") << "\n";
+      << "\tdof\tsegment\tleaky\tC_low\tC_high" << (f.slope ? "\tfit" : "")
+      << (f.power || f.joint ? "\tfit\tresidual" : "") << (f.model ? "\ttheory" : "") << "\n";
   for (std::size_t k = 0; k < s.points.size(); ++k) {
     const AnalysisPoint& p = s.points[k];
     out << number(p.omega) << "\t" << number(p.C_x) << "\t" << number(p.standard_error) << "\t" << number(p.noise_floor)
@@ -255,6 +253,7 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
       out << "\t" << (inside ? number(f.slope->amplitude * std::pow(p.omega, f.slope->slope)) : "nan");
     }
     if (f.power) out << "\t" << number(f.power->model[k]) << "\t" << number(f.power->residuals[k]);
+    if (f.joint) out << "\t" << number(f.joint->model[k]) << "\t" << number(f.joint->residuals[k]);
     if (f.model) out << "\t" << number(f.model_values[k]);
     out << "\n";
   }
@@ -284,55 +283,15 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
   doc["notes"] = o.notes;
   doc["record"]["start_time"] = o.analyzed_window.first;
   doc["record"]["end_time"] = o.analyzed_window.second;
-  if (f.slope)
-    doc["slope_fit"] = {{"omega_low", f.slope->omega_low},
-                        {"omega_high", f.slope->omega_high},
-                        {"points", f.slope->points},
-                        {"slope", f.slope->slope},
-                        {"standard_error", f.slope->slope_error},
-                        {"chi2_per_dof", f.slope->chi2_per_dof},
-                        {"force_slope", f.slope->force_slope()},
-                        {"reaches_floor", f.slope->reaches_floor},
-                        {"ok", f.slope_verdict.ok},
-                        {"failure", f.slope_verdict.reason}};
-  if (f.power) {
-    const PowerLawFit& p = *f.power;
-    doc["power_law_fit"] = {{"omega_low", p.omega_low},
-                            {"omega_high", p.omega_high},
-                            {"pivot", p.pivot},
-                            {"points", p.points},
-                            {"dof", p.dof},
-                            {"amplitude", p.amplitude},
-                            {"amplitude_error", p.amplitude_error},
-                            {"slope", p.slope},
-                            {"slope_error", p.slope_error},
-                            {"floor", p.floor},
-                            {"floor_error", p.floor_error},
-                            {"floor_given", p.floor_given},
-                            {"correlation",
-                             {{p.correlation[0][0], p.correlation[0][1], p.correlation[0][2]},
-                              {p.correlation[1][0], p.correlation[1][1], p.correlation[1][2]},
-                              {p.correlation[2][0], p.correlation[2][1], p.correlation[2][2]}}},
-                            {"chi2_per_dof", p.chi2_per_dof},
-                            {"undetermined", p.undetermined},
-                            {"ok", f.power_verdict.ok},
-                            {"failure", f.power_verdict.reason}};
-  }
+  if (f.slope) doc["slope_fit"] = detail::slope_fit_json(*f.slope, f.slope_verdict);
+  if (f.power) doc["power_law_fit"] = detail::power_law_json(*f.power, f.power_verdict);
+  if (f.joint) doc["model_fit"] = detail::model_fit_json(*f.joint, f.joint_verdict);
   if (f.model) {
     doc["compare_case"] = o.compare_case;
     doc["model_parameters"] = io::parameters_json(*f.model);
     doc["theory_order"] = f.model_order;
   }
-  if (f.alpha)
-    doc["alpha_fit"] = {{"omega_low", f.alpha->omega_low},
-                        {"omega_high", f.alpha->omega_high},
-                        {"points", f.alpha->points},
-                        {"alpha", f.alpha->alpha},
-                        {"standard_error", f.alpha->alpha_error},
-                        {"chi2_per_dof", f.alpha->chi2_per_dof},
-                        {"theory_order", f.alpha->theory_order},
-                        {"ok", f.alpha_verdict.ok},
-                        {"failure", f.alpha_verdict.reason}};
+  if (f.alpha) doc["alpha_fit"] = detail::alpha_fit_json(*f.alpha, f.alpha_verdict);
   doc["points"] = std::move(points);
   return doc.dump(2) + "\n";
 }
@@ -362,17 +321,13 @@ int command_analyze(Options o) {
   o.request.estimator = parse_estimator(o.estimator);
   Findings f;
   if (o.normal_mass > 0 || o.driving_mass > 0) f.mu = friction_coefficient(o.normal_mass, o.driving_mass);
-  if (!o.fit.empty() && o.fit != "alpha" && o.fit != "power-law")
-    throw InputError("--fit: 'alpha' (of --compare-case) or 'power-law' (amplitude, slope and the white floor) (got '" +
-                     o.fit + "'" + util::did_you_mean(o.fit, {"alpha", "power-law"}) + ")");
-  if (o.fit == "alpha" && o.compare_case.empty()) throw InputError("--fit alpha needs --compare-case NAME");
+  std::vector<std::string> fit_names;  // model parameters fitted jointly
+  if (!o.fit.empty() && o.fit != "alpha" && o.fit != "power-law") fit_names = parse_fit_parameters(o.fit);
+  if ((o.fit == "alpha" || !fit_names.empty()) && o.compare_case.empty())
+    throw InputError("--fit " + o.fit + " needs --compare-case NAME");
   if (o.fit == "power-law" && !o.slope_band.empty())
     throw InputError("--fit power-law and --fit-slope both fit a power law; give one (--fit-band sets the band)");
-  if (!o.compare_case.empty() && chosen_observable(o.format) == Observable::force)
-    throw InputError(
-        "--compare-case: the model's force spectrum needs the spring drive, which this build does not "
-        "model; compare the displacement or the slip (--machine-stiffness)");
-  if (!o.compare_case.empty()) f.model = build_parameters(o.compare_case, o.overrides);
+  if (!o.compare_case.empty()) build_parameters(o.compare_case, o.overrides);  // refused before any reading
 
   if (!o.window.empty()) o.format.window = parse_window(o.window);
   parse_resample(o.resample, o.format);
@@ -397,28 +352,38 @@ int command_analyze(Options o) {
   const RecordSpectrum s = analyze_record(record, o.request);
   if (!o.slope_band.empty()) {
     f.slope = fit_slope(s, o.slope_band[0], o.slope_band[1]);
-    f.slope_verdict = judge_chi2(f.slope->chi2_per_dof, f.slope->points - 2);
+    f.slope_verdict = detail::judge_chi2(f.slope->chi2_per_dof, f.slope->points - 2);
   }
   if (o.fit == "power-law") {
     f.power = o.fit_band.empty() ? fit_power_law(s, s.points.front().omega, s.points.back().omega)
                                  : fit_power_law(s, o.fit_band[0], o.fit_band[1]);
-    f.power_verdict = judge_chi2(f.power->chi2_per_dof, f.power->dof);
+    f.power_verdict = detail::judge_chi2(f.power->chi2_per_dof, f.power->dof);
   }
   const ModelOrder order = o.theory_order == 2 ? ModelOrder::best : ModelOrder::first;
+  if (!o.compare_case.empty())
+    f.model = record_model(o.compare_case, o.overrides, measured_speed(record, s), record.machine_stiffness, o.notes);
+  if (f.model && !fit_names.empty()) {
+    const auto [low, high] =
+        o.fit_band.empty() ? std::pair{s.usable_low, s.usable_high} : std::pair{o.fit_band[0], o.fit_band[1]};
+    f.joint = fit_model(s, *f.model, fit_names, low, high, order);
+    f.joint_verdict = detail::judge_model(*f.joint);
+    *f.model = f.joint->fitted;
+  }
   if (f.model) {
     if (o.fit == "alpha") {
       const auto [low, high] =
           o.fit_band.empty() ? default_alpha_band(s, *f.model) : std::pair{o.fit_band[0], o.fit_band[1]};
       f.alpha = fit_alpha(s, *f.model, low, high, order);
       f.model->alpha = f.alpha->alpha;
-      f.alpha_verdict = judge_alpha(*f.alpha, *f.model);
+      f.alpha_verdict = detail::judge_alpha(*f.alpha, *f.model);
     }
     f.model_order = model_order(*f.model, order);
     f.model_values = model_spectrum(s, *f.model, order);
   }
 
   if (!f.ok()) {
-    const std::string reason = !f.power_verdict.ok   ? f.power_verdict.reason
+    const std::string reason = !f.joint_verdict.ok   ? f.joint_verdict.reason
+                               : !f.power_verdict.ok ? f.power_verdict.reason
                                : !f.alpha_verdict.ok ? f.alpha_verdict.reason
                                                      : f.slope_verdict.reason;
     o.title =
@@ -453,7 +418,7 @@ int command_analyze(Options o) {
     std::cerr << "slidespec: warning: " << s.leaky_points << " points may be biased high by the window's leakage "
               << "(the spectrum is steeper than a prewhitened Hann window allows there; column leaky)\n";
   for (const auto& [name, verdict] : {std::pair{"slope", &f.slope_verdict}, std::pair{"alpha", &f.alpha_verdict},
-                                      std::pair{"power-law", &f.power_verdict}})
+                                      std::pair{"power-law", &f.power_verdict}, std::pair{"model", &f.joint_verdict}})
     if (!verdict->ok) std::cerr << "slidespec: " << name << " fit FAILED: " << verdict->reason << "\n";
   const int status = f.ok() ? 0 : kFitFailedStatus;
   if (o.quiet) return status;
@@ -497,6 +462,17 @@ int command_analyze(Options o) {
               << " dof)\n";
   }
   if (f.power) std::cerr << "slidespec: not determined: " << f.power->undetermined << "\n";
+  if (f.joint && f.joint_verdict.ok) {
+    const ModelFit& m = *f.joint;
+    std::cerr << "slidespec: " << o.compare_case << " fitted over " << short_number(m.omega_low) << " .. "
+              << short_number(m.omega_high) << " rad/s:";
+    for (std::size_t i = 0; i < m.names.size(); ++i)
+      std::cerr << (i ? ", " : " ") << m.names[i] << " = " << short_number(m.values[i]) << " +- "
+                << short_number(m.errors[i]);
+    std::cerr << "; alpha^2/N = " << short_number(m.amplitude) << " +- " << short_number(m.amplitude_error)
+              << "; chi2/dof " << short_number(m.chi2_per_dof) << " (" << m.dof << " dof)\n";
+  }
+  if (f.joint) std::cerr << "slidespec: not determined: " << f.joint->undetermined << "\n";
   if (f.alpha && f.alpha_verdict.ok)
     std::cerr << "slidespec: alpha = " << f.alpha->alpha << " +- " << f.alpha->alpha_error << " (" << o.compare_case
               << ", " << f.alpha->omega_low << " .. " << f.alpha->omega_high << " rad/s, chi2/dof "

@@ -44,7 +44,7 @@ status=$?
 grep -q "longer than 65536 characters" "$work/stream.err" || fail "no cap named: $(cat "$work/stream.err")"
 ls "$work" | grep -q "^endless\." && fail "a refused endless read wrote outputs"
 expect_refused bad-units furlong analyze "$work/rec.csv" --units furlong $out
-expect_refused fit-beta "'alpha' (of --compare-case) or 'power-law'" analyze "$work/rec.csv" --fit beta --compare-case reference $out
+expect_refused fit-beta "not a model parameter a fit can vary" analyze "$work/rec.csv" --fit beta --compare-case reference $out
 expect_refused fit-without-case "compare-case" analyze "$work/rec.csv" --fit alpha $out
 expect_refused unknown-case slow analyze "$work/rec.csv" --compare-case slow $out
 expect_refused empty-slope-band "fit-slope" analyze "$work/rec.csv" --units um --fit-slope 1e4 2e4 $out
@@ -146,7 +146,7 @@ grep -q "rate changes inside the record" "$work/real.err" || fail "basalt: the r
 /usr/bin/python3 -c "
 import json; f = json.load(open('$work/pl.json'))['power_law_fit']
 assert f['ok'] and f['slope_error'] > 0 and f['floor_error'] > 0 and f['amplitude_error'] > 0, f
-assert 'spring drive' in f['undetermined']" || fail "power-law fit: parameters without errors"
+assert 'compare-case' in f['undetermined']" || fail "power-law fit: parameters without errors"
 "$bin" analyze "$sepiolite" --window 21350:22319 --fit power-law --no-plot --out "$work/pl" 2> "$work/pl.err"
 status=$?
 if [ $status -eq 3 ]; then
@@ -155,6 +155,9 @@ if [ $status -eq 3 ]; then
 else
   [ $status -eq 0 ] || fail "power-law fit on the sepiolite record: status $status"
 fi
+# A model fit on the machine's terms that cannot describe the slip: exit 3, ok false, FAILED.
+"$bin" analyze "$basalt" --window 11608:11674 --contact-area 25cm2 --machine-stiffness 0.001MPa/um --compare-case reference --fit alpha,a --no-plot --out "$work/mf" 2> "$work/mf.err"
+[ $? -eq 3 ] && grep -q "model fit FAILED" "$work/mf.err" && grep -q '^# model_fit_ok = false' "$work/mf.tsv" && grep -q '"drive": "spring"' "$work/mf.json" || fail "failed model fit: not exit 3 with FAILED, ok false and the spring drive"
 expect_refused window-across-rates "sampling rate changes inside --window" analyze "$basalt" --window 11600:11700 $out
 expect_refused window-outside "record runs from" analyze "$basalt" --window 0:100 $out
 expect_refused window-syntax "T0:T1" analyze "$basalt" --window 100 $out
@@ -183,7 +186,7 @@ expect_refused stiffness-needs-area "needs --contact-area" analyze "$basalt" --m
 expect_refused stiffness-with-force "gives the slip" analyze "$basalt" --observable force --machine-stiffness 1e9 $out
 expect_refused force-units-typo "did you mean 'kN'" analyze "$basalt" --observable force --force-units kNN $out
 expect_refused observable-typo "did you mean 'slip'" analyze "$basalt" --observable slp $out
-expect_refused force-compare "spring drive" analyze "$basalt" --observable force --contact-area 25cm2 --compare-case reference $out
+expect_refused force-compare "drive = spring" analyze "$basalt" --observable force --contact-area 25cm2 --compare-case reference $out
 expect_refused force-resolution "displacement sensor" analyze "$basalt" --window 11608:11674 --observable force --contact-area 25cm2 --resolution 0.1um $out
 printf 't,Displ(km)\n0,1\n1,2\n2,3\n' > "$work/km.csv"
 expect_refused unknown-length-unit "not a length unit analyze knows (m, cm, mm" analyze "$work/km.csv" $out

@@ -1,0 +1,95 @@
+"""ss.analyze with the command line's options on numpy arrays: channels, windows, the
+power-law fit and the joint model fit on the record's terms (docs/analysis.md)."""
+
+import pathlib
+
+import numpy as np
+import pytest
+
+import slidespec as ss
+
+DT = 0.02  # [s]
+MACHINE = ss.Parameters(drive="spring", k_drive=1e3, alpha=0.5, a=1e-3)
+
+
+def sensor_noise():
+    """White sensor noise whose floor meets the model at 40 rad/s."""
+    level = ss.theory(MACHINE, 40.0)
+    return float(np.sqrt(2 * np.pi * level / DT))
+
+
+def test_joint_fit_recovers_alpha_and_a_on_the_machines_terms():
+    t, x = ss.synth(MACHINE, sample_interval=DT, duration=2000, resolution=0, sensor_noise=sensor_noise(), seed=1)
+    start = MACHINE.replace(alpha=1.0, a=3e-3)
+    a = ss.analyze(t, x, compare=start, fit="alpha,a")
+    fit = a.model_fit
+    assert a.ok and fit["ok"], fit["failure"]
+    assert fit["names"] == ["alpha", "a", "floor"]
+    for name, true in (("alpha", 0.5), ("a", 1e-3)):
+        value = fit["parameters"][name]
+        assert abs(value["value"] - true) < 3 * value["standard_error"], (name, value)
+    assert np.shape(fit["covariance"]) == (3, 3)
+    assert "N and alpha are not separated" in fit["undetermined"]
+    assert a.model_parameters["alpha"] == pytest.approx(fit["parameters"]["alpha"]["value"])
+    assert a.model_parameters["v"] == pytest.approx(a.mean_speed)  # the record's measured v
+    inside = np.isfinite(a.residual)
+    assert inside.sum() == fit["points"]
+    assert np.all(np.abs(a.residual[inside]) < 5)
+    # The list form is the same fit.
+    same = ss.analyze(t, x, compare=start, fit=["alpha", "a"])
+    assert same.model_fit["parameters"] == fit["parameters"]
+
+
+def test_a_model_that_does_not_describe_the_record_is_a_failed_fit():
+    rng = np.random.default_rng(2)
+    t = DT * np.arange(20000)
+    # A random walk with a line at 5 rad/s: no spring-driven slider makes a line.
+    walk = np.cumsum(rng.normal(0, 1e-7, t.size)) + 1e-4 * t + 3e-6 * np.sin(5 * t)
+    a = ss.analyze(None, walk, dt=DT, compare=MACHINE, fit="alpha,a")
+    assert not a.ok
+    assert not a.model_fit["ok"]
+    assert "chi2/dof" in a.model_fit["failure"]
+
+
+def test_power_law_fit_and_floor():
+    rng = np.random.default_rng(3)
+    n = 20000
+    walk = np.cumsum(rng.normal(0, 1e-7, n)) + rng.normal(0, 3e-7, n)
+    a = ss.analyze(None, walk, dt=DT, fit="power-law")
+    fit = a.power_law_fit
+    assert fit["ok"], fit["failure"]
+    assert abs(fit["slope"] + 2) < 3 * fit["slope_error"]
+    assert abs(fit["floor"] - (3e-7) ** 2 * DT / (2 * np.pi)) < 3 * fit["floor_error"]
+    assert np.isfinite(a.fit).any()
+
+
+def test_force_channels_from_arrays():
+    rng = np.random.default_rng(4)
+    n, rms = 20000, 0.05  # kN
+    t = DT * np.arange(n)
+    force = 10 + rms * rng.normal(size=n)
+    a = ss.analyze(t, None, force=force, force_units="kN")
+    assert a.observable["name"] == "force"
+    white = (rms * 1e3) ** 2 * DT / (2 * np.pi)
+    inside = (a.C_low <= white) & (white <= a.C_high)
+    assert inside.mean() >= 0.85
+    # mu times a normal stress column and an area, as the command line reads it.
+    mu = 0.6 + 0.001 * rng.normal(size=n)
+    sigma = np.full(n, 20.0)
+    b = ss.analyze(t, None, force=mu, force_units="mu", normal_stress=sigma, contact_area=25e-4)
+    assert b.mean_force == pytest.approx(0.6 * 20e6 * 25e-4, rel=1e-3)
+    with pytest.raises(ValueError, match="contact"):
+        ss.analyze(t, None, force=mu, force_units="mu", normal_stress=sigma)
+
+
+def test_machine_stiffness_drives_the_compared_case_through_a_spring():
+    data = pathlib.Path(__file__).resolve().parents[2] / "tests" / "data" / "realdata"
+    table = np.loadtxt(data / "velstep4_BRAVA_expb819_basalt.txt", skiprows=1)
+    a = ss.analyze(table[:, 0], table[:, 1], units="um", force=table[:, 2], force_units="mu",
+                   normal_stress=table[:, 3], contact_area=25e-4, machine_stiffness=5e7,
+                   window=(11608, 11674), compare="reference")
+    assert a.observable["name"] == "slip"
+    assert a.model_parameters["drive"] == "spring"
+    assert a.model_parameters["k_drive"] == pytest.approx(5e7)
+    assert a.model_parameters["v"] == pytest.approx(a.mean_speed, rel=1e-6)
+    assert np.all(np.isfinite(a.theory))

@@ -1,0 +1,290 @@
+// The compared case on a record's terms and the joint fit of its parameters
+// (docs/analysis.md, "Comparing and fitting a model").
+#include <algorithm>
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "io/tables.hpp"
+#include "slidespec/analysis.hpp"
+#include "slidespec/input_error.hpp"
+#include "slidespec/theory.hpp"
+#include "util/suggest.hpp"
+
+namespace slidespec {
+
+namespace {
+
+std::string key_of(const std::string& assignment) { return assignment.substr(0, assignment.find('=')); }
+
+bool sets(const std::vector<std::string>& overrides, const std::string& key) {
+  return std::any_of(overrides.begin(), overrides.end(), [&](const std::string& a) { return key_of(a) == key; });
+}
+
+std::string short_number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
+}
+
+double& field(Parameters& p, const std::string& name) {
+  if (name == "alpha") return p.alpha;
+  if (name == "a") return p.a;
+  return p.k_drive;
+}
+double value_of(Parameters p, const std::string& name) { return field(p, name); }
+
+// The iteration stops when chi2 changes by less than this share.
+constexpr double kSettled = 1e-9;
+constexpr int kMaxSteps = 60;
+// Central differences in log theta: well above rounding, well below any feature's width.
+constexpr double kLogStep = 1e-4;
+// A parameter whose relative error exceeds this is reported as not determined.
+constexpr double kUndeterminedRelativeError = 0.5;
+// How far a fitted parameter may go from its start, either way [factor].
+constexpr double kSearchRange = 1e4;
+// Two parameters correlated beyond this are determined only in a combination.
+constexpr double kDegenerateCorrelation = 0.98;
+
+}  // namespace
+
+std::vector<std::string> record_terms(const std::vector<std::string>& overrides, double measured_speed,
+                                      double machine_stiffness, std::vector<std::string>& notes) {
+  std::vector<std::string> terms = overrides;
+  if (measured_speed > 0 && !sets(overrides, "v") && !sets(overrides, "eta1")) {
+    terms.push_back("v=" + io::format_number(measured_speed));
+    notes.push_back("the model's v is the record's measured mean speed, " + short_number(measured_speed) +
+                    " m/s (--set v=... to change it)");
+  }
+  if (machine_stiffness > 0 && !sets(overrides, "drive") && !sets(overrides, "k_drive")) {
+    terms.push_back("drive=spring");
+    terms.push_back("k_drive=" + io::format_number(machine_stiffness));
+    notes.push_back(
+        "the model is driven as the machine drives the record: drive = spring, k_drive = the machine "
+        "stiffness " +
+        short_number(machine_stiffness) + " N/m");
+  }
+  return terms;
+}
+
+Parameters record_model(const std::string& case_name, const std::vector<std::string>& overrides, double measured_speed,
+                        double machine_stiffness, std::vector<std::string>& notes) {
+  ParameterBuilder builder(case_name);
+  for (const auto& assignment : record_terms(overrides, measured_speed, machine_stiffness, notes))
+    builder.set(assignment);
+  return builder.build();
+}
+
+double measured_speed(const Record& record, const RecordSpectrum& s) {
+  if (s.observable != Observable::force) return s.sliding.v;
+  if (record.displacement.empty()) return 0;
+  Record displacement = record;
+  displacement.observable = Observable::displacement;
+  return fit_sliding(displacement).v;
+}
+
+std::vector<std::string> parse_fit_parameters(const std::string& list) {
+  std::vector<std::string> names;
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    const std::string name = list.substr(start, comma - start);
+    const auto& known = fittable_parameters();
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      throw InputError("--fit: '" + name + "' is not a model parameter a fit can vary; known: alpha, a, k_drive" +
+                       util::did_you_mean(name, known) + " (or power-law)");
+    if (std::find(names.begin(), names.end(), name) != names.end())
+      throw InputError("--fit: '" + name + "' is named twice");
+    names.push_back(name);
+    start = comma + 1;
+  }
+  return names;
+}
+
+ModelFit fit_model(const RecordSpectrum& spectrum, const Parameters& start, const std::vector<std::string>& names,
+                   double omega_low, double omega_high, ModelOrder order) {
+  if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("--fit-band: need 0 < LO < HI in rad/s");
+  for (const std::string& name : names)
+    if (!(value_of(start, name) > 0))
+      throw InputError("--fit " + name + ": the compared case's " + name + " must be > 0 to start from");
+  ModelFit fit;
+  fit.omega_low = omega_low, fit.omega_high = omega_high;
+  fit.floor_given = spectrum.quantization_variance + spectrum.sensor_noise_variance > 0;
+  std::vector<std::size_t> inside;
+  for (std::size_t k = 0; k < spectrum.points.size(); ++k) {
+    const AnalysisPoint& p = spectrum.points[k];
+    if (p.omega >= omega_low && p.omega <= omega_high && !p.leaky && p.C_x > 0) inside.push_back(k);
+  }
+  bool floor_fitted = !fit.floor_given;
+  const auto model_count = static_cast<int>(names.size());
+  fit.points = static_cast<int>(inside.size());
+  if (fit.points < model_count + (floor_fitted ? 1 : 0) + 1)
+    throw InputError("--fit: the band " + io::format_number(omega_low) + " .. " + io::format_number(omega_high) +
+                     " rad/s holds " + std::to_string(fit.points) + " usable points, too few for " +
+                     std::to_string(model_count) + " parameters" + (floor_fitted ? " and the floor" : ""));
+  // The white floor as each point sees it: a constant through the estimator's bins.
+  const std::vector<double> white = expected_points(spectrum, [](double) { return 1.0; });
+
+  const auto parameters_at = [&](const Eigen::VectorXd& u) {
+    Parameters p = start;
+    for (int i = 0; i < model_count; ++i) field(p, names[std::size_t(i)]) = std::exp(u(i));
+    return p;
+  };
+  const auto theory_at = [&](const Eigen::VectorXd& u) { return model_spectrum(spectrum, parameters_at(u), order); };
+
+  std::vector<double> sigma(spectrum.points.size());
+  for (std::size_t k : inside) sigma[k] = spectrum.points[k].standard_error;
+  // theta = (log model parameters, floor); the floor enters linearly.
+  const auto unknowns = [&] { return model_count + (floor_fitted ? 1 : 0); };
+  const auto residuals_at = [&](const Eigen::VectorXd& theta, const std::vector<double>& theory) {
+    Eigen::VectorXd r(fit.points);
+    for (int i = 0; i < fit.points; ++i) {
+      const std::size_t k = inside[std::size_t(i)];
+      const AnalysisPoint& p = spectrum.points[k];
+      const double floor = floor_fitted ? theta(model_count) * white[k] : fit.floor_given ? p.noise_floor : 0;
+      r(i) = (p.C_x - theory[k] - floor) / sigma[k];
+    }
+    return r;
+  };
+  const auto jacobian_at = [&](const Eigen::VectorXd& theta) {
+    Eigen::MatrixXd j(fit.points, unknowns());
+    for (int m = 0; m < model_count; ++m) {
+      Eigen::VectorXd up = theta, down = theta;
+      up(m) += kLogStep, down(m) -= kLogStep;
+      const std::vector<double> high = theory_at(up), low = theory_at(down);
+      for (int i = 0; i < fit.points; ++i) {
+        const std::size_t k = inside[std::size_t(i)];
+        j(i, m) = (high[k] - low[k]) / (2 * kLogStep) / sigma[k];
+      }
+    }
+    if (floor_fitted)
+      for (int i = 0; i < fit.points; ++i)
+        j(i, model_count) = white[inside[std::size_t(i)]] / sigma[inside[std::size_t(i)]];
+    return j;
+  };
+
+  Eigen::VectorXd theta(unknowns());
+  for (int i = 0; i < model_count; ++i) theta(i) = std::log(value_of(start, names[std::size_t(i)]));
+  if (floor_fitted) theta(model_count) = 0;
+  // The search stays within kSearchRange of the start, both ways: a parameter the band does not
+  // bound would otherwise run away along a valley of chi2.
+  const Eigen::VectorXd start_theta = theta;
+  const auto lowest = [&](int i) { return start_theta(i) - std::log(kSearchRange); };
+  const auto highest = [&](int i) { return start_theta(i) + std::log(kSearchRange); };
+  std::vector<double> theory = theory_at(theta);
+  double chi2 = 0;
+  for (int reweighting = 0; reweighting < 4; ++reweighting) {
+    double lambda = 1e-3;
+    chi2 = residuals_at(theta, theory).squaredNorm();
+    fit.converged = false;
+    for (int step = 0; step < kMaxSteps && !fit.converged; ++step) {
+      const Eigen::MatrixXd j = jacobian_at(theta);
+      const Eigen::VectorXd r = residuals_at(theta, theory);
+      const Eigen::MatrixXd jtj = j.transpose() * j;
+      const Eigen::VectorXd gradient = j.transpose() * r;
+      for (int tries = 0; tries < 12; ++tries) {
+        Eigen::MatrixXd damped = jtj;
+        damped.diagonal() += lambda * jtj.diagonal();
+        Eigen::VectorXd trial = theta + damped.ldlt().solve(gradient);
+        if (floor_fitted && trial(model_count) < 0) trial(model_count) = 0;  // a floor below zero is none
+        for (int i = 0; i < model_count; ++i) trial(i) = std::clamp(trial(i), lowest(i), highest(i));
+        std::vector<double> trial_theory;
+        double trial_chi2 = std::numeric_limits<double>::infinity();
+        try {
+          trial_theory = theory_at(trial);
+          trial_chi2 = residuals_at(trial, trial_theory).squaredNorm();
+        } catch (const InputError&) {  // outside the parameters' ranges or the theory's
+        }
+        if (std::isfinite(trial_chi2) && trial_chi2 <= chi2) {
+          fit.converged = chi2 - trial_chi2 <= kSettled * chi2;
+          theta = trial, theory = std::move(trial_theory), chi2 = trial_chi2;
+          lambda = std::max(lambda / 10, 1e-12);
+          break;
+        }
+        lambda *= 10;
+        if (tries == 11) fit.converged = true;  // no step lowers chi2: at the minimum
+      }
+    }
+    // Weights from the model's level: a point that happens to be low has a small error bar.
+    for (std::size_t k : inside) {
+      const AnalysisPoint& p = spectrum.points[k];
+      const double floor = floor_fitted ? theta(model_count) * white[k] : fit.floor_given ? p.noise_floor : 0;
+      sigma[k] = p.standard_error / p.C_x * (theory[k] + floor);
+    }
+  }
+  chi2 = residuals_at(theta, theory).squaredNorm();
+  if (floor_fitted && !(theta(model_count) > 0)) {
+    floor_fitted = false;  // held at zero: not a fitted value
+    theta.conservativeResize(model_count);
+  }
+  fit.dof = fit.points - unknowns();
+  fit.chi2_per_dof = fit.dof > 0 ? chi2 / fit.dof : 0;
+
+  // Covariance of (log parameters, floor) from the Jacobian, then of the parameters themselves.
+  const Eigen::MatrixXd j = jacobian_at(theta);
+  Eigen::MatrixXd covariance = (j.transpose() * j).inverse() * std::max(1.0, fit.chi2_per_dof);
+  Eigen::VectorXd scale = Eigen::VectorXd::Ones(unknowns());
+  for (int i = 0; i < model_count; ++i) scale(i) = std::exp(theta(i));
+  covariance = scale.asDiagonal() * covariance * scale.asDiagonal();
+  for (int i = 0; i < model_count; ++i)
+    if (theta(i) <= lowest(i) + 1e-9 || theta(i) >= highest(i) - 1e-9)
+      fit.at_search_edge.push_back(names[std::size_t(i)]);
+  fit.fitted = parameters_at(theta);
+  fit.names = names;
+  if (floor_fitted) fit.names.push_back("floor");
+  for (int i = 0; i < unknowns(); ++i) {
+    fit.values.push_back(i < model_count ? std::exp(theta(i)) : theta(i));
+    fit.errors.push_back(std::sqrt(covariance(i, i)));
+    fit.covariance.emplace_back();
+    for (int k = 0; k < unknowns(); ++k) fit.covariance.back().push_back(covariance(i, k));
+  }
+  if (floor_fitted) fit.floor = theta(model_count), fit.floor_error = fit.errors.back();
+  if (fit.floor_given) fit.floor = spectrum.points[inside.front()].noise_floor;
+  fit.theory_order = model_order(fit.fitted, order);
+  const double n = static_cast<double>(fit.fitted.N);
+  fit.amplitude = fit.fitted.alpha * fit.fitted.alpha / n;
+  const auto alpha_at = std::find(names.begin(), names.end(), "alpha");
+  if (alpha_at != names.end())
+    fit.amplitude_error = 2 * fit.fitted.alpha / n * fit.errors[std::size_t(alpha_at - names.begin())];
+
+  fit.theory = theory;
+  fit.model.assign(spectrum.points.size(), std::numeric_limits<double>::quiet_NaN());
+  fit.residuals = fit.model;
+  for (std::size_t k : inside) {
+    const AnalysisPoint& p = spectrum.points[k];
+    fit.model[k] = theory[k] + (floor_fitted ? fit.floor * white[k] : fit.floor_given ? p.noise_floor : 0);
+    fit.residuals[k] = (p.C_x - fit.model[k]) / sigma[k];
+  }
+
+  // What the band leaves open, in words.
+  std::string said;
+  const auto say = [&](const std::string& sentence) { said += (said.empty() ? "" : "; ") + sentence; };
+  for (int i = 0; i < model_count; ++i)
+    if (!(fit.errors[std::size_t(i)] < kUndeterminedRelativeError * fit.values[std::size_t(i)]))
+      say(names[std::size_t(i)] + " is not determined by the band (relative error " +
+          short_number(fit.errors[std::size_t(i)] / fit.values[std::size_t(i)]) + ")");
+  for (int i = 0; i < model_count; ++i)
+    for (int k = i + 1; k < model_count; ++k) {
+      const double c = covariance(i, k) / std::sqrt(covariance(i, i) * covariance(k, k));
+      if (std::fabs(c) > kDegenerateCorrelation)
+        say("only a combination of " + names[std::size_t(i)] + " and " + names[std::size_t(k)] +
+            " is determined (correlation " + short_number(c) + ")");
+    }
+  if (!fit.floor_given && !(fit.floor > 2 * fit.floor_error))
+    say("the white floor is not determined (at most " + short_number(fit.floor + 2 * fit.floor_error) + " " +
+        spectrum_unit(spectrum.observable) + ")");
+  say("N and alpha are not separated: the spectrum's level is alpha^2/N = " + short_number(fit.amplitude) +
+      (fit.amplitude_error > 0 ? " +- " + short_number(fit.amplitude_error) : std::string()) +
+      ", and alpha is alpha at N = " + std::to_string(fit.fitted.N));
+  std::string held;
+  for (const char* key : {"alpha", "a", "k_drive", "M", "k0", "m", "eta0", "F_drive", "F_kin", "v"})
+    if (std::find(names.begin(), names.end(), key) == names.end() &&
+        (std::string(key) != "k_drive" || fit.fitted.drive == Drive::spring))
+      held += std::string(held.empty() ? "" : ", ") + key;
+  say("held at the case's values, not measured by this fit: " + held);
+  fit.undetermined = said;
+  return fit;
+}
+
+}  // namespace slidespec
