@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <numbers>
@@ -43,12 +44,22 @@ std::mutex& planner_lock() {
 struct FftwFree {
   void operator()(void* p) const { fftw_free(p); }
 };
-struct PlanFree {
-  void operator()(fftw_plan_s* p) const {
-    const std::lock_guard guard(planner_lock());
-    fftw_destroy_plan(p);
+
+/// The real-to-complex plan of one length, made once and kept for the process's life (a plan
+/// is a few twiddle tables; a record's lengths are few): FFTW_ESTIMATE, so the same plan and
+/// bitwise the same numbers on every run. It runs on any arrays from fftw_alloc_* (FFTW's
+/// alignment) with fftw_execute_dft_r2c, from any thread.
+fftw_plan r2c_plan(std::size_t length) {
+  static std::map<std::size_t, fftw_plan> plans;  // never destroyed: in use until the process ends
+  const std::lock_guard guard(planner_lock());
+  fftw_plan& plan = plans[length];
+  if (!plan) {
+    const std::unique_ptr<double, FftwFree> in(fftw_alloc_real(length));
+    const std::unique_ptr<fftw_complex, FftwFree> out(fftw_alloc_complex(length / 2 + 1));
+    plan = fftw_plan_dft_r2c_1d(static_cast<int>(length), in.get(), out.get(), FFTW_ESTIMATE);
   }
-};
+  return plan;
+}
 
 /// The largest length <= n whose prime factors are 2, 3, 5 and 7 (FFTW's fast kernels), even.
 std::size_t fft_friendly(std::size_t n) {
@@ -89,6 +100,24 @@ constexpr double kBarSigmas = 2;
 double chi_square_quantile(double dof, double z) {
   const double a = 2 / (9 * dof);
   return dof * std::pow(std::max(0.0, 1 - a + z * std::sqrt(a)), 3);
+}
+
+/// sum over bins j >= 1 beyond the main lobe (|j - centre| > kMainLobeBins) of
+/// periodogram[j] kernel[|j - centre|]: two branch-free runs with four partial sums each.
+double side_lobe_sum(const std::vector<double>& periodogram, const std::vector<double>& kernel, std::size_t centre) {
+  double sum[4] = {0, 0, 0, 0};
+  // Below the centre: j = centre - d for d from centre - 1 down to kMainLobeBins + 1.
+  const std::size_t below = centre > kMainLobeBins + 1 ? centre - kMainLobeBins - 1 : 0;  // bins 1 .. below
+  std::size_t j = 1;
+  for (; j + 3 <= below; j += 4)
+    for (std::size_t i = 0; i < 4; ++i) sum[i] += periodogram[j + i] * kernel[centre - j - i];
+  for (; j <= below; ++j) sum[0] += periodogram[j] * kernel[centre - j];
+  // Above it: j = centre + d for d from kMainLobeBins + 1.
+  const std::size_t bins = periodogram.size();
+  for (j = centre + kMainLobeBins + 1; j + 3 < bins; j += 4)
+    for (std::size_t i = 0; i < 4; ++i) sum[i] += periodogram[j + i] * kernel[j + i - centre];
+  for (; j < bins; ++j) sum[0] += periodogram[j] * kernel[j - centre];
+  return (sum[0] + sum[1]) + (sum[2] + sum[3]);
 }
 
 }  // namespace
@@ -150,12 +179,7 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
 
   const std::unique_ptr<double, FftwFree> in(fftw_alloc_real(length));
   const std::unique_ptr<fftw_complex, FftwFree> spectrum(fftw_alloc_complex(bins));
-  std::unique_ptr<fftw_plan_s, PlanFree> plan;
-  {
-    const std::lock_guard guard(planner_lock());
-    // FFTW_ESTIMATE: the same plan, hence bitwise the same numbers, on every run.
-    plan.reset(fftw_plan_dft_r2c_1d(static_cast<int>(length), in.get(), spectrum.get(), FFTW_ESTIMATE));
-  }
+  const fftw_plan plan = r2c_plan(length);
   std::vector<double> periodogram(bins, 0.0);
   for (std::size_t s = 0; s < segments; ++s) {
     const double* segment = x.data() + s * hop;
@@ -164,7 +188,7 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
     for (std::size_t j = 0; j < length; ++j) mean += segment[j + 1] - segment[j];
     mean /= double(length);
     for (std::size_t j = 0; j < length; ++j) in.get()[j] = window[j] * (segment[j + 1] - segment[j] - mean);
-    fftw_execute(plan.get());
+    fftw_execute_dft_r2c(plan, in.get(), spectrum.get());
     for (std::size_t k = 0; k < bins; ++k)
       periodogram[k] += spectrum.get()[k][0] * spectrum.get()[k][0] + spectrum.get()[k][1] * spectrum.get()[k][1];
   }
@@ -235,11 +259,7 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
     // What the far side lobes carry into the point's centre bin from the rest of the
     // (difference) spectrum, relative to that bin's own level.
     const std::size_t centre = k + p.bins / 2;
-    double leaked = 0;
-    for (std::size_t j = 1; j < bins; ++j) {
-      const std::size_t d = j > centre ? j - centre : centre - j;
-      if (d > kMainLobeBins) leaked += periodogram[j] * kernel[d];
-    }
+    const double leaked = side_lobe_sum(periodogram, kernel, centre);
     p.leakage = periodogram[centre] > 0 ? leaked / periodogram[centre] : 0;
     p.leaky = p.leakage > kLeakageShareOfError * std::sqrt(relative_variance);
     point_differences.push_back(sum_d / m);
