@@ -163,33 +163,24 @@ TEST(Channels, EveryOptionTakesEffectOrIsRefusedWithTheReason) {
     EXPECT_NE(refusal(lab, format).find(why), std::string::npos)
         << "expected '" << why << "': " << refusal(lab, format);
   };
-  RecordFormat area;
-  area.contact_area = 0.0025;  // with the displacement observable nothing reads it
-  refused(area, "--contact-area: applies to a force channel");
-  RecordFormat slip;
-  slip.observable = Observable::slip;
-  refused(slip, "needs --machine-stiffness");
-  RecordFormat force_and_k;
-  force_and_k.observable = Observable::force;
-  force_and_k.machine_stiffness = 1e9;
-  refused(force_and_k, "--machine-stiffness: gives the slip");
-  RecordFormat mu_alone;
-  mu_alone.observable = Observable::force;
-  refused(mu_alone, "give --contact-area");
-  RecordFormat both;
-  both.observable = Observable::force;
-  both.normal_force = 1e4;
-  both.normal_stress_column = "Normal_stress(MPa)";
-  refused(both, "give one");
-  RecordFormat normal_on_force;
-  normal_on_force.observable = Observable::force;
-  normal_on_force.force_unit = ForceUnit::N;
-  normal_on_force.normal_force = 1e4;
-  refused(normal_on_force, "not a friction coefficient");
-  RecordFormat area_on_newtons = normal_on_force;
-  area_on_newtons.normal_force = 0;
-  area_on_newtons.contact_area = 0.0025;
-  refused(area_on_newtons, "a force already");
+  // Each format: the force observable (unless said) with one option that cannot take effect.
+  const auto force = [](auto change) {
+    RecordFormat format;
+    format.observable = Observable::force;
+    change(format);
+    return format;
+  };
+  const std::pair<RecordFormat, std::string> cases[] = {
+      {force([](RecordFormat& f) { f.observable = Observable::automatic, f.contact_area = 0.0025; }),
+       "--contact-area: applies to a force channel"},  // the displacement observable reads no area
+      {force([](RecordFormat& f) { f.observable = Observable::slip; }), "needs --machine-stiffness"},
+      {force([](RecordFormat& f) { f.machine_stiffness = 1e9; }), "--machine-stiffness: gives the slip"},
+      {force([](RecordFormat&) {}), "give --contact-area"},  // mu without a normal load
+      {force([](RecordFormat& f) { f.normal_force = 1e4, f.normal_stress_column = "Normal_stress(MPa)"; }), "give one"},
+      {force([](RecordFormat& f) { f.force_unit = ForceUnit::N, f.normal_force = 1e4; }), "not a friction coefficient"},
+      {force([](RecordFormat& f) { f.force_unit = ForceUnit::N, f.contact_area = 0.0025; }), "a force already"},
+  };
+  for (const auto& [format, why] : cases) refused(format, why);
 
   EXPECT_DOUBLE_EQ(parse_stiffness("0.01MPa/um", 0.0025, "--machine-stiffness"), 0.01e6 * 0.0025 / 1e-6);
   EXPECT_DOUBLE_EQ(parse_stiffness("2kN/mm", 0, "--machine-stiffness"), 2e6);
