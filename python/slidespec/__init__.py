@@ -749,8 +749,9 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
       drive (keys the Parameters set are kept).
     fit: "alpha" (the compared case's alpha), "power-law" (A (omega/pivot)^s + floor), or
       model parameters fitted jointly with the floor, "alpha,a" or ["alpha", "a"] (any of
-      alpha, a, k_drive); over fit_band (low, high) [rad/s] (default: the usable band; for
-      "alpha" the usable band within 5 v/a .. omega_c/3).
+      alpha, a, k_drive); over fit_band (low, high) [rad/s] (default: every point for
+      "power-law", the usable band for a model fit, for "alpha" the usable band within
+      5 v/a .. omega_c/3).
     estimator: "auto" (Welch up to 1e7 samples, streaming beyond), "welch" (Hann, 50% overlap,
       8 segments of first differences: 9 x 2 pi / T to Nyquist) or "streaming" (the run's).
     window: (t0, t1) [s] in record time: only those samples (default: the longest steady
@@ -807,7 +808,8 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
         data["slope_fit"] = spectrum.fit_slope(float(fit_slope[0]), float(fit_slope[1]))
         fits.append(data["slope_fit"])
     if fit == "power-law":
-        data["power_law_fit"] = spectrum.fit_power_law(*band)
+        every = (data["points"][0]["omega"], data["points"][-1]["omega"])
+        data["power_law_fit"] = spectrum.fit_power_law(*(every if fit_band is None else band))
         fits.append(data["power_law_fit"])
     if compare is not None:
         p = _as_parameters(compare)

@@ -589,12 +589,20 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
                        "auto (default: welch up to 1e7 samples, streaming beyond) | welch (Hann, 50% overlap, "
                        "8 segments, from 9 x 2 pi / T to Nyquist) | streaming (the run's estimator)");
   analyze_->add_option("--fit-slope", o.slope_band, "fit C_x ~ omega^-n over LO HI [rad/s]")->expected(2);
-  analyze_->add_option("--compare-case", o.compare_case, "overlay this model case's exact theory");
+  analyze_->add_option("--compare-case", o.compare_case,
+                       "overlay this model case's theory on the record's terms: its v the measured one, and with "
+                       "--machine-stiffness K driven through a spring k_drive = K (--set keeps what it sets)");
   analyze_->add_option("--set", o.overrides, "override a parameter of the compared case, KEY=VALUE");
   analyze_->add_option("--fit", o.fit,
-                       "alpha: fit the compared case's alpha; power-law: C_x = A (omega/pivot)^s + floor jointly, "
-                       "with errors and correlations (the floor fitted unless --resolution/--sensor-noise give it)");
-  analyze_->add_option("--fit-band", o.fit_band, "band of the fit, LO HI [rad/s] (power-law default: the whole band)")
+                       "alpha: fit the compared case's alpha; alpha,a (any of alpha, a, k_drive): fit these model "
+                       "parameters jointly with the floor, with covariance and what the band cannot determine; "
+                       "power-law: C_x = A (omega/pivot)^s + floor jointly, with errors and correlations (the floor "
+                       "fitted unless --resolution/--sensor-noise give it)");
+  analyze_
+      ->add_option(
+          "--fit-band", o.fit_band,
+          "band of the fit, LO HI [rad/s] (default: every point for power-law, the usable band for a model fit, "
+          "for alpha the usable band within 5 v/a .. omega_c/3)")
       ->expected(2);
   analyze_
       ->add_option("--theory-order", o.theory_order,

@@ -133,5 +133,15 @@ TEST(ModelFit, RecordModelDrivesTheCaseAsTheMachineDoes) {
   EXPECT_EQ(parse_fit_parameters("alpha,a"), (std::vector<std::string>{"alpha", "a"}));
 }
 
+// A force channel is compared with the spring's force k_drive^2 C_x; a constant force has none.
+TEST(ModelFit, AForceIsComparedWithTheSpringsForce) {
+  RecordSpectrum s = record_spectrum(200, 5);
+  const std::vector<double> displacement = model_spectrum(s, machine());
+  s.observable = Observable::force;
+  const std::vector<double> force = model_spectrum(s, machine());
+  for (std::size_t k = 0; k < force.size(); ++k) EXPECT_DOUBLE_EQ(force[k], 1e6 * displacement[k]);
+  EXPECT_THROW(model_spectrum(s, ParameterBuilder("reference").build()), InputError);
+}
+
 }  // namespace
 }  // namespace slidespec
