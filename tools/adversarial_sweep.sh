@@ -506,7 +506,7 @@ done
 # A SIGKILL while the figure is drawn (a slow plotter), then the resume.
 # The plotter starts with the run and reads its work when the run is done: it signals
 # "drawing" once its standard input has ended.
-printf '#!/bin/sh\ncat > /dev/null\necho $$ > plotting\nsleep 60\n' > slow.sh
+printf '#!/bin/sh\ncat > /dev/null\necho $$ > plotting\nexec sleep 60\n' > slow.sh
 chmod +x slow.sh
 for k in 1 2 3; do
   attacks=$((attacks + 1))

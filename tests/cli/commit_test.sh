@@ -17,12 +17,13 @@ cat > dying_plotter.sh << 'EOF'
 kill -9 $$
 EOF
 # A plotter that draws slowly: once handed its work (it starts with the run and reads its
-# arguments at the run's end), it says so (its pid) and waits.
+# arguments at the run's end), it says so (its pid) and waits: as the sleep itself (exec),
+# so that killing that pid leaves nothing holding the test's output open for a minute.
 cat > slow_plotter.sh << 'EOF'
 #!/bin/sh
 cat > /dev/null
 echo $$ > plotting
-sleep 60
+exec sleep 60
 EOF
 chmod +x dying_plotter.sh slow_plotter.sh
 
