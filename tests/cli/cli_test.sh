@@ -159,6 +159,16 @@ for k in 0.4 0.5; do
   grep -q "^# stationary = false  # .* realizations slide slower than v/2.*some realizations stalled" \
     "$work/spring-stall.tsv" || fail "spring-driven partial stall (k_drive $k) not marked as stalled"
 done
+# Stiffer, it stalls less, but its realizations end before the spring has brought it to
+# its stationary lag: slower than v beyond their error, which a spring does not allow.
+for k in 1 100; do
+  "$bin" run --set N=7 --set F_drive=8 --set F_kin=6 --set k1=0 --set drive=spring --set k_drive=$k \
+    --omega-min 1 --omega-max 10 --realizations 32 --out "$work/spring-slow" --no-plot --quiet 2> /dev/null
+  status=$?
+  [ $status -eq 3 ] || fail "spring-driven run below v (k_drive $k) exited $status, expected 3"
+  grep -q "^# stationary = false  # sub-band 0 slides at .* not v = .*too short for the spring" \
+    "$work/spring-slow.tsv" || fail "spring-driven run below v (k_drive $k) not marked as not stationary"
+done
 
 # Where the forces stall the block there is no spectrum: said in the table, the JSON and
 # the exit status (3), while every named case is stationary.
