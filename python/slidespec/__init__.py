@@ -340,8 +340,9 @@ class Result(_Table):
       omega [rad/s]; C_x [m^2 s] the estimate (mean of C_x over the point's FFT bins);
       stderr [m^2 s] its standard error; theory [m^2 s] the exact first-order theory seen
       through the estimator; theory_at_omega [m^2 s]; n_avg periodogram values averaged;
-      bandwidth [rad/s]; theory2 [m^2 s] the second-order theory averaged as theory is (NaN
-      where it does not apply: see the field theory2_note); with drive="spring" the
+      bandwidth [rad/s]; theory2 [m^2 s] the theory beyond first order that theory_kind
+      names (second order or quasi-static), averaged as theory is (NaN where none applies:
+      see the field theory2_note); with drive="spring" the
       spring's force spectrum C_F_spring, C_F_spring_stderr, C_F_spring_theory [N^2 s]
       (k_drive^2 times C_x, stderr, theory); and any column the library or the file adds
       (see `columns`).

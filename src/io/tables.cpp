@@ -133,7 +133,8 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
          " stderr [m^2 s]; theory [m^2 s] continuous exact first-order theory, its mean over the same bins;"
          " n_avg periodogram values averaged; bandwidth [rad/s]; C_v = omega^2 C_x [m^2/s];"
          " C_F = M^2 omega^4 C_x [N^2 s]; theory_at_omega [m^2 s]; C_eq1 [m^2 s] the paper's Eq. (1);"
-         " theory2 [m^2 s] the second-order theory (docs/model.md §7), its mean over the same bins,"
+         " theory2 [m^2 s] the theory beyond first order that theory_kind names (second order or quasi-static,"
+         " docs/model.md §7), its mean over the same bins,"
          " nan where it does not apply\n";
   if (!result.theory2_note.empty()) out << "# theory2_note = " << result.theory2_note << "\n";
   const bool spring = p.drive == Drive::spring;

@@ -12,6 +12,7 @@
 #include <Eigen/Dense>
 
 #include "slidespec/theory.hpp"
+#include "theory/quadrature.hpp"
 
 namespace slidespec {
 
@@ -19,25 +20,8 @@ namespace {
 
 // Gauss-Legendre nodes and weights on [-1, 1], weights summing to 1 (a uniform law's).
 void uniform_nodes(int n, std::vector<double>& x, std::vector<double>& w) {
-  x.assign(n, 0);
-  w.assign(n, 0);
-  for (int i = 0; i < n; ++i) {
-    double z = std::cos(M_PI * (i + 0.75) / (n + 0.5)), dp = 1;
-    for (int iteration = 0; iteration < 100; ++iteration) {
-      double p0 = 1, p1 = z;
-      for (int k = 2; k <= n; ++k) {
-        const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = n * (z * p1 - p0) / (z * z - 1);
-      const double step = p1 / dp;
-      z -= step;
-      if (std::fabs(step) < 1e-16) break;
-    }
-    x[i] = z;
-    w[i] = 1 / ((1 - z * z) * dp * dp);
-  }
+  theory_detail::gauss_legendre_rule(n, x, w);
+  for (double& weight : w) weight /= 2;
 }
 
 // Multisets of `size` items over `types` kinds.
@@ -46,16 +30,6 @@ double multiset_count(int size, int types) {
   double c = 1;  // C(size + types - 1, types - 1)
   for (int k = 1; k < types; ++k) c = c * (size + k) / k;
   return c;
-}
-
-int touching_level_of(const Parameters& p) {
-  int found = 0;
-  for (int l = 1; l <= p.levels; ++l)
-    if (p.touches(l)) {
-      if (found != 0) throw InputError("touching: the quasi-static spectrum needs one touching level");
-      found = l;
-    }
-  return found;
 }
 
 }  // namespace
@@ -78,7 +52,7 @@ struct QuasiStaticTheory::Impl {
       throw InputError(
           "alpha F_kin >= 2 (F_drive - F_kin): the forces can stall the block, which has no spectrum (docs/model.md "
           "§8)");
-    const int level = touching_level_of(p);
+    const int level = theory_detail::single_touching_level(p, "the quasi-static spectrum");
     contacts = static_cast<int>(p.blocks(level));
     rate = p.renewal_rate(level);
     const double delta = p.F_drive - p.F_kin;

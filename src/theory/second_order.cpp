@@ -13,22 +13,13 @@
 #include <optional>
 
 #include "slidespec/theory.hpp"
+#include "theory/quadrature.hpp"
 
 namespace slidespec {
 
 namespace {
 
 using Complex = std::complex<double>;
-
-int touching_level(const Parameters& p) {
-  int found = 0;
-  for (int l = 1; l <= p.levels; ++l)
-    if (p.touches(l)) {
-      if (found != 0) throw InputError("touching: the second-order theory needs one touching level");
-      found = l;
-    }
-  return found;
-}
 
 // Periodic renewal, distances in units of a (x = r / a), one contact, its force's
 // variance 1. Each function is a mean over the random phase of the renewal marks, in
@@ -59,24 +50,10 @@ double box_squares_variance(double x) {
 struct GaussLegendre {
   std::array<double, 16> x, w;
   GaussLegendre() {
-    constexpr int n = 16;
-    for (int i = 0; i < n; ++i) {
-      double z = std::cos(M_PI * (i + 0.75) / (n + 0.5)), dp = 1;
-      for (int iteration = 0; iteration < 100; ++iteration) {
-        double p0 = 1, p1 = z;
-        for (int k = 2; k <= n; ++k) {
-          const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-          p0 = p1;
-          p1 = p2;
-        }
-        dp = n * (z * p1 - p0) / (z * z - 1);
-        const double step = p1 / dp;
-        z -= step;
-        if (std::fabs(step) < 1e-16) break;
-      }
-      x[i] = z;
-      w[i] = 2 / ((1 - z * z) * dp * dp);
-    }
+    std::vector<double> nodes, weights;
+    theory_detail::gauss_legendre_rule(16, nodes, weights);
+    std::copy(nodes.begin(), nodes.end(), x.begin());
+    std::copy(weights.begin(), weights.end(), w.begin());
   }
 };
 
@@ -275,7 +252,7 @@ struct SecondOrderTheory::Impl {
   double mean_speed = 0, level = 1;
 
   explicit Impl(const Parameters& p) : first_order(p), renewal(p.renewal), twin(p) {
-    const int touching = touching_level(p);
+    const int touching = theory_detail::single_touching_level(p, "the second-order theory");
     level = touching;
     contacts = static_cast<double>(p.blocks(touching));
     s2 = p.random_force_variance(touching);
