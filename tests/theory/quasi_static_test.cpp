@@ -9,6 +9,7 @@
 
 #include "slidespec/run.hpp"
 #include "slidespec/theory.hpp"
+#include "band_request.hpp"
 
 using namespace slidespec;
 
@@ -115,24 +116,14 @@ void expect_quasi_static_holds(const Parameters& p, const RunRequest& request, i
 
 // Short: N = 3, eps = 0.3 (0.64 of the stall), 0.02 .. 36 rad/s at 2% a point.
 TEST(QuasiStaticTheory, MatchesASimulatedSpectrumWhereTheSecondOrderDoesNot) {
-  RunRequest request;
-  request.omega_min = 0.02;
-  request.omega_max = 36;
-  request.points_per_decade = 4;
-  request.precision = 0.02;
-  request.seed = 29;
+  const RunRequest request = band_request(0.02, 36, 0.02, 29);
   expect_quasi_static_holds(poisson(3, 0.3), request, 2);
 }
 
 #ifdef SLIDESPEC_LONG_LONG_TIME
 // At 1% a point, N = 2, 4, 6, 12 at 0.52-0.89 of the stall boundary (inside the limits).
 TEST(QuasiStaticTheoryLong, MatchesSimulatedSpectra) {
-  RunRequest request;
-  request.omega_min = 0.02;
-  request.omega_max = 36;
-  request.points_per_decade = 4;
-  request.precision = 0.01;
-  request.seed = 37;
+  const RunRequest request = band_request(0.02, 36, 0.01, 37);
   expect_quasi_static_holds(poisson(2, 0.3), request, 1);
   expect_quasi_static_holds(poisson(4, 0.3), request, 2);
   expect_quasi_static_holds(poisson(6, 0.25), request, 2);

@@ -10,6 +10,7 @@
 
 #include "slidespec/run.hpp"
 #include "slidespec/theory.hpp"
+#include "band_request.hpp"
 
 using namespace slidespec;
 
@@ -127,24 +128,14 @@ std::pair<double, double> expect_second_order_holds(const Parameters& p, const R
 // Short: N = 6, eps = 0.25, 0.1 .. 10 rad/s at 2.5%: below v/a the second order lies 11%
 // above the first, 4 standard errors and more.
 TEST(SecondOrderTheory, MatchesASimulatedSpectrumWhereTheFirstOrderDoesNot) {
-  RunRequest request;
-  request.omega_min = 0.1;
-  request.omega_max = 10;
-  request.points_per_decade = 4;
-  request.precision = 0.025;
-  request.seed = 17;
+  const RunRequest request = band_request(0.1, 10, 0.025, 17);
   expect_second_order_holds(poisson(6, 0.25), request, 2);
 }
 
 // Periodic renewal, N = 6, eps = 0.1: 0.05 .. 50 rad/s at 1% a point. The first order is
 // off by up to 15% around the zeros of its force spectrum and by 2.5% below v/a.
 TEST(SecondOrderTheory, PeriodicMatchesASimulatedSpectrumWhereTheFirstOrderDoesNot) {
-  RunRequest request;
-  request.omega_min = 0.05;
-  request.omega_max = 50;
-  request.points_per_decade = 4;
-  request.precision = 0.01;
-  request.seed = 23;
+  const RunRequest request = band_request(0.05, 50, 0.01, 23);
   expect_second_order_holds(periodic(6, 0.1), request, 4);
 }
 
@@ -157,11 +148,7 @@ TEST(SecondOrderTheoryLong, MatchesSimulatedSpectra) {
   ring.chain = ChainEnds::ring;
   const Parameters tree =
       ParameterBuilder("reference").set("levels=2").set("N=3").set("N_2=2").set("a_2=1e-3").set("alpha_2=1.2").build();
-  RunRequest request;
-  request.omega_min = 0.05;
-  request.omega_max = 50;
-  request.points_per_decade = 4;
-  request.precision = 0.008;
+  const RunRequest request = band_request(0.05, 50, 0.008);
   expect_second_order_holds(poisson(6, 0.1), request, 0);
   for (const Parameters& p : {poisson(6, 0.2), ring, tree}) expect_second_order_holds(p, request, 3);
   // At eps = 0.3 the O(eps^4) terms are resolved too: the second order is only closer.
