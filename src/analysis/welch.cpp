@@ -45,14 +45,27 @@ struct FftwFree {
   void operator()(void* p) const { fftw_free(p); }
 };
 
+/// The plans made so far, destroyed with the process's statics (so that leak checkers see
+/// them freed, not dropped).
+struct PlanCache {
+  std::map<std::size_t, fftw_plan> plans;
+  PlanCache() = default;
+  PlanCache(const PlanCache&) = delete;
+  PlanCache& operator=(const PlanCache&) = delete;
+  ~PlanCache() {
+    for (const auto& [length, plan] : plans)
+      if (plan) fftw_destroy_plan(plan);
+  }
+};
+
 /// The real-to-complex plan of one length, made once and kept for the process's life (a plan
 /// is a few twiddle tables; a record's lengths are few): FFTW_ESTIMATE, so the same plan and
 /// bitwise the same numbers on every run. It runs on any arrays from fftw_alloc_* (FFTW's
 /// alignment) with fftw_execute_dft_r2c, from any thread.
 fftw_plan r2c_plan(std::size_t length) {
-  static std::map<std::size_t, fftw_plan> plans;  // never destroyed: in use until the process ends
+  static PlanCache cache;
   const std::lock_guard guard(planner_lock());
-  fftw_plan& plan = plans[length];
+  fftw_plan& plan = cache.plans[length];
   if (!plan) {
     const std::unique_ptr<double, FftwFree> in(fftw_alloc_real(length));
     const std::unique_ptr<fftw_complex, FftwFree> out(fftw_alloc_complex(length / 2 + 1));

@@ -9,18 +9,11 @@
 
 #include "slidespec/run.hpp"
 #include "slidespec/theory.hpp"
-#include "band_request.hpp"
+#include "theory_cases.hpp"
 
 using namespace slidespec;
 
 namespace {
-
-Parameters poisson(int N, double eps) {
-  // eps = alpha F_kin / ((F_drive - F_kin) sqrt(6 N)) with F_kin = F_drive - F_kin = 5.
-  Parameters p = ParameterBuilder("reference").set("N", std::to_string(N)).build();
-  p.alpha = eps * std::sqrt(6.0 * N);
-  return p;
-}
 
 double stall_eps(int N) { return std::sqrt(2.0 / (3.0 * N)); }
 
