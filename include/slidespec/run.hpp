@@ -26,6 +26,9 @@ struct RunRequest {
   /// With `realizations` > 0: this run is the part [first_realization, first_realization +
   /// realizations) of a larger run (a multiple of 8, so parts share its batches).
   std::uint64_t first_realization = 0;
+  /// A part of a larger run (--realizations-range): its finished state is what merge
+  /// joins, so finishing it (a resume included) keeps PREFIX.state. Changes no number.
+  bool part = false;
   std::uint64_t seed = 1;
   int threads = 0;  ///< 0 = all cores
   SimdPath simd = SimdPath::automatic;

@@ -34,8 +34,12 @@ double eq1_asymptote(const Parameters& p, double omega);
 /// Eq. (1) asymptote both fit in a double, rounded up to three significant digits; 0 where
 /// neither grows without bound. Above it both are exact to rounding at any omega.
 double lowest_theory_omega(const Parameters& p);
-/// Throws InputError naming the first of `omegas` below lowest_theory_omega(p), and that
-/// lowest omega.
+/// The highest omega [rad/s] at which C_x (falling as a power of omega above every corner)
+/// is still a normal double, rounded down to three significant digits; infinity where it
+/// never leaves them.
+double highest_theory_omega(const Parameters& p);
+/// Throws InputError naming the first of `omegas` below lowest_theory_omega(p) or above
+/// highest_theory_omega(p), and that bound.
 void check_theory_omegas(const Parameters& p, const std::vector<double>& omegas);
 
 /// C_x(omega) = sum over contacts j of S_f,j(omega) |G_0j(omega)|^2 [m^2 s] at each omega,

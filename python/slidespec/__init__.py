@@ -578,6 +578,8 @@ def resume(result, *, threads=0, simd="auto", progress=False):
 _LANDMARK_KEYS = ("renewal_rate", "omega_c", "diffusion_D", "eq1_prefactor", "coupling_eps")
 _PARAMETER_KEY = re.compile(r"^(%s)(_\d+)?$" % "|".join(re.escape(k.removesuffix("_l"))
                                                         for k in _core.parameter_keys()))
+# A key is one word; prose with " = " in it (the "# columns:" line) is not a KEY = VALUE line.
+_KEY = re.compile(r"^\w+\s*$")
 _SUB_BAND = re.compile(r"^sub_band (\d+): omega (\S+) \.\. (\S+), dt = (\S+) s, duration = (\S+) s, "
                        r"realizations = (\d+)")
 
@@ -610,7 +612,7 @@ def _read_table(text, path):
                 data.setdefault("sub_bands", []).append(
                     {"omega_low": float(low), "omega_high": float(high), "dt": float(dt),
                      "duration": float(duration), "realizations": int(count)})
-            elif " = " in body:
+            elif " = " in body and _KEY.match(body.split(" = ", 1)[0]):
                 key, value = body.split(" = ", 1)
                 value, _, note = value.partition("  #")
                 key, value = key.strip(), value.strip()

@@ -83,11 +83,13 @@ def test_read_gives_the_same_result(cli_run, py_run):
     exact = ss.read(f"{cli_run}.json")
     table = ss.read(f"{cli_run}.tsv")
     for column in ("omega", "C_x", "stderr", "theory", "theory2"):
+        # Both print each number in the shortest form that reads back as the same double.
         assert same_bits(getattr(exact, column), getattr(py_run, column))
-        # The table prints 10 significant digits: not every bit.
-        np.testing.assert_allclose(getattr(table, column), getattr(py_run, column), rtol=6e-10, atol=0)
+        assert same_bits(getattr(table, column), getattr(py_run, column))
     assert table.complete is True and exact.complete is True
     assert table.parameters == py_run.parameters
+    # Prose with " = " in it (the "# columns:" line) is not read as a KEY = VALUE line.
+    assert not [key for key in table.to_dict() if not key.isidentifier()]
     assert table.seed == 3 and table.case == "reference"
     assert abs(table.mean_speed / py_run.mean_speed - 1) < 1e-9
     assert [b["realizations"] for b in table.sub_bands] == [b["realizations"] for b in py_run.sub_bands]

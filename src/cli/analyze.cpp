@@ -430,9 +430,12 @@ int command_analyze(Options o) {
     std::cerr << "; v = " << s.sliding.v << " +- " << s.sliding.v_error << " m/s";
   std::cerr << "\nslidespec: spectrum " << (force ? "C_F [N^2 s]" : "C_x [m^2 s]") << " of the " << s.channel;
   if (f.mu) std::cerr << ", mu = M'/M = " << *f.mu;
-  std::cerr << "\nslidespec: usable band " << s.usable_low << " .. " << s.usable_high << " rad/s (top set by "
-            << detail::top_set_by(s) << ")\nslidespec: estimator " << to_string(s.estimator) << " ("
-            << s.estimator_reason << ")";
+  if (s.usable_high > s.usable_low)
+    std::cerr << "\nslidespec: usable band " << s.usable_low << " .. " << s.usable_high << " rad/s (top set by "
+              << detail::top_set_by(s) << ")";
+  else
+    std::cerr << "\nslidespec: usable band: none (the sensor floor lies above the spectrum everywhere)";
+  std::cerr << "\nslidespec: estimator " << to_string(s.estimator) << " (" << s.estimator_reason << ")";
   if (s.estimator == Estimator::welch)
     std::cerr << ": " << s.welch.segments << " segments of " << s.welch.segment_samples << " samples, dof "
               << short_number(s.points.front().dof) << " at the lowest point, " << short_number(s.points.back().dof)

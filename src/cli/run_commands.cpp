@@ -232,18 +232,18 @@ RunOutcome run_and_write(const Context& context, RunSession& session, const RunO
     io::write_atomically(state_path, session.save());
     if (!finished && !options.quiet)
       std::cerr << "slidespec: saved the run to " << state_path << "; continue it with: slidespec run --resume " << out
-                << "\n";
-    if (!options.save_state.empty()) io::write_atomically(options.save_state, session.save());
+                << (options.save_state.empty() ? "" : " --save-state " + options.save_state) << "\n";
+    // merge reads only finished parts; an interrupted one lives on in PREFIX.state alone.
+    if (finished && !options.save_state.empty()) io::write_atomically(options.save_state, session.save());
   }
   RunOutcome outcome{session.result(), true};
   mark_if_not_numbers(outcome.result);
   outcome.written = write_outputs(context, session, outcome.result, options, out);
   if (writes && finished) {
-    // A resumed part of a run (--realizations-range) and a state asked for by --save-state
-    // are what merge reads.
+    // A part's state and one asked for by --save-state are what merge reads.
     std::error_code ignored;
     const bool part_of_a_run =
-        (session.request().realizations > 0 && !options.resume.empty()) ||
+        session.request().part ||
         (!options.save_state.empty() && std::filesystem::equivalent(options.save_state, state_path, ignored));
     if (outcome.written && !part_of_a_run)
       io::remove_durably(state_path);
@@ -266,6 +266,7 @@ void apply_realization_range(const std::string& range, RunRequest& request) {
     if (colon == std::string::npos) throw std::invalid_argument("no colon");
     request.first_realization = std::stoull(range.substr(0, colon), &used_first);
     request.realizations = std::stoull(range.substr(colon + 1), &used_count);
+    request.part = true;
   } catch (const std::exception&) {
     used_first = 0;
   }
@@ -312,7 +313,9 @@ class RunCommand final : public Command {
     files.outputs_of(out, "--out", {".tsv", ".json", "." + options_.figure.format});
     // A resumed run saves its progress over the state it continues: that is its purpose.
     if (resume.empty() || out != resume) files.output(out + ".state", "--out");
-    if (given("--save-state")) files.output(options_.save_state, "--save-state");
+    // Resuming a part whose --save-state was its PREFIX.state names that state twice.
+    if (given("--save-state") && (resume.empty() || options_.save_state != resume + ".state"))
+      files.output(options_.save_state, "--save-state");
     return files;
   }
 
@@ -322,6 +325,11 @@ class RunCommand final : public Command {
     options.out = out_prefix();
     options.request = request_.resolved(context_);
     if (!range_.empty()) apply_realization_range(range_, options.request);
+    // A part is only of use to merge, which reads the state --save-state writes.
+    if (!range_.empty() && options.save_state.empty() && options.resume.empty())
+      throw InputError(
+          "--realizations-range: a part of a run needs --save-state FILE, the state merge joins (for a "
+          "run of its own use --realizations)");
     // Zero would read as "no fixed duration" and run to the precision instead.
     if (given("--duration") && !(options.request.duration > 0))
       throw InputError("--duration: need a positive number of seconds (got " +
@@ -330,11 +338,20 @@ class RunCommand final : public Command {
     const Parameters p = model_.build();
     RunSession session(p, options.request, model_.label(p));  // validates before any work
     refuse_duration_raised(p, options.request);
-    // A finished run removes its state, so one left behind is an unfinished run (or one
-    // whose outputs were never written) that this run would orphan.
-    if (std::error_code ignored; std::filesystem::exists(options.out + ".state", ignored))
-      throw InputError("--out: " + options.out + ".state holds an interrupted run; continue it with --resume " +
-                       options.out + ", or remove it to start afresh");
+    // A finished run removes its state but for a part, which merge reads, so one left behind
+    // is that, or an unfinished run (or one whose outputs were never written) this run would orphan.
+    if (std::error_code ignored; std::filesystem::exists(options.out + ".state", ignored)) {
+      bool finished_part = false;
+      try {
+        const RunSession left = RunSession::load(io::read_file(options.out + ".state", "--out"));
+        finished_part = left.finished() && left.request().part;
+      } catch (const InputError&) {
+      }
+      throw InputError("--out: " + options.out + ".state holds " +
+                       (finished_part ? "a finished part of a run; join it with merge"
+                                      : "an interrupted run; continue it with --resume " + options.out) +
+                       ", or remove it to start afresh");
+    }
     if (context_.writes_outputs()) refuse_state_beyond_free_space(p, options.request, options.out);
     if (!options.quiet && context_.writes_outputs()) warn_if_no_theory_holds(p);
     catch_stop_signals();
@@ -400,6 +417,7 @@ class RunCommand final : public Command {
     if (given("--realizations") || given("--realizations-range")) {
       request.realizations = options.request.realizations;
       request.first_realization = options.request.first_realization;
+      request.part = options.request.part;
     }
     if (given("--seed")) request.seed = options.request.seed;
     const std::string differs = session.difference(model_given ? model_.build() : session.parameters(), request);

@@ -118,8 +118,11 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
       << "# simulated_time = " << format_number(result.simulated_time) << "  # [s], all realizations\n"
       << "# measured_mean_speed = " << format_number(result.mean_speed) << "  # [m/s] +- "
       << format_number(result.mean_speed_error) << "\n"
-      << "# reached_precision = " << format_number(result.reached_precision) << "  # largest stderr/C_x (target "
-      << request.precision << ")\n"
+      << "# reached_precision = " << format_number(result.reached_precision) << "  # largest stderr/C_x ("
+      << (request.realizations > 0 ? std::string("a fixed realization count: no target")
+          : request.duration > 0   ? std::string("a fixed duration: no target")
+                                   : "target " + format_number(request.precision))
+      << ")\n"
       << "# complete = " << (result.complete ? "true" : "false") << "\n"
       << "# stationary = " << (result.stationary ? "true" : "false  # " + result.stationarity) << "\n"
       << "# versions = " << versions() << "\n";

@@ -17,7 +17,8 @@ constexpr char kStateMagic[8] = {'S', 'L', 'S', 'P', 'R', 'U', 'N', 'S'};
 // 2: renewals take effect at their own time inside a step (docs/numerics.md); a state of
 // version 1 holds realizations of the time-stepped process and cannot be continued.
 // 3: a checksummed envelope (below) and the numerics version in the fingerprint.
-constexpr std::uint32_t kStateVersion = 3;
+// 4: whether the run is a part of a larger one (kept for merge when finished).
+constexpr std::uint32_t kStateVersion = 4;
 // A batch record's fixed fields: the accumulator's length, the realization and point counts.
 constexpr std::uint64_t kSmallestBatchBytes = 24;
 // The envelope: magic, version, body length, a checksum of those 20 bytes (so the length
@@ -86,6 +87,7 @@ std::vector<std::pair<std::string, std::string>> fingerprint(const Parameters& p
   fields.emplace_back("duration", number_text(r.duration));
   fields.emplace_back("realizations", std::to_string(r.realizations));
   fields.emplace_back("first_realization", std::to_string(r.first_realization));
+  fields.emplace_back("part", r.part ? "1" : "0");
   fields.emplace_back("seed", std::to_string(r.seed));
   fields.emplace_back("numerics", std::to_string(kNumericsVersion));
   fields.emplace_back("version", SLIDESPEC_VERSION);
@@ -223,10 +225,11 @@ RunSession RunSession::load_checked(const std::string& file) {
   request.duration = std::stod(field("duration"));
   request.realizations = std::stoull(field("realizations"));
   request.first_realization = std::stoull(field("first_realization"));
+  request.part = field("part") == "1";
   request.seed = std::stoull(field("seed"));
   request.threads = in.get<std::int32_t>();
   request.simd = static_cast<SimdPath>(in.get<std::int32_t>());
-  const std::vector<std::pair<std::string, std::string>> described(fields.begin(), fields.end() - 10);
+  const std::vector<std::pair<std::string, std::string>> described(fields.begin(), fields.end() - 11);
   const Parameters params = rebuild_parameters(described);
   auto impl = std::make_unique<Impl>(params, request, in.get_bytes());
   if (fingerprint(params, request) != fields) throw InputError("run state: its request does not rebuild exactly");
@@ -257,8 +260,8 @@ RunSession RunSession::merge(std::vector<RunSession> parts) {
   const auto reference = fingerprint(parts[0].parameters(), parts[0].request());
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const Impl& part = *parts[k].impl_;
-    const std::string differs =
-        first_difference(reference, fingerprint(part.params, part.request), {"realizations", "first_realization"});
+    const std::string differs = first_difference(reference, fingerprint(part.params, part.request),
+                                                 {"realizations", "first_realization", "part"});
     if (!differs.empty()) throw InputError("merge: parts of different runs (" + differs + ")");
     if (part.request.realizations == 0)
       throw InputError(
@@ -267,6 +270,10 @@ RunSession RunSession::merge(std::vector<RunSession> parts) {
     if (!parts[k].finished())
       throw InputError("merge: part " + std::to_string(part.request.first_realization) + ":" +
                        std::to_string(part.request.realizations) + " is incomplete (interrupted?)");
+    if (k == 0 && part.request.first_realization != 0)
+      throw InputError("merge: realizations 0 to " + std::to_string(part.request.first_realization) +
+                       " are missing (the first part starts at " + std::to_string(part.request.first_realization) +
+                       ")");
     if (k > 0) {
       const RunRequest& before = parts[k - 1].request();
       const std::uint64_t end = before.first_realization + before.realizations;
@@ -283,6 +290,7 @@ RunSession RunSession::merge(std::vector<RunSession> parts) {
   }
   RunRequest whole = parts[0].request();
   whole.realizations = 0;
+  whole.part = false;
   for (const RunSession& part : parts) whole.realizations += part.request().realizations;
   auto impl = std::make_unique<Impl>(parts[0].parameters(), whole, parts[0].case_name());
   for (RunSession& part : parts) {

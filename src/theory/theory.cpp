@@ -20,14 +20,43 @@ constexpr long kMostPoints = 100000;
 
 void check_theory_omegas(const Parameters& p, const std::vector<double>& omegas) {
   const double lowest = lowest_theory_omega(p);
+  char message[200];
   for (const double omega : omegas)
     if (omega < lowest) {
-      char message[200];
       std::snprintf(message, sizeof message,
                     "omega = %.3g rad/s: below %.3g rad/s, the lowest at which C_x and C_eq1 fit in a double", omega,
                     lowest);
       throw InputError(message);
     }
+  const double highest_asked = omegas.empty() ? 0 : *std::max_element(omegas.begin(), omegas.end());
+  if (LumpedTheory(p)(highest_asked) >= std::numeric_limits<double>::min()) return;
+  const double highest = highest_theory_omega(p);
+  for (const double omega : omegas)
+    if (omega > highest) {
+      std::snprintf(message, sizeof message,
+                    "omega = %.3g rad/s: above %.3g rad/s, the highest at which C_x is above the smallest double "
+                    "(%.3g m^2 s)",
+                    omega, highest, std::numeric_limits<double>::min());
+      throw InputError(message);
+    }
+}
+
+double highest_theory_omega(const Parameters& p) {
+  const LumpedTheory C_x(p);
+  const double smallest = std::numeric_limits<double>::min();
+  // Above every corner C_x falls as a power of omega (omega^-8 for the flat model), so the
+  // place it leaves the normal doubles is one crossing, found by bisection in log omega.
+  double log_low = 0, log_high = std::log(std::numeric_limits<double>::max());
+  if (C_x(std::exp(log_high)) >= smallest) return std::numeric_limits<double>::infinity();
+  if (!(C_x(1.0) >= smallest)) return 0;
+  while (log_high - log_low > 1e-9) {
+    const double log_middle = 0.5 * (log_low + log_high);
+    (C_x(std::exp(log_middle)) >= smallest ? log_low : log_high) = log_middle;
+  }
+  // Down to three significant digits, so that the value a message names is itself valid.
+  const double highest = std::exp(log_low);
+  const double unit = std::pow(10.0, std::floor(std::log10(highest)) - 2);
+  return std::floor(highest / unit) * unit;
 }
 
 std::vector<double> log_spaced_omegas(double omega_min, double omega_max, int points_per_decade) {

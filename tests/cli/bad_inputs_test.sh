@@ -67,7 +67,7 @@ run-over-params|p.json|run --params p.json --out p --no-plot
 theory-over-params|q.tsv|theory --params q.tsv --out q
 sweep-over-params|sw.png|sweep alpha=0.5 --params sw.png --out sw
 theory-over-omega-file|om.tsv|theory --omega-file om.tsv --out om
-run-over-stale-state|--resume stale|run --omega-min 1 --omega-max 10 --out stale
+run-over-stale-state|stale.state holds a finished part of a run|run --omega-min 1 --omega-max 10 --out stale
 run-points-between-bins|--points|run --omega-min 1 --omega-max 10 --points 200
 run-no-random-force|alpha|run --omega-min 1 --omega-max 10 --set alpha=0
 save-state-over-params|p.json|run --params p.json --save-state p.json --out x --no-plot
@@ -217,6 +217,7 @@ omega-max-huge|--omega-max|run --omega-max 1e300 --no-plot
 omega-span-huge|points|theory --omega-min 1e-300 --omega-max 1e300 --points 1000
 theory-omega-tiny-max|omega|theory --omega-min 1 --omega-max 1
 theory-omega-below-double|lowest at which C_x and C_eq1 fit|theory --omega 1e-300,1
+theory-omega-above-double|the highest at which C_x is above the smallest double|theory --omega 1,1e45
 theory-omega-min-below-double|lowest at which C_x and C_eq1 fit|theory --omega-min 1e-100 --omega-max 1e-90
 points-zero|points|run --points 0 --no-plot
 points-negative|--points|run --points -3 --no-plot
@@ -249,11 +250,11 @@ sweep-threads-negative|--threads|sweep alpha=1 --threads -1 --no-plot
 paper-threads-negative|--threads|paper fig2 --threads -2
 work-budget-negative|--work-budget|run --work-budget -1 --no-plot
 work-budget-small|--work-budget|run --work-budget 1000 --no-plot
-range-negative|realizations-range|run --realizations-range -8:8 --no-plot
-range-no-colon|realizations-range|run --realizations-range 8 --no-plot
-range-zero-count|realizations-range|run --realizations-range 0:0 --no-plot
-range-unaligned|multiple of 8|run --realizations-range 3:8 --no-plot
-range-huge|--realizations|run --realizations-range 0:99999999999999 --no-plot
+range-negative|realizations-range|run --realizations-range -8:8 --save-state part.state --no-plot
+range-no-colon|realizations-range|run --realizations-range 8 --save-state part.state --no-plot
+range-zero-count|realizations-range|run --realizations-range 0:0 --save-state part.state --no-plot
+range-unaligned|multiple of 8|run --realizations-range 3:8 --save-state part.state --no-plot
+range-huge|--realizations|run --realizations-range 0:99999999999999 --save-state part.state --no-plot
 checkpoint-negative|positive number of seconds (got -1)|run --checkpoint-every -1 --no-plot
 checkpoint-word|positive number of seconds (got soon)|run --checkpoint-every soon --no-plot
 simd-unknown|simd|run --simd neon --no-plot

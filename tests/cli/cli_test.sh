@@ -93,6 +93,16 @@ expect_refused resume-missing "does not exist" run --resume "$work/nothing" --ou
 "$bin" run --resume "$work/cut2" --threads 1 --quiet --no-plot || fail "resume failed"
 cmp -s "$work/whole.tsv" "$work/cut2.tsv" || fail "resumed run differs from the uninterrupted run"
 [ -e "$work/cut2.state" ] && fail "a finished run left its checkpoint behind"
+# A fixed count resumed forgets its state too: only a part (--realizations-range) keeps it.
+fixed="--case many-contacts --omega-min 1 --omega-max 1000 --realizations 512 --seed 5 --no-plot --quiet"
+start_in_background run $fixed --checkpoint-every 0.2 --out "$work/cut3"
+for _ in $(seq 600); do [ -e "$work/cut3.state" ] && break; sleep 0.05; done
+kill -INT $pid
+wait $pid
+[ $? -eq 130 ] || fail "checkpointed fixed-count run not interrupted (finished too soon?)"
+"$bin" run --resume "$work/cut3" --quiet --no-plot || fail "resume of a fixed-count run failed"
+[ -e "$work/cut3.state" ] && fail "a resumed fixed-count run left its state behind"
+"$bin" run $fixed --out "$work/cut3" || fail "a new run on a finished run's prefix was refused"
 
 # A run split into parts (a job array) merges bitwise into the whole run.
 split="--omega-min 10 --omega-max 1000 --seed 7 --no-plot --quiet"
@@ -115,7 +125,12 @@ expect_refused merge-precision-run "fixed realization range" merge "$work/prec.s
 "$bin" run --resume "$work/d" --quiet --no-plot || fail "resume of a part failed"
 "$bin" merge "$work/a.state" "$work/d.state" --out "$work/merged2" --quiet --no-plot || fail "merge after a resumed part failed"
 cmp -s "$work/all.tsv" "$work/merged2.tsv" || fail "a resumed part merges differently from the whole run"
-expect_refused range-unaligned "multiple of 8" run $split --realizations-range 4:8 --out "$work/out"
+expect_refused part-kept "a finished part of a run; join it with merge" run $split --realizations-range 16:24 \
+  --save-state "$work/d.state" --out "$work/d"
+expect_refused merge-first-missing "realizations 0 to 16 are missing" merge "$work/d.state" --out "$work/out"
+expect_refused range-without-state "needs --save-state" run $split --realizations-range 0:16 --out "$work/out"
+expect_refused range-unaligned "multiple of 8" run $split --realizations-range 4:8 --save-state "$work/e.state" \
+  --out "$work/out"
 
 # The best theory that holds, by the measured limits (docs/model.md §7.4): the second order
 # in the reference case (eps 0.075), none at poisson eps 0.347 with 4 miniblocks (a warning).
@@ -186,6 +201,13 @@ grep -q "below 2.81e-80 rad/s" "$work/tiny.err" || fail "theory refusal does not
 "$bin" theory --omega 2.81e-80,1e-14 > "$work/tiny.tsv" || fail "theory at the lowest omega failed"
 ! grep -qiE "inf|nan" "$work/tiny.tsv" || fail "theory at the lowest omega printed inf or nan"
 "$bin" theory --omega 1,10 > /dev/null || fail "theory on ordinary omegas did not exit 0"
+# Far above every corner C_x ~ omega^-8 leaves the normal doubles (near 1.5e39 rad/s for the
+# reference case): refused, naming the highest omega that works, where C_x is still > 0.
+"$bin" theory --omega 1,1e45 > /dev/null 2> "$work/huge-omega.err" && fail "theory at 1e45 rad/s exited 0"
+highest=$(sed -n 's/.*above \([0-9.e+]*\) rad\/s, the highest.*/\1/p' "$work/huge-omega.err")
+[ -n "$highest" ] || fail "theory refusal does not name the highest omega: $(cat "$work/huge-omega.err")"
+"$bin" theory --omega "$highest" | awk '!/^#/ && ($2 ~ /^0$/ || $2 ~ /e-(309|3[1-9][0-9])$/) {bad = 1} END {exit bad}' \
+  || fail "theory at the highest omega it names ($highest) printed no normal C_x"
 
 # Running out of memory is a failure while working (1), not bad input (2): a record of
 # 9e7 samples under a 400 MB address space (skipped where the binary cannot start under it,
