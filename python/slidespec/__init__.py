@@ -649,12 +649,33 @@ def _read_table(text, path):
 _MOST_TABLE_BYTES = 1 << 30
 
 
+_SWEEP_RUN = re.compile(r"^# run_\d+ = .*  # (.+)$")
+
+
+def _sweep_runs(text, path):
+    """The files of a sweep's runs, beside the sweep's own table; None for any other file."""
+    directory = os.path.dirname(os.fspath(path))
+    if text.startswith("# slidespec ") and " sweep: " in text.split("\n", 1)[0]:
+        return [os.path.join(directory, m.group(1)) for line in text.splitlines()
+                if (m := _SWEEP_RUN.match(line))]
+    if text.lstrip().startswith("{"):
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError:
+            return None
+        if isinstance(data, dict) and "runs" in data and "points" not in data:
+            return [os.path.join(directory, run["table"]) for run in data["runs"]]
+    return None
+
+
 def read(path):
     """Reads an output of the command line (`slidespec run`, `theory`, `analyze`, `merge`)
-    as a Result (an Analysis for analyze's output).
+    as a Result (an Analysis for analyze's output); a `sweep`'s combined table as a list of
+    Results, one per run, read from the runs' own files it names.
 
-    path: PREFIX.tsv (numbers to the table's 10 significant digits) or PREFIX.json (every
-    bit). The TSV's column line may be plain or start with '#'. Columns keep the file's
+    path: PREFIX.tsv or PREFIX.json (both to every bit: each number is printed in the
+    shortest form that reads back as the same double). The TSV's column line may be plain
+    or start with '#'. Columns keep the file's
     units: omega [rad/s]; C_x, stderr, theory [m^2 s]. Raises OSError when the
     file cannot be read (a directory, a device, a pipe, or over 1 GiB: a table is a few
     kB) and ValueError when it is not a slidespec table."""
@@ -672,6 +693,8 @@ def read(path):
         text = raw.decode("utf-8")
     except UnicodeDecodeError as e:
         raise ValueError(f"{path}: not UTF-8 text ({e.reason} at byte {e.start}): not a slidespec table") from None
+    if runs := _sweep_runs(text, path):
+        return [read(run) for run in runs]
     if text.lstrip().startswith("{"):
         try:
             data = json.loads(text)

@@ -386,6 +386,20 @@ def test_analyze_theory_and_omegas_check_types_as_the_command_line(call, error, 
 RECORD = [0.0, 1.0, 2.0] * 100
 
 
+def test_read_of_a_sweep_gives_each_runs_result(tmp_path):
+    out = tmp_path / "sw"
+    cli("sweep", "alpha=0.5,1", "--omega-min", "1", "--omega-max", "10", "--precision", "0.2",
+        "--out", str(out), "--no-plot", "--quiet")
+    for suffix in (".tsv", ".json"):
+        runs = ss.read(f"{out}{suffix}")
+        assert [r.parameters["alpha"] for r in runs] == [0.5, 1.0]
+        alone = ss.read(tmp_path / "sw_alpha=0.5.json")
+        assert same_bits(runs[0].C_x, alone.C_x)
+    (tmp_path / "sw_alpha=1.tsv").unlink()
+    with pytest.raises(OSError):
+        ss.read(f"{out}.tsv")
+
+
 def test_read_refuses_what_is_not_a_table_file_with_oserror(tmp_path):
     for path in ("/dev/zero", "/dev/urandom", str(tmp_path), str(tmp_path / "none.tsv")):
         with pytest.raises(OSError):
