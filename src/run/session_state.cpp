@@ -1,6 +1,6 @@
 // The saved form of a run session (checkpoints, parts of a run) and the merge of parts.
 #include <algorithm>
-#include <cstdio>
+#include <charconv>
 #include <cstring>
 
 #include <zlib.h>
@@ -70,10 +70,11 @@ std::string open_envelope(const std::string& bytes) {
   return bytes.substr(kHeaderBytes, length);
 }
 
+/// The shortest text that reads back as x, as describe() writes parameters: one text per
+/// double, so texts compare as the numbers do, and a message quotes what the user typed.
 std::string number_text(double x) {
   char text[40];
-  std::snprintf(text, sizeof text, "%.17g", x);
-  return text;
+  return std::string(text, std::to_chars(text, text + sizeof text, x).ptr);
 }
 
 /// What makes two runs the same run, as ordered (key, value) text: every parameter and
