@@ -149,7 +149,11 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
   const SlidingFit& v = s.sliding;
   const bool force = s.observable == Observable::force;
   const std::string unit = std::string("[") + spectrum_unit(s.observable) + "]", C = force ? "C_F" : "C_x";
-  out << "# label = measured: " << o.file << " (" << s.channel << ")\n"
+  // The label is the figure's legend: a long channel description (a slip's F/K with its
+  // units) stays in the observable line, the legend names the observable.
+  constexpr std::size_t kLongestLegendChannel = 40;
+  out << "# label = measured: " << o.file << " ("
+      << (s.channel.size() <= kLongestLegendChannel ? s.channel : std::string(to_string(s.observable))) << ")\n"
       << "# observable = " << to_string(s.observable) << "  # " << C << " " << unit << " of " << s.channel << "\n";
   if (!o.format.column.empty())
     out << "# units = " << to_string(o.format.unit.value_or(LengthUnit::m)) << "  # of the displacement column, from "
