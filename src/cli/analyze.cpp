@@ -50,6 +50,7 @@ struct AnalysisCommands::Options {
   std::string synth_params;  // JSON file of parameter overrides
   std::vector<std::string> synth_overrides;
   SensorRequest sensor;
+  std::string synth_resolution, synth_sensor_noise;  // lengths, bare in m or with a unit
   std::string synth_units = "um";
   std::string unit_source;    // where analyze took the record's unit from
   std::string force_channel;  // what the analyzed force is made of, in words
@@ -498,19 +499,23 @@ int command_synth(const Options& o) {
     for (const auto& assignment : read_parameter_file(o.synth_params)) builder.set(assignment);
   for (const auto& assignment : o.synth_overrides) builder.set(assignment);
   const Parameters p = builder.build();
-  const Record record = synthesize_record(p, o.sensor);
+  SensorRequest sensor = o.sensor;
+  if (!o.synth_resolution.empty()) sensor.resolution = parse_length(o.synth_resolution, LengthUnit::m, "--resolution");
+  if (!o.synth_sensor_noise.empty())
+    sensor.sensor_noise = parse_length(o.synth_sensor_noise, LengthUnit::m, "--sensor-noise");
+  const Record record = synthesize_record(p, sensor);
   std::ostringstream comments;
   comments << "slidespec " << SLIDESPEC_VERSION << " synth: a simulated slider read by a displacement sensor\n"
            << "case = " << o.synth_case << "\n"
            << "label = " << io::run_label(o.synth_case, p) << "\n";
   for (const auto& [key, value] : describe(p)) comments << key << " = " << value << "\n";
-  comments << "seed = " << o.sensor.seed << "\nsample_interval = " << o.sensor.sample_interval << " s\n"
-           << "resolution = " << o.sensor.resolution << " m\nsensor_noise = " << o.sensor.sensor_noise << " m\n"
+  comments << "seed = " << sensor.seed << "\nsample_interval = " << sensor.sample_interval << " s\n"
+           << "resolution = " << sensor.resolution << " m\nsensor_noise = " << sensor.sensor_noise << " m\n"
            << "columns: t (s), x (" << to_string(unit) << ")\n";
   io::write_atomically(o.synth_out + ".csv", record_csv(record, unit, comments.str()));
   std::cerr << "slidespec: wrote " << o.synth_out << ".csv (" << record.displacement.size()
             << " samples); analyse it with: slidespec analyze " << o.synth_out << ".csv --resolution "
-            << io::format_number(o.sensor.resolution) << "m --sensor-noise " << io::format_number(o.sensor.sensor_noise)
+            << io::format_number(sensor.resolution) << "m --sensor-noise " << io::format_number(sensor.sensor_noise)
             << "m\n";
   return 0;
 }
@@ -633,11 +638,13 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
   synth_->add_option("--sample-interval", o.sensor.sample_interval,
                      with_default("sensor sampling interval [s]", sensor_default.sample_interval));
   synth_->add_option("--duration", o.sensor.duration, with_default("record length [s]", sensor_default.duration));
-  synth_->add_option("--resolution", o.sensor.resolution,
-                     with_default("sensor resolution q [m], 0 for exact readings", sensor_default.resolution));
-  synth_->add_option(
-      "--sensor-noise", o.sensor.sensor_noise,
-      with_default("rms noise before quantization [m], which dithers the quantizer", sensor_default.sensor_noise));
+  synth_->add_option("--resolution", o.synth_resolution,
+                     with_default("sensor resolution q, bare in m or with a unit (0.5um), 0 for exact readings",
+                                  sensor_default.resolution));
+  synth_->add_option("--sensor-noise", o.synth_sensor_noise,
+                     with_default("rms noise before quantization, bare in m or with a unit (0.25um), which dithers "
+                                  "the quantizer",
+                                  sensor_default.sensor_noise));
   synth_->add_option("--seed", o.sensor.seed, with_default("random seed", static_cast<double>(sensor_default.seed)));
   synth_->add_option("--units", o.synth_units, "unit of the x column: m|mm|um (default um)");
   synth_->add_option("--out", o.synth_out, "output prefix: PREFIX.csv (default record)");

@@ -266,6 +266,8 @@ analyze-points-negative|--points|analyze rec.tsv --points -1 --no-plot --out x
 synth-duration-huge|--duration|synth --duration 1e308
 synth-interval-tiny|--sample-interval|synth --sample-interval 1e-300
 synth-interval-zero|--sample-interval|synth --sample-interval 0
+synth-resolution-unit|unknown unit 'furlong'|synth --resolution 5furlong
+synth-noise-negative|--sensor-noise|synth --sensor-noise -1um
 synth-k0-huge|k0|synth --set k0=1e308
 synth-out-directory|directory|synth --out adir
 analyze-dt-negative|--dt|analyze rec.tsv --dt -1 --no-plot --out x
