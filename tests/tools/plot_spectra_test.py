@@ -229,6 +229,31 @@ class FigureTest(unittest.TestCase):
         self.assertEqual(markers[0].get_linestyle(), "None")  # points, not a line
 
 
+    def test_omega_c_is_labelled_above_the_axes_and_below_the_title(self):
+        theory = theory_table(self.path, "reference")
+        figure = self.render(theory, extra=["--title", "a title"])
+        plot_spectra.save_atomically(figure, str(self.path / "x.png"), 150)  # laid out, drawn
+        axes = figure.axes[0]
+        (label,) = [t for t in axes.texts if t.get_text() == r"$\omega_c$"]
+        omega_c = plot_spectra.read_spectrum(str(theory)).number("omega_c")
+        self.assertAlmostEqual(label.xy[0], math.log10(omega_c))
+        renderer = figure.canvas.get_renderer()
+        top_of_axes = axes.get_window_extent(renderer).y1
+        label_box = label.get_window_extent(renderer)
+        self.assertGreater(label_box.y0, top_of_axes)  # on the top edge, outside the data
+        self.assertGreaterEqual(axes.title.get_window_extent(renderer).y0, label_box.y1)
+
+
+    def test_a_png_is_the_picture_matplotlibs_own_save_draws(self):
+        run = simulated_table(theory_table(self.path, "reference"), self.path / "run.tsv",
+                              ["case = reference"])
+        plot_spectra.save_atomically(self.render(run), str(self.path / "ours.png"), 150)
+        self.render(run).savefig(self.path / "theirs.png", dpi=150)
+        ours = matplotlib.image.imread(self.path / "ours.png")
+        theirs = matplotlib.image.imread(self.path / "theirs.png")
+        self.assertTrue(np.array_equal(ours, theirs), "the one-pass layout moved something")
+
+
 class LegendTest(unittest.TestCase):
     def test_label_metadata_wins(self):
         labels = plot_spectra.legend_labels([spectrum({"label": "rubber on concrete",
