@@ -427,10 +427,9 @@ struct SpectrumEstimator::Impl {
   bool has_last_value = false;
 
   // Scratch of one band's call, reused by the next band.
-  std::array<std::vector<double>, 2> difference_scratch;  // [kBandDifferences + kChunk][stride]
-  std::vector<double> transform_work;                     // [kSegmentLength][stride]
-  std::vector<double> power;                              // [kSegmentLength / 2 + 1][stride]
-  std::vector<double> point_average;                      // [stride]
+  std::vector<double> transform_work;  // [kSegmentLength][stride]
+  std::vector<double> power;           // [kSegmentLength / 2 + 1][stride]
+  std::vector<double> point_average;   // [stride]
 
   double* row(std::vector<double>& rows, std::ptrdiff_t r) {
     return rows.data() + static_cast<std::ptrdiff_t>(stride) * r;
@@ -493,8 +492,8 @@ void SpectrumEstimator::Impl::feed(int b, std::size_t n) {
 }
 
 // Differencing whitens the band before the window sees it; the first samples lack
-// history and are dropped rather than differenced against zeros. Each order is one pass
-// over all rows of the call, forming exactly the same differences of differences as
+// history and are dropped rather than differenced against zeros. The differences go
+// straight into the segment ring, forming exactly the same differences of differences as
 // sample-by-sample differencing would.
 void SpectrumEstimator::Impl::difference_into_segments(int b, std::size_t n) {
   constexpr int D = detail::kBandDifferences;
@@ -503,15 +502,7 @@ void SpectrumEstimator::Impl::difference_into_segments(int b, std::size_t n) {
   // for the bands below) keeps its segment count but never differences or transforms.
   const bool transformed = !layout->bands[b].points.empty();
   const auto lag = static_cast<std::ptrdiff_t>(stride);
-  const auto end = static_cast<std::ptrdiff_t>(n) * lag;
   const double* source = row(stream.extended, kHistory);
-  double* target = row(difference_scratch[0], D);  // rows -D .. n-1
-  for (int order = 1; transformed && order <= D; ++order) {
-    kernels.difference(source, target, (order - D) * lag, end, lag);
-    source = target;
-    target = row(difference_scratch[order % 2], D);
-  }
-  const double* differenced = source;
 
   const std::uint64_t received = stream.received;
   std::size_t i = received < static_cast<std::uint64_t>(D) ? std::min<std::size_t>(n, D - received) : 0;
@@ -521,11 +512,14 @@ void SpectrumEstimator::Impl::difference_into_segments(int b, std::size_t n) {
     const std::uint64_t done = stream.differenced;
     const std::uint64_t next_close = done < L ? L : L + ((done - L) / hop + 1) * hop;
     const std::size_t take = static_cast<std::size_t>(std::min<std::uint64_t>(n - i, next_close - done));
-    // At most one wrap of the ring: two contiguous copies.
+    // At most one wrap of the ring: two contiguous runs of rows.
     const std::size_t at = done & kSegmentMask, before_wrap = std::min(take, detail::kSegmentLength - at);
     if (transformed) {
-      std::copy_n(differenced + i * stride, before_wrap * stride, row(stream.ring, static_cast<std::ptrdiff_t>(at)));
-      std::copy_n(differenced + (i + before_wrap) * stride, (take - before_wrap) * stride, stream.ring.data());
+      const double* from = source + static_cast<std::ptrdiff_t>(i) * lag;
+      kernels.third_difference(from, row(stream.ring, static_cast<std::ptrdiff_t>(at)),
+                               static_cast<std::ptrdiff_t>(before_wrap), lag);
+      kernels.third_difference(from + static_cast<std::ptrdiff_t>(before_wrap) * lag, stream.ring.data(),
+                               static_cast<std::ptrdiff_t>(take - before_wrap), lag);
     }
     stream.differenced += take;
     i += take;
@@ -603,7 +597,6 @@ SpectrumEstimator::SpectrumEstimator(const EstimatorConfig& config, int lanes, S
       band.ring.clear();
     capacity = capacity / 2 + 1;
   }
-  for (auto& scratch : s.difference_scratch) scratch.assign((detail::kBandDifferences + kChunk) * s.stride, 0.0);
   s.transform_work.assign(detail::kSegmentLength * s.stride, 0.0);
   s.power.assign((detail::kSegmentLength / 2 + 1) * s.stride, 0.0);
   s.point_average.assign(s.stride, 0.0);

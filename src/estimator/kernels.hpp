@@ -25,8 +25,9 @@ const FourierTables& fourier_tables();
 // Every kernel works on rows of `stride` doubles (one sample of every lane, the lanes
 // padded to a multiple of the path's width), so each row is whole vectors.
 struct StreamKernels {
-  /// target[i] = source[i] - source[i - lag] for i in [from, to).
-  void (*difference)(const double* source, double* target, std::ptrdiff_t from, std::ptrdiff_t to, std::ptrdiff_t lag);
+  /// Target row r = the third difference of source row r (rows -3 .. -1 of source are
+  /// the ones before it), as differencing the stream three times forms it.
+  void (*third_difference)(const double* source, double* target, std::ptrdiff_t rows, std::ptrdiff_t stride);
   /// The half-band filter, lane by lane: output row j is centred on row 2j of `centre`,
   /// out = h[reach] centre + sum over odd t of h[reach + t] (row 2j - t + row 2j + t),
   /// summed in the order of t.
