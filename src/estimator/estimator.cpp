@@ -246,24 +246,31 @@ std::vector<SpectrumPoint> SpectrumAccumulator::expected(const std::function<dou
 
   std::vector<SpectrumPoint> out;
   std::vector<int> index;
+  // C T on the band's fine grid, shared by every bin of a point and by the next point of
+  // the same band, whose grid overlaps this one's by 2 kReach bins (points ascend).
+  int grid_band = -1, grid_first = 0;
+  std::vector<double> weighted;
   for (const SpectrumPoint& m : measured) {
     int k = 0;
     while (layout.points[k].omega != m.omega) ++k;
     const detail::OutputPoint& point = layout.points[k];
     const double spacing = layout.bin_omega(point.band, 1);
-    // C T on the fine grid once, shared by every bin of the point.
     const int first = (point.first_bin - kReach) * kSub;
     const int last = (point.first_bin + point.bin_count - 1 + kReach) * kSub;
-    std::vector<double> weighted(static_cast<std::size_t>(last - first + 1), 0.0);
-    for (int g = first; g <= last; ++g) {
+    if (point.band != grid_band || first < grid_first) {
+      grid_band = point.band;
+      grid_first = first;
+      weighted.clear();
+    }
+    for (int g = grid_first + static_cast<int>(weighted.size()); g <= last; ++g) {
       const double omega = g * spacing / kSub;
-      if (omega > 0) weighted[g - first] = true_spectrum(omega) * layout.transfer(point.band, omega);
+      weighted.push_back(omega > 0 ? true_spectrum(omega) * layout.transfer(point.band, omega) : 0.0);
     }
     double mean = 0;
     for (int j = point.first_bin; j < point.first_bin + point.bin_count; ++j) {
       double integral = 0;
       for (std::size_t mm = 0; mm < kernel.size(); ++mm)
-        integral += weighted[(j - kReach) * kSub + mm - first] * kernel[mm] / kSub;
+        integral += weighted[(j - kReach) * kSub + mm - grid_first] * kernel[mm] / kSub;
       mean += integral / layout.transfer(point.band, layout.bin_omega(point.band, j)) / point.bin_count;
     }
     SpectrumPoint e = m;
