@@ -31,7 +31,11 @@ constexpr double kOmegaDtMax = 0.3;
 // band far below v/a are capped at this many renewals per realization.
 constexpr double kRenewalsPerStepMax = 16;
 // Each realization of a sub-band spans this many of the segments serving its lowest point.
-constexpr double kSegmentsPerRealization = 6;
+// Two: a precision-driven run's first round (64 realizations) then lands near the default
+// 5% at a sub-band's lowest points instead of far below it (six gave 1-2% there, three
+// times the work, most of a run's time in its lowest sub-band), and every point still gets
+// whole segments from every realization.
+constexpr double kSegmentsPerRealization = 2;
 // Precision-driven runs stop growing at kMaxRealizationsPerBand (session.hpp) or 2e9
 // realization-steps per sub-band (about a minute on two cores), whichever comes first, and
 // report the precision they reached. Where the random forces stall the block the spectrum

@@ -29,7 +29,7 @@ before=$(cd "$disk" && sha256sum out.tsv out.json out.png)
 # Fill the disk but for room for the run's state and a little: not for the output set.
 "$bin" run $band --seed 5 --out "$work/sized" --quiet --no-plot --save-state "$work/sized.state" || fail "sizing run"
 room=$(( ($(du -b "$work/sized.state" | cut -f1) / 4096 + 2) * 4096 ))
-head -c $(( 320 * 1024 - $(du -sb "$disk" | cut -f1) - room )) /dev/zero > "$disk/filler" 2> /dev/null
+head -c $(( 320 * 1024 - $(du -s -B1 "$disk" | cut -f1) - room )) /dev/zero > "$disk/filler" 2> /dev/null
 "$bin" run $band --seed 5 --out "$disk/out" --quiet 2> "$work/err"
 status=$?
 [ $status -ne 0 ] || fail "a run on a full disk reported success"
@@ -47,7 +47,7 @@ cmp -s "$disk/out.tsv" "$work/sized.tsv" || fail "the finished run's table diffe
 # A run to a precision runs at least a first round of realizations in every sub-band:
 # refused before any work where even their state cannot fit (six sub-bands of 64
 # realizations, about 30 kB, with 8 kB free).
-head -c $(( 320 * 1024 - $(du -sb "$disk" | cut -f1) - 8192 )) /dev/zero > "$disk/filler" 2> /dev/null
+head -c $(( 320 * 1024 - $(du -s -B1 "$disk" | cut -f1) - 8192 )) /dev/zero > "$disk/filler" 2> /dev/null
 "$bin" run --omega-min 0.1 --omega-max 1e5 --precision 0.1 --out "$disk/wide" --quiet 2> "$work/err"
 status=$?
 [ $status -eq 2 ] || fail "a precision run whose first round cannot fit exited $status, expected 2"

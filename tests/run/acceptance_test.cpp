@@ -131,7 +131,7 @@ TEST(Acceptance, PeriodicRenewalBelowTheRenewalRate) {
   RunRequest r;
   r.omega_min = 0.2;
   r.omega_max = 0.4;  // below v/a = 0.5 rad/s
-  r.realizations = 8;
+  r.realizations = 24;
   r.seed = 20261123;
   const RunResult result = run_spectrum(p, r);
   ASSERT_EQ(result.points.size(), 3u);
