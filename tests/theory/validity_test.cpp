@@ -38,7 +38,7 @@ struct Pooled {
   }
 };
 
-using Key = std::tuple<std::string, int, double>;  // renewal, N, eps
+using Key = std::tuple<std::string, int, double, double>;  // renewal, N, eps, k_drive (0: a constant force)
 
 std::map<Key, Pooled> read_map() {
   std::ifstream in(std::string(SLIDESPEC_SOURCE_DIR) + "/tools/validity_map.tsv");
@@ -49,11 +49,11 @@ std::map<Key, Pooled> read_map() {
     std::istringstream fields(line);
     std::vector<std::string> f;
     for (std::string x; std::getline(fields, x, '\t');) f.push_back(x);
-    if (f.size() < 13 || f[5] != "all") continue;
-    Pooled& p = map[{f[0], std::stoi(f[2]), std::stod(f[3])}];
+    if (f.size() < 22 || f[5] != "all") continue;
+    Pooled& p = map[{f[0], std::stoi(f[2]), std::stod(f[3]), std::stod(f[21])}];
     const int points = std::stoi(f[6]);
     p.points += points;
-    for (int order = 0; order < (f.size() >= 20 ? 3 : 2); ++order) {
+    for (int order = 0; order < 3; ++order) {
       const int worst_column[] = {7, 10, 17}, within_column[] = {9, 12, 19};
       const double worst = std::stod(f[worst_column[order]]), within = std::stod(f[within_column[order]]);
       p.worst[order] = std::isnan(worst) || std::isnan(p.worst[order]) ? NAN : std::fmax(p.worst[order], worst);
@@ -83,8 +83,8 @@ TEST(TheoryValidity, LimitsAreTheMeasuredOnes) {
     bool limit_on_grid = false;
     double next = INFINITY;
     for (const auto& [key, pooled] : map) {
-      const auto& [renewal, N, eps] = key;
-      if (renewal != limit.renewal) continue;
+      const auto& [renewal, N, eps, k_drive] = key;
+      if (renewal != limit.renewal || k_drive != 0) continue;
       if (eps <= limit.eps_max + 1e-9) {
         limit_on_grid |= std::fabs(eps - limit.eps_max) < 1e-9;
         EXPECT_TRUE(pooled.holds(limit.order)) << what << " fails at N = " << N << ", eps = " << eps;
@@ -95,7 +95,8 @@ TEST(TheoryValidity, LimitsAreTheMeasuredOnes) {
     EXPECT_TRUE(limit_on_grid) << what << ": " << limit.eps_max << " is not an eps of the map";
     bool fails_next = false;
     for (const auto& [key, pooled] : map)
-      if (std::get<0>(key) == limit.renewal && std::get<2>(key) == next) fails_next |= !pooled.holds(limit.order);
+      if (std::get<0>(key) == limit.renewal && std::get<2>(key) == next && std::get<3>(key) == 0)
+        fails_next |= !pooled.holds(limit.order);
     EXPECT_TRUE(fails_next) << what << " holds for every N at eps " << next << ", beyond its limit " << limit.eps_max;
   }
 }
@@ -111,8 +112,8 @@ TEST(TheoryValidity, QuasiStaticLimitsAreTheMeasuredOnes) {
     double next = INFINITY;
     int inside = 0;
     for (const auto& [key, pooled] : map) {
-      const auto& [renewal, n, eps] = key;
-      if (renewal != "poisson" || n != N) continue;
+      const auto& [renewal, n, eps, k_drive] = key;
+      if (renewal != "poisson" || n != N || k_drive != 0) continue;
       if (eps <= limit * stall + 1e-9) {
         ++inside;
         EXPECT_TRUE(pooled.holds(2)) << "quasi-static fails at N = " << N << ", eps = " << eps;
@@ -121,7 +122,7 @@ TEST(TheoryValidity, QuasiStaticLimitsAreTheMeasuredOnes) {
       }
     }
     EXPECT_GE(inside, 3) << N;
-    fails_next[limit] |= !std::isfinite(next) || !map.at({"poisson", N, next}).holds(2);
+    fails_next[limit] |= !std::isfinite(next) || !map.at({"poisson", N, next, 0.0}).holds(2);
   }
   for (const auto& [limit, fails] : fails_next)
     EXPECT_TRUE(fails) << "the quasi-static spectrum holds beyond " << limit << " of the stall for every N with it";
@@ -179,4 +180,82 @@ TEST(TheoryValidity, TheFirstOrderWhereTheSecondIsNotComputed) {
   const TheoryChoice none = best_theory(tree(1.2 * kFirstOrderPoissonEpsMax / eps));
   EXPECT_EQ(none.kind, TheoryKind::none);
   EXPECT_NE(none.reason.find("the first order to 0.05"), std::string::npos) << none.reason;
+}
+
+namespace {
+
+Parameters on_map(const Key& key) {
+  const auto& [renewal, N, eps, k_drive] = key;
+  Parameters p = flat(N, eps, renewal == "poisson" ? Renewal::poisson : Renewal::periodic);
+  if (k_drive > 0) {
+    p.drive = Drive::spring;
+    p.k_drive = k_drive;
+  }
+  return p;
+}
+
+}  // namespace
+
+// The criterion at every point of the map, constant force and spring alike: the theory
+// best_theory reports holds there (>= 85% of the points within 2 standard errors, none beyond
+// 4), or it reports none.
+TEST(TheoryValidity, EveryPointOfTheMapReportsATheoryThatHoldsThereOrNone) {
+  const std::map<Key, Pooled> map = read_map();
+  int springs = 0, reported = 0;
+  for (const auto& [key, pooled] : map) {
+    const TheoryKind kind = best_theory(on_map(key)).kind;
+    springs += std::get<3>(key) > 0;
+    if (kind == TheoryKind::none) continue;
+    ++reported;
+    const int column = kind == TheoryKind::first_order ? 0 : kind == TheoryKind::second_order ? 1 : 2;
+    EXPECT_TRUE(pooled.holds(column)) << std::get<0>(key) << " N = " << std::get<1>(key)
+                                      << ", eps = " << std::get<2>(key) << ", k_drive = " << std::get<3>(key) << ": "
+                                      << theory_kind_name(kind) << " is reported, worst " << pooled.worst[column]
+                                      << " stderr, " << pooled.within_two[column] << " of " << pooled.points
+                                      << " within 2";
+  }
+  EXPECT_GE(springs, 60) << "the map's spring points are missing";
+  EXPECT_GE(reported, 90);
+}
+
+// Under a spring the first order's limits are the measured ones: at and above the stiffness
+// limit it holds at every point up to its fraction of the stall; at the grid stiffness below
+// the limit it fails at some point beyond the constant-force eps limit, and (periodic renewal,
+// 2..5 contacts) at the stiffness limit it fails at some point beyond its fraction.
+TEST(TheoryValidity, SpringLimitsAreTheMeasuredOnes) {
+  const std::map<Key, Pooled> map = read_map();
+  for (const Renewal renewal : {Renewal::poisson, Renewal::periodic}) {
+    const bool poisson = renewal == Renewal::poisson;
+    const double stiffness_min = poisson ? kSpringPoissonStiffnessMin : kSpringPeriodicStiffnessMin;
+    const double first_limit = poisson ? kFirstOrderPoissonEpsMax : kFirstOrderPeriodicEpsMax;
+    bool softer_fails = false, few_contacts_fail = poisson;
+    int inside = 0;
+    for (const auto& [key, pooled] : map) {
+      const auto& [name, N, eps, k_drive] = key;
+      if (name != (poisson ? "poisson" : "periodic") || k_drive == 0) continue;
+      const Landmarks l = landmarks(on_map(key));
+      const double stiffness = l.omega_s / l.renewal_rate, near_stall = eps / std::sqrt(2.0 / (3.0 * N));
+      const double limit = spring_first_order_stall_fraction_max(renewal, N, stiffness);
+      if (stiffness >= stiffness_min && near_stall <= limit + 1e-9) {
+        ++inside;
+        EXPECT_TRUE(pooled.holds(0)) << name << " N = " << N << ", eps = " << eps << ", k_drive = " << k_drive;
+      }
+      if (std::fabs(stiffness - stiffness_min / 10) < 1e-6 && eps > first_limit) softer_fails |= !pooled.holds(0);
+      if (std::fabs(stiffness - stiffness_min) < 1e-6 && N < 6 && near_stall > limit)
+        few_contacts_fail |= !pooled.holds(0);
+    }
+    EXPECT_GE(inside, 6) << "omega_s " << stiffness_min << " v/a";
+    EXPECT_TRUE(softer_fails) << "the first order holds under springs softer than omega_s = " << stiffness_min
+                              << " v/a";
+    EXPECT_TRUE(few_contacts_fail) << "the periodic spring limit for 2..5 contacts is looser than measured";
+  }
+  // A spring reports the first order where the map shows it holding, none where it fails.
+  Parameters stiff = flat(3, 0.4478, Renewal::poisson);  // 0.95 of the stall
+  stiff.drive = Drive::spring;
+  stiff.k_drive = 1e4;  // omega_s = 2 v/a
+  EXPECT_EQ(best_theory(stiff).kind, TheoryKind::first_order);
+  stiff.k_drive = 1e3;  // omega_s = 0.2 v/a
+  const TheoryChoice soft = best_theory(stiff);
+  EXPECT_EQ(soft.kind, TheoryKind::none);
+  EXPECT_NE(soft.reason.find("omega_s = 0.2 v/a"), std::string::npos) << soft.reason;
 }
