@@ -144,8 +144,8 @@ def simulate(slidespec, work, renewal, chain, n, eps, k_drive, precision):
             data["theory2"] = [t * c2 / c1 for t, c1, c2 in zip(data["theory"], theory["C_x"], theory["C_x2"])]
             source = "ratio"
     # The quasi-static spectrum (poisson, a constant force, below the stall): the run's first
-    # order times the ratio of tools/quasi_static.py at the point's omega (smooth, so the bin
-    # average). Under a spring it is not derived (docs/model.md §9).
+    # order times the ratio of tools/quasi_static.py at the point's omega (up to 0.9% below the
+    # bin average around v/a, docs/model.md §7.4). Under a spring it is not derived (§9.1).
     data["theory3"] = [math.nan] * len(data["theory"])
     if renewal == "poisson" and not k_drive and eps < eps_stall(n):
         rate = 0.5  # v/a [1/s], the reference case's
