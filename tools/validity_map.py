@@ -27,6 +27,7 @@ input; the table and the image are written atomically.
 """
 
 import argparse
+import json
 import math
 import os
 import subprocess
@@ -41,14 +42,16 @@ COLUMNS = ("renewal", "chain", "N", "eps", "eps_stall", "range", "points", "dev1
            "stationary", "mean_speed_ratio", "dev3_sigma", "dev3_percent", "within2_3", "drive", "k_drive")
 NS = (2, 3, 4, 6, 12, 30)
 # The simulation lumps the chain (docs/numerics.md): open and ring ends give the same
-# process, so the ring runs, with their own seed, are an independent second sample.
-SEEDS = {"open": "27", "ring": "28"}
+# process, so the ring runs, with their own seed, are an independent second sample. N = 2 has
+# no ring; its second sample is an open chain with a third seed (chain column "open2").
+SEEDS = {"open": "27", "ring": "28", "open2": "29"}
 EPS = (0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.45, 0.5, 0.55)
 # The first order's zeros put periodic renewal's first-order limit below 0.05.
 SMALL_EPS = {"poisson": (), "periodic": (0.0125, 0.025)}
 DRIVE_EXCESS = 5.0  # F_drive - F_kin of the reference case [N]; F_kin is 5 N too
 OMEGA_MIN, OMEGA_MAX, POINTS = 0.02, 36, 4
-# Point ranges in units of the renewal rate v/a (0.5 1/s in the reference case).
+RATE = 0.5  # v/a [1/s], the reference case's
+# Point ranges in units of the renewal rate v/a.
 RANGES = (("below", 0, 0.5), ("around", 0.5, 10), ("omega^-4", 10, math.inf), ("all", 0, math.inf))
 # drive=spring: stiffnesses putting omega_s = k_drive v / (F_drive - F_kin) at 0.2, 2 and 20 v/a
 # (0.1, 1 and 10 rad/s), inside the band; a few N and eps each, from small to 0.95 of the stall.
@@ -75,10 +78,10 @@ def grid(quick, spring, renewals):
                             yield renewal, chain, n, (0.025 if renewal == "periodic" and eps == 0.05 else eps), k
         return
     ns = (3, 6, 30) if quick else NS
-    for chain in ("open", "ring"):
+    for chain in ("open", "ring", "open2"):
         for renewal in renewals:
             for n in ns:
-                if chain == "ring" and n < 3:
+                if (chain == "ring" and n < 3) or (chain == "open2" and n != 2):
                     continue
                 stall = eps_stall(n)
                 values = [*SMALL_EPS[renewal], *(e for e in EPS if e < 0.92 * stall), round(0.95 * stall, 4)]
@@ -107,7 +110,7 @@ def case_sets(renewal, chain, n, eps, k_drive):
     """The --set options of a grid point (the reference case otherwise)."""
     alpha = eps * math.sqrt(6 * n)
     sets = ["--set", f"N={n}", "--set", f"alpha={alpha:.10g}", "--set", f"renewal={renewal}", "--set",
-            f"chain={chain}"]
+            f"chain={chain.rstrip('2')}"]
     if k_drive:
         sets += ["--set", "drive=spring", "--set", f"k_drive={k_drive:g}"]
     return sets
@@ -135,22 +138,40 @@ def simulate(slidespec, work, renewal, chain, n, eps, k_drive, precision):
     source = "run"
     if header.get("theory_kind") == "quasi_static":
         data["theory2"] = [math.nan] * len(data["theory2"])  # the run's theory2 is the quasi-static one
-    if all(math.isnan(x) for x in data["theory2"]):
-        source = "none"
-        if renewal == "poisson" and not k_drive:
-            subprocess.run([slidespec, "theory", *sets, *span, "--order", "2", "--out", prefix + "_theory"],
-                           check=True, stderr=subprocess.DEVNULL)
-            _, theory = read_tsv(prefix + "_theory.tsv")
-            data["theory2"] = [t * c2 / c1 for t, c1, c2 in zip(data["theory"], theory["C_x"], theory["C_x2"])]
-            source = "ratio"
-    # The quasi-static spectrum (poisson, a constant force, below the stall): the run's first
-    # order times the ratio of tools/quasi_static.py at the point's omega (up to 0.9% below the
-    # bin average around v/a, docs/model.md §7.4). Under a spring it is not derived (§9.1).
     data["theory3"] = [math.nan] * len(data["theory"])
-    if renewal == "poisson" and not k_drive and eps < eps_stall(n):
-        rate = 0.5  # v/a [1/s], the reference case's
-        ratio = quasi_static.QuasiStatic(n, eps).ratio([w / rate for w in data["omega"]])
-        data["theory3"] = [t * r for t, r in zip(data["theory"], ratio)]
+    if renewal != "poisson" or k_drive:
+        if all(math.isnan(x) for x in data["theory2"]):
+            source = "none"
+        return header, data, source
+    # Poisson renewal under a constant force: the run's first order times a ratio averaged
+    # over each point's FFT bins, weighted by the first order (as the run's theory is; around
+    # v/a the ratio bends within the bins, and its value at the point's omega is up to 0.9%
+    # off): the series' where the run gives no theory2 (theory2_source = ratio), and the
+    # quasi-static spectrum's of tools/quasi_static.py below the stall (docs/model.md §7.5).
+    with open(prefix + ".json") as f:
+        bins = [p["bins"] for p in json.load(f)["points"]]
+    omegas = [b["first"] + i * b["spacing"] for b in bins for i in range(b["count"])]
+    with open(prefix + "_omegas", "w") as f:
+        f.write("\n".join(repr(w) for w in omegas) + "\n")
+    subprocess.run([slidespec, "theory", *sets, "--omega-file", prefix + "_omegas", "--order", "2", "--out",
+                    prefix + "_theory"], check=True, stderr=subprocess.DEVNULL)
+    _, theory = read_tsv(prefix + "_theory.tsv")
+    first = theory["C_x"]
+
+    def bin_averaged(ratio):
+        out, start = [], 0
+        for t, b in zip(data["theory"], bins):
+            stop = start + b["count"]
+            weight = sum(first[start:stop])
+            out.append(t * sum(c * r for c, r in zip(first[start:stop], ratio[start:stop])) / weight)
+            start = stop
+        return out
+
+    if all(math.isnan(x) for x in data["theory2"]):
+        data["theory2"] = bin_averaged([c2 / c1 for c1, c2 in zip(first, theory["C_x2"])])
+        source = "ratio"
+    if eps < eps_stall(n):
+        data["theory3"] = bin_averaged(list(quasi_static.QuasiStatic(n, eps).ratio([w / RATE for w in omegas])))
     return header, data, source
 
 
@@ -163,10 +184,9 @@ def deviations(values, data, keep):
 
 
 def rows_of(renewal, chain, n, eps, k_drive, header, data, source):
-    rate = 0.5  # v/a [1/s], the reference case's
     out = []
     for name, low, high in RANGES:
-        keep = [low <= w / rate < high for w in data["omega"]]
+        keep = [low <= w / RATE < high for w in data["omega"]]
         d1 = deviations(data["theory"], data, keep)
         d2 = deviations(data["theory2"], data, keep)
         d3 = deviations(data["theory3"], data, keep)
@@ -196,7 +216,7 @@ def run(args):
         lines = ["\t".join(COLUMNS) + "\n"]
     with tempfile.TemporaryDirectory() as work:
         for renewal, chain, n, eps, k_drive in grid(args.quick, args.spring, args.renewal or ("poisson", "periodic")):
-            if (renewal, chain, n, eps, k_drive) in done:
+            if (renewal, chain, n, eps, k_drive) in done or args.chain not in (None, chain):
                 continue
             header, data, source = simulate(args.slidespec, work, renewal, chain, n, eps, k_drive, args.precision)
             lines += ["\t".join(fmt(x) for x in row) + "\n"
@@ -339,6 +359,7 @@ def main():
     r.add_argument("--quick", action="store_true")
     r.add_argument("--spring", action="store_true", help="the drive=spring points instead of the constant force's")
     r.add_argument("--renewal", action="append", choices=("poisson", "periodic"), help="only this renewal kind")
+    r.add_argument("--chain", choices=tuple(SEEDS), help="only this sample's runs (open2: N = 2's second)")
     p = sub.add_parser("plot")
     p.add_argument("table")
     p.add_argument("out")

@@ -437,7 +437,7 @@ def test_help_names_units():
 
 def test_landmarks_name_the_best_theory_that_holds():
     assert ss.Parameters("reference").landmarks["theory_kind"] == "second_order"
-    outside = ss.Parameters("reference", N=4, alpha=1.7).landmarks  # eps 0.347, 0.85 of the stall
+    outside = ss.Parameters("reference", N=2, alpha=1.04).landmarks  # eps 0.3, 0.52 of the stall
     assert outside["theory_kind"] == "none"
     assert "second order holds to eps 0.15" in outside["theory_kind_note"]
 

@@ -133,16 +133,16 @@ expect_refused range-unaligned "multiple of 8" run $split --realizations-range 4
   --out "$work/out"
 
 # The best theory that holds, by the measured limits (docs/model.md §7.4): the second order
-# in the reference case (eps 0.075), none at poisson eps 0.347 with 4 miniblocks (a warning).
+# in the reference case (eps 0.075), none at poisson eps 0.3 with 2 miniblocks (a warning).
 "$bin" theory --case reference --omega-min 1 --omega-max 10 > "$work/kind.tsv" 2> "$work/kind.err" || fail "theory failed"
 grep -q '^# theory_kind = second_order  # the best theory that holds here' "$work/kind.tsv" \
   || fail "reference theory table does not name the second order"
 [ ! -s "$work/kind.err" ] || fail "warning in the reference case: $(cat "$work/kind.err")"
-"$bin" theory --set N=4 --set alpha=1.7 --omega-min 1 --omega-max 10 > "$work/kind.tsv" 2> "$work/kind.err" \
-  || fail "theory at eps 0.347 failed"
-grep -q '^# theory_kind = none .*eps = 0.347: the second order holds to eps 0.15 for poisson renewal' "$work/kind.tsv" \
-  || fail "eps 0.347 table does not say that no theory holds"
-grep -q "no theory holds here" "$work/kind.err" || fail "no warning at eps 0.347"
+"$bin" theory --set N=2 --set alpha=1.04 --omega-min 1 --omega-max 10 > "$work/kind.tsv" 2> "$work/kind.err" \
+  || fail "theory at eps 0.3 failed"
+grep -q '^# theory_kind = none .*eps = 0.3: the second order holds to eps 0.15 for poisson renewal' "$work/kind.tsv" \
+  || fail "eps 0.3 table does not say that no theory holds"
+grep -q "no theory holds here" "$work/kind.err" || fail "no warning at eps 0.3"
 
 # Where no theory holds (stalling forces): a warning, without refusing.
 "$bin" run --set N=7 --set F_drive=8 --set F_kin=6 --set a=3e-4 --omega-min 30 --omega-max 300 \

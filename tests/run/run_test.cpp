@@ -223,7 +223,7 @@ TEST(Run, TheoryIsTheContinuousTheoryAveragedOverTheNamedBins) {
 
 // Where the second-order theory cannot be computed (periodic renewal beyond eps 0.25, here
 // 0.3) its column is NaN and the result says why; where it is computed but does not hold
-// (poisson, 4 miniblocks at eps 0.347, 0.85 of the stall, docs/model.md §7.5) the column is there and
+// (poisson, 2 miniblocks at eps 0.3, 0.52 of the stall, docs/model.md §7.5) the column is there and
 // theory_kind says none.
 TEST(Run, SecondOrderColumnIsNaNWithAReasonWhereItDoesNotApply) {
   RunRequest r = short_request();
@@ -236,7 +236,7 @@ TEST(Run, SecondOrderColumnIsNaNWithAReasonWhereItDoesNotApply) {
   for (const RunPoint& point : periodic.points) EXPECT_TRUE(std::isnan(point.theory2));
   EXPECT_FALSE(periodic.theory2_note.empty());
   EXPECT_EQ(periodic.theory_kind, TheoryKind::none);
-  const RunResult poisson = run_spectrum(ParameterBuilder("reference").set("N=4").set("alpha=1.7").build(), r);
+  const RunResult poisson = run_spectrum(ParameterBuilder("reference").set("N=2").set("alpha=1.04").build(), r);
   ASSERT_FALSE(poisson.points.empty());
   for (const RunPoint& point : poisson.points) EXPECT_TRUE(std::isfinite(point.theory2));
   EXPECT_EQ(poisson.theory_kind, TheoryKind::none);

@@ -140,7 +140,7 @@ TEST(TheoryValidity, TheSecondOrderInsideItsLimitsNothingOutside) {
   EXPECT_NE(quasi.reason.find("the second order holds to eps 0.15"), std::string::npos) << quasi.reason;
   EXPECT_STREQ(theory_kind_name(quasi.kind), "quasi_static");
   // Nearer the stall than the quasi-static spectrum's limit: none.
-  const TheoryChoice beyond = best_theory(flat(3, 0.4, Renewal::poisson));  // 0.85 of the stall
+  const TheoryChoice beyond = best_theory(flat(2, 0.3, Renewal::poisson));  // 0.52 of the stall
   EXPECT_EQ(beyond.kind, TheoryKind::none);
   EXPECT_NE(beyond.reason.find("the quasi-static spectrum to"), std::string::npos) << beyond.reason;
   EXPECT_STREQ(theory_kind_name(beyond.kind), "none");
