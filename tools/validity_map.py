@@ -68,10 +68,10 @@ def eps_stall(n):
 def grid(quick, spring, renewals):
     """(renewal, chain, N, eps, k_drive) of each run; k_drive 0 is the constant force."""
     if spring:
-        for chain in ("open", "ring"):
+        for chain in SEEDS:
             for renewal in renewals:
                 for n, values in SPRING_EPS.items():
-                    if chain == "ring" and n < 3:
+                    if (chain == "ring" and n < 3) or (chain == "open2" and n != 2):
                         continue
                     for eps in values:
                         for k in SPRING_K:

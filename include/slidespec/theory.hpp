@@ -190,13 +190,14 @@ double quasi_static_stall_fraction_max(double contacts);
 /// (docs/model.md §9.1, measured as the others with omega_s at 0.2, 2 and 20 v/a). Poisson
 /// renewal: from omega_s >= 2 v/a up to 0.95 of the stall boundary (the map's last eps) for
 /// every N of the map from 2. Periodic renewal: from omega_s >= 20 v/a, up to the fractions
-/// of the stall boundary below (N from 2, from 6; between grid values the smaller grid N's).
+/// of the stall boundary below (N from 2, from 3, from 6; between grid values the smaller grid
+/// N's; for N = 2 none beyond the constant-force limit: 82% within 2 stderr at 0.52).
 /// Softer springs, and N = 1 (not measured), keep the constant-force limits.
 inline constexpr double kSpringPoissonStiffnessMin = 2;    ///< omega_s / (v/a)
 inline constexpr double kSpringPeriodicStiffnessMin = 20;  ///< omega_s / (v/a)
-inline constexpr int kSpringFirstOrderContacts[] = {2, 6};
-inline constexpr double kSpringPoissonStallFractionMax[] = {0.95, 0.95};
-inline constexpr double kSpringPeriodicStallFractionMax[] = {0.53, 0.95};
+inline constexpr int kSpringFirstOrderContacts[] = {2, 3, 6};
+inline constexpr double kSpringPoissonStallFractionMax[] = {0.95, 0.95, 0.95};
+inline constexpr double kSpringPeriodicStallFractionMax[] = {0, 0.53, 0.95};
 /// The spring's first-order limit in eps / eps_stall for `contacts` contacts at stiffness
 /// omega_s / (v/a) (0 where only the constant-force limit holds).
 double spring_first_order_stall_fraction_max(Renewal renewal, double contacts, double stiffness);
