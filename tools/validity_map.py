@@ -10,14 +10,15 @@ Usage: validity_map.py run SLIDESPEC TABLE.tsv [--precision P] [--quick] [--spri
 a decade), N in {2, 3, 4, 6, 12, 30}, eps from 0.05 (periodic renewal: 0.0125) to 0.95 of
 the stall boundary
 (eps_stall = sqrt(2 / (3 N)) with the reference forces), poisson and periodic renewal,
-open and ring chains (ring from N = 3), and writes, per run and point range (below v/a,
-around it, the omega^-4 range, all), the worst deviation of `theory` (first order),
-`theory2` (second order) and, for poisson renewal, the quasi-static spectrum of
-docs/model.md §7.5 (the run's `theory` times the ratio of tools/quasi_static.py) in standard errors and in per cent, and the fraction of points
-within 2 standard errors. `theory2` is the run's where it offers one; for poisson renewal
-beyond the run's eps limit it is the run's `theory` times the second- over first-order
-ratio of `SLIDESPEC theory --order 2` at the point's omega (column theory2_source), which
-the map needs to place that limit. `--quick` runs a reduced grid. Rows are appended as
+two samples of each point (open and ring chains; for N = 2 two open ones, chain "open2"),
+and writes, per run and point range (below v/a, around it, the omega^-4 range, all), the
+worst deviation of `theory` (first order), `theory2` (second order) and, for poisson
+renewal, the quasi-static spectrum of docs/model.md §7.5 (the run's `theory` times the
+ratio of tools/quasi_static.py) in standard errors and in per cent, and the fraction of
+points within 2 standard errors. `theory2` is the run's where it offers one; for poisson
+renewal beyond the run's eps limit it is the run's `theory` times the second- over
+first-order ratio of `SLIDESPEC theory --order 2` (column theory2_source), which the map
+needs to place that limit; both ratios are averaged over each point's FFT bins. `--quick` runs a reduced grid. Rows are appended as
 each run ends and a finished (renewal, chain, N, eps) is not run again, so an interrupted
 map resumes. `--spring` runs the drive=spring points of docs/model.md §9.1 instead (k_drive
 putting omega_s at 0.2, 2 and 20 v/a; N = 2, 3, 6, 12; the first order only) into the same
