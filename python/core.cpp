@@ -438,7 +438,8 @@ PYBIND11_MODULE(_core, m) {
         const Parameters p = build(case_name, overrides);
         if (order != 1 && order != 2) throw InputError("order: need 1 or 2");
         // As `slidespec theory --order 2` computes C_x2.
-        const std::unique_ptr<SecondOrderTheory> second = order == 2 ? std::make_unique<SecondOrderTheory>(p) : nullptr;
+        const std::function<double(double)> second =
+            order == 2 ? theory_beyond_first_order(p) : std::function<double(double)>();
         const std::vector<double> omegas = to_vector(omega);
         check_theory_omegas(p, omegas);
         // In chunks of about a tenth of a second, between which Ctrl-C is heard.
@@ -452,7 +453,7 @@ PYBIND11_MODULE(_core, m) {
           {
             py::gil_scoped_release release;
             if (second) {
-              for (double frequency : chunk) values.push_back((*second)(frequency));
+              for (double frequency : chunk) values.push_back(second(frequency));
             } else {
               const std::vector<double> part = exact_spectrum(p, chunk);
               values.insert(values.end(), part.begin(), part.end());
@@ -462,7 +463,8 @@ PYBIND11_MODULE(_core, m) {
         }
         return to_array(values);
       },
-      "The exact first- (order 1) or second-order C_x [m^2 s] at omegas [rad/s], without the GIL.");
+      "The exact first-order C_x (order 1) or the theory beyond it that theory_kind names (order 2) [m^2 s] at "
+      "omegas [rad/s], without the GIL.");
   m.def(
       "long_time_motion",
       [](const std::string& case_name, const Overrides& overrides, const std::string& theory) {

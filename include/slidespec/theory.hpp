@@ -1,6 +1,7 @@
 // The exact first-order (linear-response) spectrum of docs/model.md §4.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -216,5 +217,11 @@ TheoryChoice best_theory(const Parameters& p);
 
 /// "second_order", "quasi_static", "first_order" or "none", as outputs name it (theory_kind).
 const char* theory_kind_name(TheoryKind kind);
+
+/// C_x beyond first order [m^2 s] as every output carries it beside the first order (a
+/// run's theory2, theory's C_x2, Python's order=2): the quasi-static spectrum where
+/// best_theory names it, else the second-order series. Throws InputError where the series
+/// is not derived (several touching levels, drive = spring).
+std::function<double(double)> theory_beyond_first_order(const Parameters& p);
 
 }  // namespace slidespec

@@ -235,9 +235,10 @@ def theory(params, omega, order=1):
     params: Parameters or a case name. omega: a number or an array of positive angular
     frequencies [rad/s]; the result has its shape (a float for a number). The values are
     those `slidespec theory` prints (two-sided, angular: the integral over all omega is
-    <xi^2>); omegas() gives the command's grid. order=2: the second-order spectrum C_x2
-    [m^2 s] of `slidespec theory --order 2` (one touching level, eps <= 0.25 for periodic renewal;
-    docs/model.md section 7)."""
+    <xi^2>); omegas() gives the command's grid. order=2: C_x2 [m^2 s] of `slidespec theory
+    --order 2`, the theory beyond first order that landmarks' theory_kind names (the
+    second-order series, or the quasi-static spectrum beyond its limit; one touching level, a
+    constant force, eps <= 0.25 for periodic renewal; docs/model.md section 7)."""
     p = _as_parameters(params)
     w = _positive_omegas(omega)
     values = _core.theory(*p._args(), w.ravel(), _whole("order", order, _MOST_INT)).reshape(w.shape)

@@ -107,7 +107,8 @@ class TheoryCommand final : public Command {
     c.add_option("--omega-file", omega_file_, "omegas [rad/s] from a file (one or more a line, '#' comments)")
         ->excludes(omega_list);
     c.add_option("--order", order_,
-                 "2: add C_x2, the second-order theory (one touching level; header theory_kind: where it holds)");
+                 "2: add C_x2, the theory beyond first order that theory_kind names (the second order, or the "
+                 "quasi-static spectrum beyond its limit; one touching level, a constant force)");
     c.add_option("--out", out_, "write PREFIX.tsv instead of stdout");
   }
 
@@ -125,7 +126,9 @@ class TheoryCommand final : public Command {
     check_theory_omegas(p, omegas);
     if (order_ != 1 && order_ != 2) throw InputError("order: need 1 or 2");
     // Built before any work so that a model it does not cover is refused at once.
-    const std::unique_ptr<SecondOrderTheory> second = order_ == 2 ? std::make_unique<SecondOrderTheory>(p) : nullptr;
+    const std::function<double(double)> second =
+        order_ == 2 ? theory_beyond_first_order(p) : std::function<double(double)>();
+    const bool quasi_static = second && best_theory(p).kind == TheoryKind::quasi_static;
     if (!out_.empty()) io::check_output_prefix(out_);
     warn_if_no_theory_holds(p);
     const std::vector<double> spectrum = exact_spectrum(p, omegas);
@@ -135,14 +138,16 @@ class TheoryCommand final : public Command {
     table << io::metadata_lines(p, model_.label(p)) << long_time_line(p)
           << "# columns: omega [rad/s], C_x [m^2 s] exact first-order theory, "
              "C_eq1 [m^2 s] the paper's Eq. (1)"
-          << (second ? ", C_x2 [m^2 s] second-order theory (docs/model.md §7)" : "")
+          << (quasi_static ? ", C_x2 [m^2 s] the quasi-static spectrum (docs/model.md §7.5)"
+              : second     ? ", C_x2 [m^2 s] the second-order theory (docs/model.md §7)"
+                           : "")
           << (spring ? ", C_F_spring [N^2 s] the spring's force spectrum k_drive^2 C_x" : "") << "\n"
           << "# omega\tC_x\tC_eq1" << (second ? "\tC_x2" : "") << (spring ? "\tC_F_spring" : "") << "\n";
     std::size_t not_numbers = 0;  // values beyond a double's range or not computed (inf, nan)
     double first_omega = 0;
     for (size_t k = 0; k < omegas.size(); ++k) {
       const double eq1 = eq1_asymptote(p, omegas[k]);
-      const double c2 = second ? (*second)(omegas[k]) : 0;
+      const double c2 = second ? second(omegas[k]) : 0;
       table << io::format_number(omegas[k]) << "\t" << io::format_number(spectrum[k]) << "\t" << io::format_number(eq1);
       if (second) table << "\t" << io::format_number(c2);
       if (spring) table << "\t" << io::format_number(spring_force_spectrum(p, spectrum[k]));

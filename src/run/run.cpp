@@ -1,7 +1,6 @@
 #include "slidespec/run.hpp"
 
 #include <algorithm>
-#include <optional>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -624,18 +623,15 @@ RunResult RunSession::result() const {
   const LumpedTheory theory(s.params);
   // The second-order theory beside it wherever it can be computed (docs/model.md §7), and
   // which theory holds here (§7.4).
-  std::optional<SecondOrderTheory> second;
+  std::function<double(double)> second;
   try {
-    second.emplace(s.params);
+    second = theory_beyond_first_order(s.params);
   } catch (const InputError& e) {
     result.theory2_note = e.what();
   }
   const TheoryChoice holds = best_theory(s.params);
   result.theory_kind = holds.kind;
   result.theory_kind_note = holds.reason;
-  // Beyond the series' limit theory2 is the quasi-static spectrum where that holds (§7.5).
-  std::optional<QuasiStaticTheory> quasi_static;
-  if (holds.kind == TheoryKind::quasi_static) quasi_static.emplace(s.params);
   for (std::size_t b = 0; b < s.bands.size(); ++b) {
     const BandTotals& totals = s.bands[b];
     SubBand& band = result.sub_bands[b];
@@ -645,9 +641,7 @@ RunResult RunSession::result() const {
     const SpectrumAccumulator merged = totals.merged();
     const std::vector<SpectrumPoint> estimated = band_spectrum(totals, merged);
     const std::vector<SpectrumPoint> expected = merged.expected(std::cref(theory));
-    const std::vector<SpectrumPoint> expected2 =
-        quasi_static ? merged.expected(std::cref(*quasi_static))
-                     : (second ? merged.expected(std::cref(*second)) : std::vector<SpectrumPoint>());
+    const std::vector<SpectrumPoint> expected2 = second ? merged.expected(second) : std::vector<SpectrumPoint>();
     for (std::size_t k = 0; k < estimated.size(); ++k) {
       const SpectrumPoint& e = estimated[k];
       BinRange bins;

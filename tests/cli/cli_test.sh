@@ -32,6 +32,11 @@ grep -q "^# beyond first order .*mean speed V = 0.000498[0-9]* m/s" "$work/ref.t
   fail "theory: no long-time motion line (reference: V = 0.99721 v)"
 "$bin" theory --order 2 --points 1 --omega-max 1 | grep -q "^# omega	C_x	C_eq1	C_x2$" ||
   fail "theory --order 2: no C_x2 column"
+# C_x2 is the theory that theory_kind names: beyond the series' limit the quasi-static one,
+# as a run's theory2 column holds it.
+"$bin" theory --order 2 --set N=3 --set alpha=1.273 --omega 1 > "$work/qs.tsv" || fail "theory --order 2 at eps 0.3"
+grep -q "^# theory_kind = quasi_static" "$work/qs.tsv" && grep -q "C_x2 \[m^2 s\] the quasi-static spectrum" "$work/qs.tsv" \
+  || fail "theory --order 2 beyond the series' limit does not print the quasi-static spectrum it names"
 grep -q "^# omega	C_x	C_eq1$" "$work/ref.tsv" || fail "theory table has no header line"
 [ "$(grep -vc '^#' "$work/ref.tsv")" -eq 49 ] || fail "theory table does not have 49 rows"
 ls "$work" | grep -q tmp && fail "a temporary file was left behind"
