@@ -6,9 +6,9 @@
 # changed), finished work lost (a run that finished or was interrupted and cannot be
 # brought back bitwise) and nonsense accepted (a refusal expected, exit 0 seen).
 # Usage: SLIDESPEC=build/slidespec [PYTHONPATH=build/python] tools/adversarial_sweep.sh [PART]
-# PART: refusals (files, numbers, options, figures, JSON, units: 808 attacks, 5 min),
+# PART: refusals (files, numbers, options, figures, JSON, units: 813 attacks, 5 min),
 # results (stalls, theory, streams, memory, Python: 60, 1 min), signals (interrupts and
-# resumes: 35, 1 min), or all (the default; times on 2 busy cores). Not part of ctest.
+# resumes: 37, 1 min), or all (the default; times on 2 busy cores). Not part of ctest.
 set -u
 part=${1:-all}
 case "$part" in all | refusals | results | signals) ;; *) echo "unknown part '$part'" >&2; exit 2 ;; esac
@@ -28,6 +28,7 @@ echo '{"alpha": 0.5}' > p.json
 "$bin" theory --out table > /dev/null 2>&1
 band="--omega-min 100 --omega-max 1000"
 "$bin" run $band --realizations-range 0:8 --save-state part.state --out part --no-plot --quiet
+"$bin" run $band --realizations-range 8:8 --save-state part8.state --out part8 --no-plot --quiet
 mkdir adir
 cp p.json fig.pdf; cp p.json fig.svg; cp rec.csv an.svg; cp part.state pt.svg; cp table.tsv tab.svg
 cp p.json 'sw_alpha=0.6.json'; cp p.json 'sw_alpha=0.6.state'; cp p.json syn.csv
@@ -197,7 +198,12 @@ attack refuse "sweep bad range" sweep alpha=1:0:0.1
 attack refuse "sweep zero step" sweep alpha=0:1:0
 attack refuse "sweep unknown key" sweep speed=1,2
 attack refuse "merge overlap" merge ../part.state ../part.state --out x
-attack refuse "range unaligned" run --realizations-range 3:8 --no-plot
+attack refuse "range unaligned" run --realizations-range 3:8 --save-state x.state --no-plot
+attack refuse "range without state" run --realizations-range 0:8 --no-plot
+attack refuse "merge without realizations 0" merge ../part8.state --out x
+attack refuse "theory above the doubles" theory --omega 1,1e45
+attack refuse "synth unknown unit" synth --resolution 5furlong
+attack refuse "synth negative noise" synth --sensor-noise -1um
 attack refuse "tree too big" run --case hierarchical --set N_2=100000 --no-plot
 
 # 5. Things that must work (and leave the inputs alone).
@@ -518,6 +524,30 @@ for k in 1 2 3; do
   kill "$(cat plotting)" 2> /dev/null
   "$bin" run --resume cut --no-plot --quiet 2> /dev/null
   cmp -s cut.tsv whole.tsv || { work_lost=$((work_lost + 1)); report LOST "SIGKILL while drawing ($k)"; }
+done
+
+# A fixed count and a part, interrupted and resumed: the fixed run forgets its state, the
+# part keeps it for merge, and both give the undisturbed numbers.
+"$bin" run --omega-min 10 --omega-max 1000 --realizations 256 --seed 5 --out wfix --no-plot --quiet
+for kind in fixed part; do
+  attacks=$((attacks + 1))
+  rm -f cfix.*
+  extra=(--realizations 256)
+  [ $kind = part ] && extra=(--realizations-range 0:256 --save-state cfix.state)
+  "$bin" run --omega-min 10 --omega-max 1000 "${extra[@]}" --seed 5 --out cfix --no-plot --quiet \
+    --checkpoint-every 0.1 2> /dev/null &
+  pid=$!
+  sleep 0.5
+  kill -INT $pid 2> /dev/null
+  wait $pid 2> /dev/null
+  [ -e cfix.state ] && "$bin" run --resume cfix --no-plot --quiet 2> /dev/null
+  if ! cmp -s cfix.tsv wfix.tsv; then
+    work_lost=$((work_lost + 1)); report LOST "$kind interrupted and resumed: the table differs"
+  elif [ $kind = fixed ] && [ -e cfix.state ]; then
+    other=$((other + 1)); report OTHER "a resumed fixed-count run kept its state"
+  elif [ $kind = part ] && [ ! -e cfix.state ]; then
+    work_lost=$((work_lost + 1)); report LOST "a resumed part lost the state merge reads"
+  fi
 done
 
 # A SIGKILL in a sweep: what each run checkpointed resumes.
