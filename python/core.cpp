@@ -439,7 +439,7 @@ PYBIND11_MODULE(_core, m) {
         if (order != 1 && order != 2) throw InputError("order: need 1 or 2");
         // As `slidespec theory --order 2` computes C_x2.
         const std::function<double(double)> second =
-            order == 2 ? theory_beyond_first_order(p) : std::function<double(double)>();
+            order == 2 ? theory_beyond_first_order(p).C_x : std::function<double(double)>();
         const std::vector<double> omegas = to_vector(omega);
         check_theory_omegas(p, omegas);
         // In chunks of about a tenth of a second, between which Ctrl-C is heard.

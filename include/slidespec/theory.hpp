@@ -218,10 +218,14 @@ TheoryChoice best_theory(const Parameters& p);
 /// "second_order", "quasi_static", "first_order" or "none", as outputs name it (theory_kind).
 const char* theory_kind_name(TheoryKind kind);
 
-/// C_x beyond first order [m^2 s] as every output carries it beside the first order (a
-/// run's theory2, theory's C_x2, Python's order=2): the quasi-static spectrum where
-/// best_theory names it, else the second-order series. Throws InputError where the series
-/// is not derived (several touching levels, drive = spring).
-std::function<double(double)> theory_beyond_first_order(const Parameters& p);
+/// C_x beyond first order as every output carries it beside the first order (a run's
+/// theory2, theory's C_x2, Python's order=2): the quasi-static spectrum where best_theory
+/// names it, else the second-order series. Throws InputError where the series is not
+/// derived (several touching levels, drive = spring).
+struct BeyondFirstOrder {
+  std::function<double(double)> C_x;  ///< [m^2 s] at omega [rad/s]
+  bool quasi_static = false;          ///< which of the two C_x is
+};
+BeyondFirstOrder theory_beyond_first_order(const Parameters& p);
 
 }  // namespace slidespec

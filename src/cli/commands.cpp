@@ -126,9 +126,9 @@ class TheoryCommand final : public Command {
     check_theory_omegas(p, omegas);
     if (order_ != 1 && order_ != 2) throw InputError("order: need 1 or 2");
     // Built before any work so that a model it does not cover is refused at once.
-    const std::function<double(double)> second =
-        order_ == 2 ? theory_beyond_first_order(p) : std::function<double(double)>();
-    const bool quasi_static = second && best_theory(p).kind == TheoryKind::quasi_static;
+    const BeyondFirstOrder beyond = order_ == 2 ? theory_beyond_first_order(p) : BeyondFirstOrder{};
+    const std::function<double(double)>& second = beyond.C_x;
+    const bool quasi_static = beyond.quasi_static;
     if (!out_.empty()) io::check_output_prefix(out_);
     warn_if_no_theory_holds(p);
     const std::vector<double> spectrum = exact_spectrum(p, omegas);

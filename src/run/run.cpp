@@ -273,6 +273,11 @@ void check_stationarity(const RunSession::Impl& s, RunResult& result) {
     result.stationary = false;
     result.stationarity = std::move(why);
   };
+  const bool spring = s.params.drive == Drive::spring;
+  const Landmarks l = landmarks(s.params);
+  const double lag_shift = spring && !l.forces_can_stall ? kSpringLagShifts * 0.5 * l.coupling_eps * l.coupling_eps *
+                                                               (s.params.F_drive - s.params.F_kin) / s.params.k_drive
+                                                         : 0;
   for (std::size_t b = 0; b < s.bands.size(); ++b) {
     double sum = 0, n = 0;
     for (const BatchRecord& batch : s.bands[b].batches)
@@ -288,11 +293,6 @@ void check_stationarity(const RunSession::Impl& s, RunResult& result) {
     if (std::string why = stalled_realizations(s, b); !why.empty()) return mark(why);
     // Through a spring the mean speed is v exactly (docs/model.md §9): a deviation beyond the
     // realizations' own scatter means they have not reached the stationary state.
-    const bool spring = s.params.drive == Drive::spring;
-    const Landmarks l = landmarks(s.params);
-    const double lag_shift = l.forces_can_stall ? 0
-                                                : kSpringLagShifts * 0.5 * l.coupling_eps * l.coupling_eps *
-                                                      (s.params.F_drive - s.params.F_kin) / s.params.k_drive;
     const double allowed =
         spring ? std::max(kSpringSpeedRoundoff * v, lag_shift / s.plan[b].duration) : kStalledSpeedDeficit * v;
     if (std::fabs(mean - v) - kSpeedStandardErrors * error > allowed) {
@@ -625,7 +625,7 @@ RunResult RunSession::result() const {
   // which theory holds here (§7.4).
   std::function<double(double)> second;
   try {
-    second = theory_beyond_first_order(s.params);
+    second = theory_beyond_first_order(s.params).C_x;
   } catch (const InputError& e) {
     result.theory2_note = e.what();
   }

@@ -204,10 +204,10 @@ double QuasiStaticTheory::ratio(double omega) const { return impl_->ratio(std::f
 
 int QuasiStaticTheory::force_nodes() const { return impl_->force_nodes; }
 
-std::function<double(double)> theory_beyond_first_order(const Parameters& p) {
+BeyondFirstOrder theory_beyond_first_order(const Parameters& p) {
   SecondOrderTheory series(p);  // first: it refuses what neither covers
-  if (best_theory(p).kind == TheoryKind::quasi_static) return QuasiStaticTheory(p);
-  return series;
+  if (best_theory(p).kind == TheoryKind::quasi_static) return {QuasiStaticTheory(p), true};
+  return {series, false};
 }
 
 }  // namespace slidespec
