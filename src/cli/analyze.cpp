@@ -301,15 +301,47 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
   return doc.dump(2) + "\n";
 }
 
-/// analyze --segments: the steady stretches, one a line, on standard output; no file written.
-int list_segments(const Options& o, const Record& record, const std::vector<SteadySegment>& steady) {
-  for (const std::string& note : o.notes) std::cerr << "slidespec: note: " << note << "\n";
-  std::cout << "# steady segments of " << o.file << " (record " << seconds(record.start_time) << ".."
-            << seconds(record.start_time + double(record.displacement.size() - 1) * record.dt) << " s, every "
-            << seconds(record.dt) << " s)\n# start [s]\tend [s]\tsamples\tmean_speed [m/s]\tkind\n";
+void print_segments(const std::vector<SteadySegment>& steady) {
   for (const SteadySegment& s : steady)
     std::cout << seconds(s.start) << "\t" << seconds(s.end) << "\t" << s.samples << "\t" << short_number(s.mean_speed)
               << "\t" << (s.hold ? "hold" : "sliding") << "\n";
+}
+
+/// analyze --segments: the steady stretches, one a line, on standard output; no file written.
+/// A record whose sampling rate changes is listed part by part (each read as its own
+/// --window), since an analysis can take any one of them.
+int list_segments(const Options& o, const Record& record, const std::vector<SteadySegment>& steady) {
+  const bool by_parts = record.parts.size() > 1 && !record.resampled && !o.format.window;
+  if (!by_parts)
+    for (const std::string& note : o.notes) std::cerr << "slidespec: note: " << note << "\n";
+  const double first = by_parts ? record.parts.front().start : record.start_time;
+  const double last =
+      by_parts ? record.parts.back().end : record.start_time + double(record.displacement.size() - 1) * record.dt;
+  std::cout << "# steady segments of " << o.file << " (record " << seconds(first) << ".." << seconds(last) << " s";
+  if (by_parts)
+    std::cout << ", " << record.parts.size() << " parts of different sampling rate, listed one after the other)\n";
+  else
+    std::cout << ", every " << seconds(record.dt) << " s)\n";
+  std::cout << "# start [s]\tend [s]\tsamples\tmean_speed [m/s]\tkind\n";
+  if (!by_parts) {
+    print_segments(steady);
+    return 0;
+  }
+  for (std::size_t k = 0; k < record.parts.size(); ++k) {
+    const SamplingPart& part = record.parts[k];
+    std::cout << "# part " << k + 1 << ": " << seconds(part.start) << ".." << seconds(part.end) << " s, every "
+              << seconds(part.interval) << " s (--window " << seconds(part.start) << ":" << seconds(part.end) << ")\n";
+    RecordFormat format = o.format;
+    format.window = {part.start, part.end};
+    try {
+      const Record piece = read_record_file(o.file, format);
+      for (const std::string& note : piece.notes)
+        std::cerr << "slidespec: note: part " << k + 1 << ": " << note << "\n";
+      print_segments(steady_segments(piece));
+    } catch (const InputError& e) {
+      std::cout << "# part " << k + 1 << " not listed: " << e.what() << "\n";
+    }
+  }
   return 0;
 }
 

@@ -125,6 +125,12 @@ basalt=$data/velstep4_BRAVA_expb819_basalt.txt
 grep -q "linear interpolation" "$work/seg3.err" || fail "sepiolite: resampling not said"
 "$bin" analyze "$basalt" --segments --resample 0.1 > "$work/seg4.txt" 2>/dev/null || fail "segments of the basalt record"
 [ "$(grep -vc '^#' "$work/seg4.txt")" -eq 2 ] || fail "basalt: expected 2 steady segments: $(cat "$work/seg4.txt")"
+# Without --resample the basalt record's two sampling rates are listed part by part, each
+# with the --window that picks it and its own steady speed.
+"$bin" analyze "$basalt" --segments > "$work/seg5.txt" 2>/dev/null || fail "segments of the basalt record by parts"
+[ "$(grep -c '^# part [12]: ' "$work/seg5.txt")" -eq 2 ] || fail "basalt: parts not listed: $(cat "$work/seg5.txt")"
+[ "$(grep -v '^#' "$work/seg5.txt" | cut -f4 | tr '\n' ' ')" = "3.02e-06 1e-05 " ] ||
+  fail "basalt: the parts' steady speeds: $(cat "$work/seg5.txt")"
 for case in "$sepiolite 20100:21290 2e-07" "$sepiolite 21350:22319 2e-06" "$basalt 11608:11674 3.02e-06" "$basalt 11675:11726 1e-05"; do
   set -- $case
   "$bin" analyze "$1" --window "$2" --no-plot --out "$work/real" 2> "$work/real.err" || fail "analyze $1 --window $2: $(cat "$work/real.err")"
