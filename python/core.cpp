@@ -349,11 +349,14 @@ py::dict landmarks_dict(const std::string& case_name, const Overrides& overrides
   d["eq1_prefactor"] = l.eq1_prefactor;
   d["coupling_eps"] = l.coupling_eps;
   d["forces_can_stall"] = l.forces_can_stall;
-  const TheoryChoice holds = best_theory(build(case_name, overrides));
+  const TheoryChoice holds = best_theory(p);
+  // Under a spring best_theory names the first order exactly where it holds (its limits reach
+  // far beyond the constant force's); otherwise the first order's own eps limit.
   d["outside_first_order"] =
-      l.forces_can_stall ||
-      l.coupling_eps > (build(case_name, overrides).renewal == Renewal::poisson ? kFirstOrderPoissonEpsMax
-                                                                                : kFirstOrderPeriodicEpsMax);
+      p.drive == Drive::spring
+          ? holds.kind != TheoryKind::first_order
+          : l.forces_can_stall ||
+                l.coupling_eps > (p.renewal == Renewal::poisson ? kFirstOrderPoissonEpsMax : kFirstOrderPeriodicEpsMax);
   d["theory_kind"] = theory_kind_name(holds.kind);
   d["theory_kind_note"] = holds.reason;
   d["omega_resonance"] = l.omega_resonance;

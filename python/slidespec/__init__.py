@@ -162,8 +162,9 @@ class Parameters(Mapping):
         """The theory's landmarks: renewal_rate v/a [1/s], omega_c sqrt(N k0/M) [rad/s],
         diffusion_D [m^2/s], eq1_prefactor [m^2 rad^4/s^3], coupling_eps [-],
         forces_can_stall, outside_first_order (eps beyond the first order's measured limit, or
-        stalling forces), theory_kind (the best theory that holds: "second_order",
-        "first_order" or "none", docs/model.md §7.4), theory_kind_note (why no better one),
+        stalling forces; under a spring, beyond the spring's limits), theory_kind (the best
+        theory that holds: "second_order", "quasi_static", "first_order" or "none",
+        docs/model.md §7.4), theory_kind_note (why no better one),
         omega_resonance [rad/s]; with drive="spring" also omega_s [rad/s] and C_x_zero,
         C_x(0) [m^2 s]."""
         return _core.landmarks(self._case, list(self._overrides))

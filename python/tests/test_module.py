@@ -440,6 +440,12 @@ def test_landmarks_name_the_best_theory_that_holds():
     outside = ss.Parameters("reference", N=2, alpha=1.04).landmarks  # eps 0.3, 0.52 of the stall
     assert outside["theory_kind"] == "none"
     assert "second order holds to eps 0.15" in outside["theory_kind_note"]
+    assert outside["outside_first_order"]
+    # Through a stiff spring the first order holds to 0.95 of the stall: the same eps is inside.
+    stiff = ss.Parameters("reference", N=2, alpha=1.04, drive="spring", k_drive=1e5).landmarks
+    assert stiff["theory_kind"] == "first_order" and not stiff["outside_first_order"]
+    soft = ss.Parameters("reference", N=2, alpha=1.04, drive="spring", k_drive=1e2).landmarks
+    assert soft["theory_kind"] == "none" and soft["outside_first_order"]
 
 
 def test_runs_outside_the_first_order_theory_warn_as_the_command_line_does():
