@@ -137,6 +137,10 @@ class SpectrumEstimator {
   /// its first segment there after this long, then one more every quarter of it.
   double segment_duration(double omega) const;
 
+  /// Segments one lane has given the band that serves `omega` after `steps` samples from
+  /// the start (the cascade's filters and differences take their own samples first).
+  std::uint64_t segments_after(std::uint64_t steps, double omega) const;
+
   struct Impl;
 
  private:

@@ -662,6 +662,18 @@ double SpectrumEstimator::segment_duration(double omega) const {
   return detail::kSegmentLength * std::ldexp(layout.config.dt, layout.band_for(omega));
 }
 
+std::uint64_t SpectrumEstimator::segments_after(std::uint64_t steps, double omega) const {
+  const detail::Layout& layout = *impl_->layout;
+  // Values give band 0 their differences, one fewer than the values.
+  std::uint64_t received = layout.config.input == SampleKind::value && steps > 0 ? steps - 1 : steps;
+  // decimate(): an output at every even index from kHistory on.
+  constexpr auto history = static_cast<std::uint64_t>(kHistory);
+  for (int b = 0; b < layout.band_for(omega); ++b) received = received > history ? (received - history + 1) / 2 : 0;
+  constexpr std::uint64_t D = detail::kBandDifferences, L = detail::kSegmentLength, hop = detail::kSegmentHop;
+  const std::uint64_t differenced = received > D ? received - D : 0;
+  return differenced < L ? 0 : (differenced - L) / hop + 1;
+}
+
 SpectrumAccumulator SpectrumEstimator::merged() const {
   SpectrumAccumulator all = accumulator(0);
   for (int l = 1; l < lanes(); ++l) all.merge(accumulator(l));

@@ -60,7 +60,9 @@ bool all_finite(const double* data, std::size_t count) {
   return sum[0] + sum[1] + sum[2] + sum[3] == 0;
 }
 
-EstimatorConfig estimator_config(const SubBand& band, int points_per_decade) {
+}  // namespace
+
+EstimatorConfig run_detail::estimator_config(const SubBand& band, int points_per_decade) {
   EstimatorConfig config;
   config.dt = band.dt;
   config.omega_min = band.omega_low;
@@ -69,6 +71,8 @@ EstimatorConfig estimator_config(const SubBand& band, int points_per_decade) {
   config.input = SampleKind::increment;
   return config;
 }
+
+namespace {
 
 // Below this many realizations the scatter between them is too coarse for the control
 // variate; the estimator's own (segment-scatter) error bars are used instead.
@@ -685,6 +689,14 @@ RunResult RunSession::result() const {
   const std::size_t expected_total =
       log_spaced_omegas(s.request.omega_min, s.request.omega_max, s.request.points_per_decade).size();
   result.complete = finished() && result.points.size() == expected_total;
+  // Finished without every point: a fixed count too small for some point's error bar
+  // (validate_request refuses the counts it can foresee).
+  if (finished() && result.points.size() < expected_total && result.stationary) {
+    result.stationary = false;
+    result.stationarity = std::to_string(expected_total - result.points.size()) + " of the " +
+                          std::to_string(expected_total) +
+                          " points got too few segments for an error bar from these realizations; run more";
+  }
   result.wall_seconds = s.wall_seconds;
   return result;
 }

@@ -33,6 +33,8 @@ constexpr std::uint64_t kMaxRealizationsPerBand = std::uint64_t{1} << 16;
 void check_request_fields(const RunRequest& request);
 /// Every sub-band's time step and step count finite and representable.
 void check_plan(const Parameters& params, const std::vector<SubBand>& plan);
+/// The estimator of a sub-band's realizations (run.cpp).
+EstimatorConfig estimator_config(const SubBand& band, int points_per_decade);
 
 /// One batch of realizations, as the stepper and estimator leave it.
 struct BatchRecord {

@@ -1,8 +1,10 @@
 // Run requests checked before any work: the same refusals for the command line and the
 // library (and so the Python bindings).
 #include <cmath>
+#include <limits>
 #include <sstream>
 
+#include "estimator/design.hpp"
 #include "run/session.hpp"
 
 namespace slidespec {
@@ -95,12 +97,41 @@ double planned_first_round_work(const Parameters& p, const RunRequest& r) {
   return steps * realizations * block_weight(p);
 }
 
+namespace {
+
+/// A fixed count of realizations too small for every point's error bar: each point needs
+/// kMinimumSegments segments of its band from all realizations together (the scatter
+/// between them).
+void check_realizations_give_segments(const RunRequest& r, const std::vector<SubBand>& plan) {
+  if (r.realizations == 0 || r.part) return;
+  std::uint64_t fewest = 0;
+  const SubBand* where = nullptr;
+  for (const SubBand& band : plan) {
+    const auto steps = static_cast<std::uint64_t>(std::ceil(band.duration / band.dt));
+    const std::uint64_t per_realization =
+        SpectrumEstimator(estimator_config(band, r.points_per_decade), 1).segments_after(steps, band.omega_low);
+    const std::uint64_t needed = per_realization == 0
+                                     ? std::numeric_limits<std::uint64_t>::max()
+                                     : (estimator_detail::kMinimumSegments + per_realization - 1) / per_realization;
+    if (needed > fewest) fewest = needed, where = &band;
+  }
+  if (r.realizations >= fewest) return;
+  throw InputError("--realizations " + std::to_string(r.realizations) + ": too few for the lowest point of sub-band " +
+                   text(where->omega_low) + ".." + text(where->omega_high) + " rad/s, whose error bar needs " +
+                   std::to_string(estimator_detail::kMinimumSegments) +
+                   " segments (the scatter between them); give at least " + std::to_string(fewest) +
+                   (r.duration > 0 ? ", or a longer --duration" : ""));
+}
+
+}  // namespace
+
 void validate_request(const Parameters& p, const RunRequest& r) {
   check_request_fields(r);
   if (!(expected_jump_energy(p, p.a) > 0))
     throw InputError(
         "alpha: 0 gives no random force, so C_x is zero at every omega and there is "
         "nothing to simulate");
+  check_realizations_give_segments(r, plan_sub_bands(p, r));
   const double work = planned_first_round_work(p, r);
   const double budget = r.work_budget > 0 ? r.work_budget : kDefaultWorkBudget;
   if (work > budget) {

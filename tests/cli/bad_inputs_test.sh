@@ -238,6 +238,8 @@ realizations-huge|--realizations|run --realizations 1000000000000 --no-plot
 realizations-overflow|--realizations|run --realizations 99999999999999999999999 --no-plot
 realizations-fraction|--realizations|run --realizations 2.5 --no-plot
 realizations-text|--realizations|run --realizations many --no-plot
+realizations-too-few|--realizations 2: too few for the lowest point of sub-band 1..10 rad/s, whose error bar needs 12 segments (the scatter between them); give at least 3|run --realizations 2 --omega-min 1 --omega-max 10 --no-plot
+realizations-too-few-duration|give at least 3, or a longer --duration|run --realizations 1 --duration 5000 --omega-min 0.3 --omega-max 100 --no-plot
 sweep-realizations-negative|--realizations|sweep alpha=1 --realizations -1 --no-plot
 seed-negative|--seed|run --seed -1 --no-plot
 seed-fraction|--seed|run --seed 1.5 --no-plot

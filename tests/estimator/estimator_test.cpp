@@ -255,6 +255,31 @@ TEST(Estimator, MergedEqualsOneEstimatorOnTheSameDataBitwise) {
   EXPECT_FALSE(together.merged().spectrum().empty());
 }
 
+// What a run's planner asks before any work: the segments a realization of so many steps
+// gives each point. Counted here by feeding one sample at a time, for values and
+// increments, past the first segments of five bands (every threshold crossed).
+TEST(Estimator, SegmentsAfterCountsTheSegmentsAPushGives) {
+  for (const SampleKind input : {SampleKind::value, SampleKind::increment}) {
+    EstimatorConfig config = kSmallConfig;
+    config.input = input;
+    SpectrumEstimator estimator(config, 1);
+    std::mt19937_64 rng(7);
+    std::uint64_t mismatches = 0, last_count = 0;
+    for (std::uint64_t steps = 1; steps <= 20000; ++steps) {
+      const double x = std::normal_distribution<double>()(rng);
+      estimator.push(&x, 1);
+      std::uint64_t count = 0;
+      for (const auto& point : estimator.merged().point_sums()) {
+        mismatches += estimator.segments_after(steps, point.omega) != point.segments;
+        count += point.segments;
+      }
+      last_count = count;
+    }
+    EXPECT_EQ(mismatches, 0u) << (input == SampleKind::value ? "values" : "increments");
+    EXPECT_GT(last_count, 0u);
+  }
+}
+
 TEST(Estimator, ChunkingDoesNotChangeTheResultBitwise) {
   const std::size_t steps = 200000;
   const auto data = ar1_data(2, steps, 50);
