@@ -222,6 +222,12 @@ constexpr double kSpeedStandardErrors = 5;
 // rounding of summed increments.
 constexpr double kSpringSpeedRoundoff = 1e-9;
 constexpr double kSpringLagShifts = 4;
+// Where the forces can stall the block the spring's stretch wanders over its whole range,
+// (F_drive - F_kin + the random forces' reach) / k_drive, which the load point takes up in
+// tau = range / v: the lowest sub-band's realizations must span this many tau to sample
+// that wandering, and every sub-band's mean speed may carry twice the range over its duration.
+constexpr double kSpringRelaxations = 20;
+constexpr double kSpringRanges = 2;
 // Renewals per contact a realization must span before its sliding can vouch for a
 // parameter set whose forces can stall the block.
 constexpr double kStallRenewalsToJudge = 100;
@@ -234,13 +240,22 @@ constexpr double kBandBreakFactor = 2;
 /// with Hoeffding's inequality: its speed falls short of v by (sum of its contacts' forces,
 /// averaged over the realization) / (F_drive - F_kin), a sum of independent bounded draws,
 /// about v duration / (2 a) of them per contact (docs/model.md §8).
+/// The largest sum of the touching contacts' random forces [N]: each f_j lies in
+/// [-alpha f_kin / 2, alpha f_kin / 2).
+double random_force_reach(const Parameters& p) {
+  double reach = 0;
+  for (int l = 1; l <= p.levels; ++l)
+    if (p.touches(l)) reach += static_cast<double>(p.blocks(l)) * p.level(l).alpha * p.friction_per_miniblock() / 2;
+  return reach;
+}
+
 double slow_sliding_chance(const Parameters& p, double duration) {
-  double resistance = 0, range_squared = 0, longest_a = 0;
+  const double resistance = random_force_reach(p);
+  double range_squared = 0, longest_a = 0;
   for (int l = 1; l <= p.levels; ++l) {
     if (!p.touches(l)) continue;
     const double contacts = static_cast<double>(p.blocks(l));
     const double range = p.level(l).alpha * p.friction_per_miniblock();  // f_j in [-range/2, range/2)
-    resistance += contacts * range / 2;
     range_squared += contacts * range * range;
     longest_a = std::max(longest_a, p.level(l).a);
   }
@@ -279,9 +294,25 @@ void check_stationarity(const RunSession::Impl& s, RunResult& result) {
   };
   const bool spring = s.params.drive == Drive::spring;
   const Landmarks l = landmarks(s.params);
-  const double lag_shift = spring && !l.forces_can_stall ? kSpringLagShifts * 0.5 * l.coupling_eps * l.coupling_eps *
-                                                               (s.params.F_drive - s.params.F_kin) / s.params.k_drive
-                                                         : 0;
+  // The displacement of the block against the load point a realization may make once.
+  double lag_shift = 0;
+  char too_short[500] = "";  // the spring's range is not sampled: said once the bands are judged
+  if (spring && !l.forces_can_stall)
+    lag_shift = kSpringLagShifts * 0.5 * l.coupling_eps * l.coupling_eps * (s.params.F_drive - s.params.F_kin) /
+                s.params.k_drive;
+  if (spring && l.forces_can_stall && !s.plan.empty()) {
+    const double stretch_range = (s.params.F_drive - s.params.F_kin + random_force_reach(s.params)) / s.params.k_drive;
+    const double relaxation = stretch_range / v;
+    if (s.plan[0].duration < kSpringRelaxations * relaxation) {
+      std::snprintf(too_short, sizeof too_short,
+                    "the forces can stall the block and the spring's stretch wanders over %.3g m, which the load "
+                    "point takes up in %.3g s; the lowest sub-band's realizations last %.3g s, under %.0f times "
+                    "that: extend the band down (about omega_min %.2g rad/s) or stiffen the spring",
+                    stretch_range, relaxation, s.plan[0].duration, kSpringRelaxations,
+                    s.plan[0].omega_low * s.plan[0].duration / (kSpringRelaxations * relaxation));
+    }
+    lag_shift = kSpringRanges * stretch_range;
+  }
   for (std::size_t b = 0; b < s.bands.size(); ++b) {
     double sum = 0, n = 0;
     for (const BatchRecord& batch : s.bands[b].batches)
@@ -301,14 +332,15 @@ void check_stationarity(const RunSession::Impl& s, RunResult& result) {
         spring ? std::max(kSpringSpeedRoundoff * v, lag_shift / s.plan[b].duration) : kStalledSpeedDeficit * v;
     if (std::fabs(mean - v) - kSpeedStandardErrors * error > allowed) {
       char why[400];
-      std::snprintf(why, sizeof why, "sub-band %zu slides at %.3g m/s on average (+- %.2g), not v = %.3g m/s%s", b,
-                    mean, error, v,
-                    spring ? ": its realizations are too short for the spring to hold the block at v (they last "
-                             "less than 1/omega_s or stall before the spring catches them); extend the band down"
-                           : "");
+      std::snprintf(why, sizeof why,
+                    "sub-band %zu slides at %.6g v on average (+- %.2g v), not v = %.3g m/s%s (allowed: %.2g v)", b,
+                    mean / v, error / v, v,
+                    spring ? ": its realizations end before the spring holds the block at v; extend the band down" : "",
+                    allowed / v);
       return mark(why);
     }
   }
+  if (too_short[0] != '\0') return mark(too_short);
   for (std::size_t b = 0; b + 1 < result.sub_bands.size(); ++b)
     if (std::string why = band_break(result, b); !why.empty()) return mark(why);
   // Where the forces can stall the block, a stall is absorbing (docs/model.md §8); a
@@ -670,12 +702,17 @@ RunResult RunSession::result() const {
 
   // The mean sliding speed, over the lowest sub-band's realizations (its longest).
   if (!s.bands.empty() && s.bands[0].realizations > 0) {
-    double sum = 0, sum2 = 0;
+    double sum = 0;
     for (const BatchRecord& batch : s.bands[0].batches)
-      for (double speed : batch.speed) sum += speed, sum2 += speed * speed;
+      for (double speed : batch.speed) sum += speed;
     const double n = static_cast<double>(s.bands[0].realizations);
     result.mean_speed = sum / n;
-    const double variance = std::max(0.0, sum2 / n - result.mean_speed * result.mean_speed);
+    // About the mean: under a stiff spring the speeds agree to ~1e-8 of v, which a
+    // difference of squares rounds to nothing.
+    double spread = 0;
+    for (const BatchRecord& batch : s.bands[0].batches)
+      for (double speed : batch.speed) spread += (speed - result.mean_speed) * (speed - result.mean_speed);
+    const double variance = spread / n;
     result.mean_speed_error = n > 1 ? std::sqrt(variance / (n - 1)) : INFINITY;
   }
   check_stationarity(s, result);

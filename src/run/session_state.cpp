@@ -98,13 +98,20 @@ std::vector<std::pair<std::string, std::string>> fingerprint(const Parameters& p
 std::string first_difference(const std::vector<std::pair<std::string, std::string>>& here,
                              const std::vector<std::pair<std::string, std::string>>& given,
                              const std::vector<std::string>& ignored = {}) {
-  for (std::size_t k = 0; k < std::max(here.size(), given.size()); ++k) {
-    const std::string key = k < here.size() ? here[k].first : given[k].first;
+  // By key: a spring's run describes keys (drive, k_drive) a constant force's does not.
+  const auto value_of = [](const std::vector<std::pair<std::string, std::string>>& fields, const std::string& key) {
+    for (const auto& [name, value] : fields)
+      if (name == key) return value;
+    return std::string("(none)");
+  };
+  std::vector<std::string> keys;
+  for (const auto* fields : {&here, &given})
+    for (const auto& field : *fields)
+      if (std::find(keys.begin(), keys.end(), field.first) == keys.end()) keys.push_back(field.first);
+  for (const std::string& key : keys) {
     if (std::find(ignored.begin(), ignored.end(), key) != ignored.end()) continue;
-    const std::string a = k < here.size() ? here[k].second : "(none)";
-    const std::string b = k < given.size() ? given[k].second : "(none)";
-    if (a != b || k >= here.size() || k >= given.size() || here[k].first != given[k].first)
-      return key + ": " + a + " there, " + b + " here";
+    const std::string a = value_of(here, key), b = value_of(given, key);
+    if (a != b) return key + ": " + a + " there, " + b + " here";
   }
   return "";
 }

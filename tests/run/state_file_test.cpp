@@ -127,3 +127,14 @@ TEST(Checkpoints, ComeWithinOneBatchOfBeingDue) {
   EXPECT_EQ(saves, static_cast<int>(bands * 64 / 8));
   EXPECT_TRUE(same_result(plain.result(), checkpointed.result()));
 }
+
+// A resume or merge across drives names the key that differs, by name: a spring's run
+// describes keys that a constant force's does not, so the lists do not line up.
+TEST(StateFile, ADifferentDriveIsNamedByItsKey) {
+  const RunSession force = small_finished_session();
+  const Parameters spring = ParameterBuilder("reference").set("drive=spring").set("k_drive=1e4").build();
+  const std::string message = force.difference(spring, force.request());
+  EXPECT_EQ(message.rfind("drive: ", 0), 0u) << message;
+  EXPECT_NE(message.find("spring here"), std::string::npos) << message;
+  EXPECT_EQ(force.difference(force.parameters(), force.request()), "");
+}
