@@ -1,4 +1,5 @@
 #include "cli/suggest.hpp"
+#include "slidespec/parameters.hpp"
 
 #include <cctype>
 
@@ -37,6 +38,13 @@ std::string unknown_argument(const CLI::App& app, int argc, const char* const* a
       const CLI::App& scope = chosen ? *chosen : app;
       const std::vector<std::string> known = option_names(scope);
       if (std::find(known.begin(), known.end(), word) != known.end()) continue;
+      // A model parameter typed as an option: it goes with --set where the command has one.
+      const std::string key = word.substr(word.find_first_not_of('-'));
+      const auto& keys = parameter_keys();
+      if (std::find(keys.begin(), keys.end(), key) != keys.end() &&
+          std::find(known.begin(), known.end(), "--set") != known.end())
+        return (chosen ? chosen->get_name() + ": " : std::string()) + "unknown option '" + word + "': " + key +
+               " is a model parameter, set it with --set " + key + "=VALUE";
       return (chosen ? chosen->get_name() + ": " : std::string()) + "unknown option '" + word + "'" +
              util::did_you_mean(word, known) + " (see 'slidespec " + (chosen ? chosen->get_name() + " " : "") +
              "--help')";

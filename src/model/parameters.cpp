@@ -272,7 +272,7 @@ void check_magnitude(const std::string& key, double value) {
 
 void check(const ParameterInfo& row, const std::string& key, double value) {
   if (!inside(row.range, value))
-    throw InputError("parameter " + key + ": must be " + row.allowed + " (got " + std::to_string(value) + ")");
+    throw InputError("parameter " + key + ": must be " + row.allowed + " (got " + bound(value) + ")");
   check_magnitude(key, value);
 }
 void check(const ParameterInfo& row, const std::string& key, int value) {

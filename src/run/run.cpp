@@ -275,12 +275,13 @@ std::string stalled_realizations(const RunSession::Impl& s, std::size_t b) {
   // A sliding realization that slow is rare (none where the forces cannot hold back half
   // of the drive); more than the bound allows, beyond five binomial deviations, stalled.
   const double chance = slow_sliding_chance(s.params, s.plan[b].duration);
-  if (slow <= n * chance + kSpeedStandardErrors * std::sqrt(n * chance)) return "";
+  const double allowed = n * chance + kSpeedStandardErrors * std::sqrt(n * chance);
+  if (slow <= allowed) return "";
   char why[300];
   std::snprintf(why, sizeof why,
                 "%.0f of sub-band %zu's %.0f realizations slide slower than v/2 = %.3g m/s (a stationary run "
-                "allows %.2g): some realizations stalled",
-                slow, b, n, 0.5 * v, n * chance);
+                "allows at most %.0f): some realizations stalled",
+                slow, b, n, 0.5 * v, std::floor(allowed));
   return why;
 }
 
