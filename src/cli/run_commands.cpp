@@ -521,7 +521,17 @@ class SweepCommand final : public Command {
     for (const auto& values : grid) {
       ModelOptions one = model_;
       for (const auto& [key, value] : values) one.overrides.push_back(key + "=" + value);
-      params.push_back(one.build());
+      // Swept across drives, a spring's stiffness belongs to the spring's runs alone.
+      if (std::find(values.begin(), values.end(), std::pair<std::string, std::string>("drive", "force")) !=
+          values.end())
+        std::erase_if(one.overrides, [](const std::string& change) { return change.rfind("k_drive=", 0) == 0; });
+      std::string shown;
+      for (const auto& [key, value] : values) shown += (shown.empty() ? "" : ", ") + key + "=" + value;
+      try {
+        params.push_back(one.build());
+      } catch (const InputError& e) {
+        throw InputError("sweep run " + shown + ": " + e.what());
+      }
       RunSession check(params.back(), options.request);  // validates the band for these values
       work.push_back(planned_work(params.back(), options.request));
     }

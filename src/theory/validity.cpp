@@ -78,7 +78,8 @@ TheoryChoice best_theory(const Parameters& p) {
   if (l.forces_can_stall && p.drive == Drive::spring)
     return {TheoryKind::none,
             "alpha F_kin >= 2 (F_drive - F_kin): a constant force would stall the block; the spring keeps it "
-            "sliding at v, intermittently, and no theory is expected to hold (docs/model.md §9)"};
+            "sliding at v, intermittently, over times long enough for it to take up its range of stretch "
+            "(docs/model.md §8), and no theory is expected to hold (docs/model.md §9)"};
   if (l.forces_can_stall)
     return {TheoryKind::none,
             "alpha F_kin >= 2 (F_drive - F_kin): the random forces can stall the block (docs/model.md §8)"};

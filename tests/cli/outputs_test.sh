@@ -87,6 +87,13 @@ PY
 expect_refused sweep-range-without-count "log 5" sweep N=10..100 $out
 expect_refused sweep-bad-step "STEP" sweep alpha=1:0.1:0.1 $out
 expect_refused sweep-key-twice "twice" sweep alpha=1,2 alpha=3 $out
+expect_refused sweep-point-named "sweep run alpha=-1: parameter alpha" sweep alpha=1,-1 $out
+expect_refused model-key-as-option "alpha is a model parameter, set it with --set alpha=VALUE" run --alpha 2 $out
+# Swept across drives, the spring's stiffness goes to the spring's runs only.
+"$bin" sweep drive=force,spring --set k_drive=1e4 --omega-min 10 --omega-max 100 --realizations 8 --quiet --no-plot \
+  --out "$work/drives" || fail "sweep across drives with --set k_drive"
+grep -q "^# k_drive = 10000" "$work/drives_drive=spring.tsv" || fail "sweep across drives: the spring run has no k_drive"
+grep -q "^# k_drive" "$work/drives_drive=force.tsv" && fail "sweep across drives: the force run has a k_drive"
 
 # Figures: the format by the extension, refused before any work when unknown.
 "$bin" plot "$work/small.tsv" -o "$work/fig.pdf" --size 5x4 && head -c 5 "$work/fig.pdf" | grep -q "%PDF-" || fail "plot -o .pdf: not a PDF"
