@@ -19,16 +19,16 @@ naming the key; files that cannot be read raise OSError. Ctrl-C during run() rai
 KeyboardInterrupt carrying what the run accumulated as `error.result`; resume() continues it.
 """
 
-import errno
-import json
-import math
-import os
-import re
-import stat
-import warnings
-from collections.abc import Mapping
+import errno as _errno
+import json as _json
+import math as _math
+import os as _os
+import re as _re
+import stat as _stat
+import warnings as _warnings
+from collections.abc import Mapping as _Mapping
 
-import numpy as np
+import numpy as _np
 
 from . import _core
 
@@ -65,7 +65,7 @@ def parameter_table():
 
 def _kind(key):
     """The kind of KEY or KEY_l (None for a key that is not a parameter)."""
-    row = _PARAMETERS.get(key) or _PARAMETERS.get(re.sub(r"_\d+$", "", key))
+    row = _PARAMETERS.get(key) or _PARAMETERS.get(_re.sub(r"_\d+$", "", key))
     return row["kind"] if row else None
 
 
@@ -89,7 +89,7 @@ def _text(key, value):
         return value
     if isinstance(value, (list, tuple)):
         return ",".join(_text(key, v) for v in value)
-    if isinstance(value, (int, np.integer)):
+    if isinstance(value, (int, _np.integer)):
         return str(int(value))
     return repr(float(value))
 
@@ -105,7 +105,7 @@ def cases(descriptions=False):
     return [name for name, _, _ in found]
 
 
-class Parameters(Mapping):
+class Parameters(_Mapping):
     """A validated parameter set of the model: a named case plus overrides.
 
         p = Parameters("reference", alpha=0.4, N=12)
@@ -221,11 +221,11 @@ def omegas(omega_min=_RUN["omega_min"], omega_max=_RUN["omega_max"], points=_RUN
 
 
 def _positive_omegas(omega):
-    given = np.asarray(omega)
+    given = _np.asarray(omega)
     if given.dtype.kind not in "iuf":
         raise TypeError(f"omega: expected numbers [rad/s], got {given.dtype.name} values")
     w = given.astype(float)
-    if not np.all(np.isfinite(w)) or not np.all(w > 0):
+    if not _np.all(_np.isfinite(w)) or not _np.all(w > 0):
         raise ValueError("omega: every angular frequency must be a positive finite number [rad/s]")
     return w
 
@@ -286,9 +286,9 @@ def _columns(points):
         if all(isinstance(v, dict) for v in values):
             columns[key] = _columns(values)
         elif all(isinstance(v, bool) for v in values):
-            columns[key] = np.array(values, dtype=bool)
+            columns[key] = _np.array(values, dtype=bool)
         elif all(isinstance(v, (int, float)) or v is None for v in values):
-            columns[key] = np.array([math.nan if v is None else v for v in values], dtype=float)
+            columns[key] = _np.array([_math.nan if v is None else v for v in values], dtype=float)
         else:
             columns[key] = list(values)
     return columns
@@ -305,7 +305,7 @@ class _Table:
 
     def to_dict(self):
         """The result as the command line's PREFIX.json holds it: a JSON-serialisable dict."""
-        return json.loads(json.dumps(self._data))
+        return _json.loads(_json.dumps(self._data))
 
     @property
     def columns(self):
@@ -417,7 +417,7 @@ class Result(_Table):
         if "complete" not in self._data:  # a theory table
             return text + ">"
         return (text + f", {'complete' if self.complete else 'incomplete'}, "
-                f"largest stderr/C_x {self._data.get('reached_precision', math.nan):.3g}>")
+                f"largest stderr/C_x {self._data.get('reached_precision', _math.nan):.3g}>")
 
 
 def _value(field):
@@ -456,18 +456,18 @@ class _Progress:
 
 
 def _finish(handle):
-    data = json.loads(handle.result_json())
+    data = _json.loads(handle.result_json())
     result = Result(data, None if data.get("complete") else handle.save())
     stationary = data.get("stationary")
     if isinstance(stationary, dict):
         stationary = stationary.get("value", stationary.get("stationary"))
     if stationary is False:
-        warnings.warn("the run's spectrum is not stationary (see the result's 'stationary' fields)",
+        _warnings.warn("the run's spectrum is not stationary (see the result's 'stationary' fields)",
                       ModelWarning, stacklevel=3)
     request = data.get("request", {})
     if (result.complete and not request.get("duration") and not request.get("realizations")
-            and data.get("reached_precision", 0) > request.get("precision", math.inf)):
-        warnings.warn(f"the precision {request['precision']} was not reached within the work "
+            and data.get("reached_precision", 0) > request.get("precision", _math.inf)):
+        _warnings.warn(f"the precision {request['precision']} was not reached within the work "
                       f"budget of a sub-band (reached {data['reached_precision']:.3g})",
                       PrecisionWarning, stacklevel=3)
     return result
@@ -497,7 +497,7 @@ def _drive(handle, threads, simd, progress):
 def _warn_if_no_theory_holds(p):
     marks = p.landmarks
     if marks["theory_kind"] == "none":
-        warnings.warn(f"no theory holds here (theory_kind = none): {marks['theory_kind_note']}", ModelWarning,
+        _warnings.warn(f"no theory holds here (theory_kind = none): {marks['theory_kind_note']}", ModelWarning,
                       stacklevel=3)
 
 
@@ -507,7 +507,7 @@ _MOST_INT = 2**31 - 1
 
 def _whole(name, value, largest):
     """A count or seed as the command line takes it: an int (not bool, not float) in 0..largest."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+    if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
         raise TypeError(f"{name}: expected a whole number (int), got {type(value).__name__} {value!r}")
     if not 0 <= int(value) <= largest:
         raise ValueError(f"{name}: {value} is outside 0..{largest}")
@@ -516,7 +516,7 @@ def _whole(name, value, largest):
 
 def _real(name, value):
     """A real number as the command line takes it: int or float (not bool, not text)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+    if isinstance(value, bool) or not isinstance(value, (int, float, _np.integer, _np.floating)):
         raise TypeError(f"{name}: expected a number, got {type(value).__name__} {value!r}")
     return float(value)
 
@@ -578,11 +578,11 @@ def resume(result, *, threads=0, simd="auto", progress=False):
 # Reading the command line's outputs
 
 _LANDMARK_KEYS = ("renewal_rate", "omega_c", "diffusion_D", "eq1_prefactor", "coupling_eps")
-_PARAMETER_KEY = re.compile(r"^(%s)(_\d+)?$" % "|".join(re.escape(k.removesuffix("_l"))
+_PARAMETER_KEY = _re.compile(r"^(%s)(_\d+)?$" % "|".join(_re.escape(k.removesuffix("_l"))
                                                         for k in _core.parameter_keys()))
 # A key is one word; prose with " = " in it (the "# columns:" line) is not a KEY = VALUE line.
-_KEY = re.compile(r"^\w+\s*$")
-_SUB_BAND = re.compile(r"^sub_band (\d+): omega (\S+) \.\. (\S+), dt = (\S+) s, duration = (\S+) s, "
+_KEY = _re.compile(r"^\w+\s*$")
+_SUB_BAND = _re.compile(r"^sub_band (\d+): omega (\S+) \.\. (\S+), dt = (\S+) s, duration = (\S+) s, "
                        r"realizations = (\d+)")
 
 
@@ -591,7 +591,7 @@ def _number(text):
         value = float(text)
     except ValueError:
         return {"true": True, "false": False}.get(text, text)
-    return int(value) if re.fullmatch(r"[+-]?\d+", text) else value
+    return int(value) if _re.fullmatch(r"[+-]?\d+", text) else value
 
 
 def _read_table(text, path):
@@ -623,7 +623,7 @@ def _read_table(text, path):
                 elif key in _LANDMARK_KEYS:
                     landmarks[key] = float(value)
                 elif key == "measured_mean_speed":
-                    error = re.search(r"\+-\s*(\S+)", note)
+                    error = _re.search(r"\+-\s*(\S+)", note)
                     data[key] = {"value": float(value),
                                  "standard_error": float(error.group(1)) if error else None}
                 else:
@@ -651,22 +651,22 @@ def _read_table(text, path):
 _MOST_TABLE_BYTES = 1 << 30
 
 
-_SWEEP_RUN = re.compile(r"^# run_\d+ = .*  # (.+)$")
+_SWEEP_RUN = _re.compile(r"^# run_\d+ = .*  # (.+)$")
 
 
 def _sweep_runs(text, path):
     """The files of a sweep's runs, beside the sweep's own table; None for any other file."""
-    directory = os.path.dirname(os.fspath(path))
+    directory = _os.path.dirname(_os.fspath(path))
     if text.startswith("# slidespec ") and " sweep: " in text.split("\n", 1)[0]:
-        return [os.path.join(directory, m.group(1)) for line in text.splitlines()
+        return [_os.path.join(directory, m.group(1)) for line in text.splitlines()
                 if (m := _SWEEP_RUN.match(line))]
     if text.lstrip().startswith("{"):
         try:
-            data = json.loads(text)
-        except json.JSONDecodeError:
+            data = _json.loads(text)
+        except _json.JSONDecodeError:
             return None
         if isinstance(data, dict) and "runs" in data and "points" not in data:
-            return [os.path.join(directory, run["table"]) for run in data["runs"]]
+            return [_os.path.join(directory, run["table"]) for run in data["runs"]]
     return None
 
 
@@ -682,15 +682,15 @@ def read(path):
     file cannot be read (a directory, a device, a pipe, or over 1 GiB: a table is a few
     kB) and ValueError when it is not a slidespec table."""
     with open(path, "rb", buffering=0) as f:
-        info = os.fstat(f.fileno())
-        if not stat.S_ISREG(info.st_mode):
-            raise OSError(errno.EINVAL, "not a regular file (a slidespec table is a file)", str(path))
+        info = _os.fstat(f.fileno())
+        if not _stat.S_ISREG(info.st_mode):
+            raise OSError(_errno.EINVAL, "not a regular file (a slidespec table is a file)", str(path))
         if info.st_size > _MOST_TABLE_BYTES:
-            raise OSError(errno.EFBIG, f"{info.st_size} bytes, more than a slidespec table's "
+            raise OSError(_errno.EFBIG, f"{info.st_size} bytes, more than a slidespec table's "
                           f"{_MOST_TABLE_BYTES}", str(path))
         raw = f.read(_MOST_TABLE_BYTES + 1)
     if len(raw) > _MOST_TABLE_BYTES:
-        raise OSError(errno.EFBIG, f"more than a slidespec table's {_MOST_TABLE_BYTES} bytes", str(path))
+        raise OSError(_errno.EFBIG, f"more than a slidespec table's {_MOST_TABLE_BYTES} bytes", str(path))
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as e:
@@ -699,8 +699,8 @@ def read(path):
         return [read(run) for run in runs]
     if text.lstrip().startswith("{"):
         try:
-            data = json.loads(text)
-        except json.JSONDecodeError as e:
+            data = _json.loads(text)
+        except _json.JSONDecodeError as e:
             raise ValueError(f"{path}: not valid JSON ({e})") from None
         if not isinstance(data, dict) or "points" not in data:
             raise ValueError(f"{path}: not a slidespec result (no points)")
@@ -813,10 +813,10 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
     theory_order = _whole("theory_order", theory_order, 2)
     if not isinstance(resample, str):
         resample = _real("resample", resample)
-    time = np.empty(0) if t is None else np.asarray(t, dtype=float).ravel()
-    samples = np.empty(0) if x is None else np.asarray(x, dtype=float).ravel()
-    channel = None if force is None else np.asarray(force, dtype=float).ravel()
-    normal = None if normal_stress is None else np.asarray(normal_stress, dtype=float).ravel()
+    time = _np.empty(0) if t is None else _np.asarray(t, dtype=float).ravel()
+    samples = _np.empty(0) if x is None else _np.asarray(x, dtype=float).ravel()
+    channel = None if force is None else _np.asarray(force, dtype=float).ravel()
+    normal = None if normal_stress is None else _np.asarray(normal_stress, dtype=float).ravel()
     record = {"dt": float(dt or 0), "units": str(units), "time_tolerance": float(time_tolerance),
               "window": None if window is None else (float(window[0]), float(window[1])),
               "resample": resample if isinstance(resample, str) else "interval",
@@ -877,4 +877,4 @@ def synth(params="reference", *, sample_interval=_SENSOR["sample_interval"], dur
               "resolution": _real("resolution", resolution), "sensor_noise": _real("sensor_noise", sensor_noise),
               "seed": _whole("seed", seed, _MOST_U64)}
     step, start, x = _core.synthesize(*p._args(), sensor)
-    return start + step * np.arange(x.size), x
+    return start + step * _np.arange(x.size), x
