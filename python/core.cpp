@@ -4,12 +4,15 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <condition_variable>
 #include <exception>
 #include <memory>
 #include <new>
+#include <optional>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -46,6 +49,66 @@ Array to_array(const std::vector<double>& values) {
 
 std::vector<double> to_vector(const Array& values) {
   return std::vector<double>(values.data(), values.data() + values.size());
+}
+
+/// The command line's options in a library message, as the Python keywords that set the same
+/// thing ("--omega-max" -> "omega_max", "--column" -> "x"): the one place Python's messages
+/// are worded for Python.
+std::string python_names(const std::string& message) {
+  // Options named as their keyword with '_' for '-', and those named otherwise; the rest
+  // (--out, --resume, ...) Python does not have, and they are left as they are.
+  static const std::vector<std::string> same = {
+      "omega-min",    "omega-max",         "points",         "precision",      "duration",    "realizations",
+      "seed",         "threads",           "simd",           "order",          "dt",          "units",
+      "window",       "resample",          "time-tolerance", "observable",     "force-units", "contact-area",
+      "normal-force", "machine-stiffness", "resolution",     "sensor-noise",   "estimator",   "fit",
+      "fit-band",     "fit-slope",         "theory-order",   "sample-interval"};
+  static const std::vector<std::pair<std::string, std::string>> renamed = {{"column", "x"},
+                                                                           {"time-column", "t"},
+                                                                           {"force-column", "force"},
+                                                                           {"compare-case", "compare"},
+                                                                           {"normal-stress-column", "normal_stress"},
+                                                                           {"case", "the case"},
+                                                                           {"set", "Parameters(KEY=VALUE)"},
+                                                                           {"params", "Parameters(KEY=VALUE)"}};
+  const auto keyword = [](const std::string& option) -> std::optional<std::string> {
+    if (std::find(same.begin(), same.end(), option) != same.end()) {
+      std::string name = option;
+      std::replace(name.begin(), name.end(), '-', '_');
+      return name;
+    }
+    const auto other = std::find_if(renamed.begin(), renamed.end(), [&](const auto& r) { return r.first == option; });
+    return other == renamed.end() ? std::nullopt : std::optional<std::string>(other->second);
+  };
+  std::string out;
+  std::size_t at = 0;
+  while (at < message.size()) {
+    const std::size_t dashes = message.find("--", at);
+    const bool starts_word =
+        dashes != std::string::npos && (dashes == 0 || !std::isalnum(static_cast<unsigned char>(message[dashes - 1])));
+    if (dashes == std::string::npos) {
+      out += message.substr(at);
+      break;
+    }
+    std::size_t end = dashes + 2;
+    while (end < message.size() && (std::isalnum(static_cast<unsigned char>(message[end])) ||
+                                    (message[end] == '-' && end + 1 < message.size() &&
+                                     std::isalpha(static_cast<unsigned char>(message[end + 1])))))
+      ++end;
+    const std::string option = message.substr(dashes + 2, end - dashes - 2);
+    const std::optional<std::string> known = starts_word ? keyword(option) : std::nullopt;
+    out += message.substr(at, dashes - at);
+    if (!known) {
+      out += message.substr(dashes, end - dashes);
+    } else if (option == "set" && end + 1 < message.size() && message[end] == ' ' &&
+               message.find('=', end) < message.find_first_of(" ,;)", end + 1)) {
+      ++end;  // "--set k_drive=K" reads as the keyword "k_drive=K"
+    } else {
+      out += *known;
+    }
+    at = end;
+  }
+  return out;
 }
 
 /// A run advanced by its own thread, so that the caller's thread keeps the interpreter
@@ -211,13 +274,13 @@ class Spectrum {
     if (time.size() > 0) names.push_back("t"), columns.push_back(to_vector(time));
     if (x.size() > 0) names.push_back("x"), columns.push_back(to_vector(x));
     if (!format["force"].is_none())
-      names.push_back("force"), columns.push_back(to_vector(format["force"].cast<Array>()));
+      names.push_back("channel"), columns.push_back(to_vector(format["force"].cast<Array>()));
     if (!format["normal_stress"].is_none()) {
       names.push_back("normal_stress (" + format["normal_stress_units"].cast<std::string>() + ")");
       columns.push_back(to_vector(format["normal_stress"].cast<Array>()));
     }
     if (f.observable != Observable::displacement || f.machine_stiffness > 0)
-      f.force_column = format["force"].is_none() ? "" : "force";
+      f.force_column = format["force"].is_none() ? "" : "channel";
     py::gil_scoped_release release;
     Record record = record_from_columns(names, columns, f);
     notes_ = record.notes;
@@ -239,7 +302,8 @@ class Spectrum {
     doc.update(detail::spectrum_json(s));
     doc["resolution"] = request_.resolution;
     doc["sensor_noise"] = request_.sensor_noise;
-    doc["notes"] = notes_;
+    doc["notes"] = nlohmann::ordered_json::array();
+    for (const std::string& note : notes_) doc["notes"].push_back(python_names(note));
     doc["segments"] = nlohmann::ordered_json::array();
     for (const auto& [start, end, speed, hold] : segments_)
       doc["segments"].push_back({{"start", start}, {"end", end}, {"mean_speed", speed}, {"hold", hold}});
@@ -375,11 +439,11 @@ PYBIND11_MODULE(_core, m) {
     try {
       if (error) std::rethrow_exception(error);
     } catch (const FileError& e) {  // before InputError, which it is
-      PyErr_SetString(PyExc_OSError, e.what());
+      PyErr_SetString(PyExc_OSError, python_names(e.what()).c_str());
     } catch (const InputError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      PyErr_SetString(PyExc_ValueError, python_names(e.what()).c_str());
     } catch (const io::WriteError& e) {
-      PyErr_SetString(PyExc_OSError, e.what());
+      PyErr_SetString(PyExc_OSError, python_names(e.what()).c_str());
     } catch (const std::bad_alloc&) {
       PyErr_SetString(PyExc_MemoryError, "out of memory: the work needs more than this machine has");
     }
@@ -430,6 +494,9 @@ PYBIND11_MODULE(_core, m) {
       "describe",
       [](const std::string& case_name, const Overrides& overrides) { return describe(build(case_name, overrides)); },
       "Every (key, value text) of a case with overrides; ValueError names a bad key.");
+  m.def("parse_fit_parameters", &parse_fit_parameters,
+        "The model parameters a --fit list names, checked as the command line checks them.");
+  m.def("python_names", &python_names, "A library message with the command line's options as Python keywords.");
   m.def("landmarks", &landmarks_dict, "The theory's landmarks of a parameter set, SI units.");
   m.def(
       "log_spaced_omegas",

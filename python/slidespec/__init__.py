@@ -794,9 +794,12 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
     Returns an Analysis (ok False when a fit does not describe the data; each fit's ok and
     failure say why). Raises ValueError for a malformed record or request.
     """
+    if x is None and force is None:
+        raise ValueError("x: no positions given; give x [units], or force= (with force_units=) for a record "
+                         "of a force alone")
     names = None
     if fit is not None and fit not in ("alpha", "power-law"):
-        names = list(fit) if isinstance(fit, (list, tuple)) else str(fit).split(",")
+        names = _core.parse_fit_parameters(",".join(fit) if isinstance(fit, (list, tuple)) else str(fit))
         fit = ",".join(names)
     if fit not in (None, "power-law") and compare is None:
         raise ValueError(f"fit={fit!r} needs compare=Parameters(...)")

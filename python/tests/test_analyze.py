@@ -1,7 +1,9 @@
 """ss.analyze with the command line's options on numpy arrays: channels, windows, the
 power-law fit and the joint model fit on the record's terms (docs/analysis.md)."""
 
+import os
 import pathlib
+import subprocess
 
 import numpy as np
 import pytest
@@ -10,6 +12,8 @@ import slidespec as ss
 
 DT = 0.02  # [s]
 MACHINE = ss.Parameters(drive="spring", k_drive=1e3, alpha=0.5, a=1e-3)
+BASALT = pathlib.Path(__file__).resolve().parents[2] / "tests" / "data" / "realdata" / "velstep4_BRAVA_expb819_basalt.txt"
+CLI = os.environ.get("SLIDESPEC", "slidespec")
 
 
 def sensor_noise():
@@ -83,8 +87,7 @@ def test_force_channels_from_arrays():
 
 
 def test_machine_stiffness_drives_the_compared_case_through_a_spring():
-    data = pathlib.Path(__file__).resolve().parents[2] / "tests" / "data" / "realdata"
-    table = np.loadtxt(data / "velstep4_BRAVA_expb819_basalt.txt", skiprows=1)
+    table = np.loadtxt(BASALT, skiprows=1)
     a = ss.analyze(table[:, 0], table[:, 1], units="um", force=table[:, 2], force_units="mu",
                    normal_stress=table[:, 3], contact_area=25e-4, machine_stiffness=5e7,
                    window=(11608, 11674), compare="reference")
@@ -93,3 +96,50 @@ def test_machine_stiffness_drives_the_compared_case_through_a_spring():
     assert a.model_parameters["k_drive"] == pytest.approx(5e7)
     assert a.model_parameters["v"] == pytest.approx(a.mean_speed, rel=1e-6)
     assert np.all(np.isfinite(a.theory))
+
+
+def basalt():
+    """The measured basalt record: t [s], x [um], friction mu, normal stress [MPa]."""
+    return np.loadtxt(BASALT, skiprows=1, unpack=True)
+
+
+@pytest.mark.parametrize("fit", ["beta", "alpha,N", ["alpha", "beta"]])
+def test_a_fit_of_what_no_fit_varies_says_so_as_the_command_line_does(fit, tmp_path):
+    t, x, _, _ = basalt()
+    with pytest.raises(ValueError) as error:
+        ss.analyze(t, x, units="um", window=(11608, 11674), compare="reference", fit=fit)
+    name = "beta" if "beta" in fit else "N"
+    done = subprocess.run([CLI, "analyze", str(BASALT), "--window", "11608:11674", "--compare-case", "reference",
+                           "--fit", fit if isinstance(fit, str) else ",".join(fit), "--no-plot", "--quiet",
+                           "--out", str(tmp_path / "never")], capture_output=True, text=True)
+    assert f"'{name}' is not a model parameter a fit can vary" in done.stderr
+    assert str(error.value) == done.stderr.strip().removeprefix("slidespec: error: --")
+
+
+def test_messages_name_pythons_keywords_not_the_command_lines_options():
+    t, x, _, _ = basalt()
+    for kwargs, keyword in [(dict(omega_max=1e9), "omega_max"), (dict(window=(0, 1)), "window"),
+                            (dict(dt=-1.0, t=None), "dt")]:
+        call = dict(t=t, x=x, units="um") | kwargs
+        with pytest.raises(ValueError) as error:
+            ss.analyze(call.pop("t"), call.pop("x"), **call)
+        assert str(error.value).startswith(keyword), str(error.value)
+        assert "--" not in str(error.value), str(error.value)
+    with pytest.raises(ValueError, match="^precision") as error:
+        ss.run("reference", precision=2)
+    with pytest.raises(ValueError, match="^omega_max") as error:
+        ss.run("reference", omega_max=1e12)
+    assert "--" not in str(error.value)
+    # A record of a force alone has no x: without a force either, the message says what to give.
+    with pytest.raises(ValueError) as error:
+        ss.analyze(t, None)
+    assert "force=" in str(error.value) and "--" not in str(error.value)
+    # The notes of a record name the keywords too.
+    a = ss.analyze(t, x, units="um")
+    assert a.notes and not [note for note in a.notes if "--" in note], a.notes
+
+
+def test_the_force_channel_is_named_once():
+    t, _, mu, _ = basalt()
+    a = ss.analyze(t, None, force=mu, force_units="mu", normal_force=1e3, window=(11608, 11674))
+    assert a.observable["channel"] == "force channel (mu) x normal force 1000 N"
