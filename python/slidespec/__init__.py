@@ -34,7 +34,7 @@ from . import _core
 
 __version__ = _core.version
 __all__ = ["Parameters", "parameter_table", "Result", "Analysis", "cases", "omegas", "theory", "spring_force_theory", "eq1", "long_time_motion", "run", "resume",
-           "read", "analyze", "synth", "PrecisionWarning", "ModelWarning"]
+           "read", "analyze", "synth", "PrecisionWarning", "ModelWarning", "RecordWarning"]
 
 
 class PrecisionWarning(UserWarning):
@@ -44,6 +44,14 @@ class PrecisionWarning(UserWarning):
 class ModelWarning(UserWarning):
     """The parameters lie outside the first-order theory's validity, or a result is not
     what it claims (e.g. not stationary); the numbers are reported all the same."""
+
+
+class RecordWarning(UserWarning):
+    """A measured record's spectrum holds less than it seems, as `slidespec analyze` warns: no
+    usable band (the sensor floor above the spectrum: resolution or sensor_noise in the wrong
+    unit), a mean speed no friction experiment has (x in the wrong units), points the window's
+    leakage may bias, or a quantization floor that is not white. The numbers are reported all
+    the same."""
 
 
 # ---------------------------------------------------------------------------------------
@@ -792,7 +800,12 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
       first order always. The result's theory_order field says which was used; whether
       either holds is the parameters' theory_kind (docs/model.md §7.4).
     Returns an Analysis (ok False when a fit does not describe the data; each fit's ok and
-    failure say why). Raises ValueError for a malformed record or request.
+    failure say why, and a ModelWarning repeats it; without a fit ok is True, as in the
+    command's JSON, even with no usable band). Warns RecordWarning where the command line
+    warns: no usable band (resolution or sensor_noise in the wrong unit: both are in metres),
+    a mean speed implausible for friction (x in the wrong units), points biased by the
+    window's leakage, a quantization floor that is not white. Raises ValueError for a
+    malformed record or request.
     """
     if x is None and force is None:
         raise ValueError("x: no positions given; give x [units], or force= (with force_units=) for a record "
@@ -865,7 +878,42 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
         for point, value, residual in zip(data["points"], result.pop("fit", []), result.pop("residual", [])):
             point["fit"], point["residual"] = float(value), float(residual)
     data["ok"] = all(result["ok"] for result in fits)
+    _warn_as_analyze_does(data, units)
     return Analysis(data)
+
+
+# The command line's thresholds (src/cli/analyze.cpp): below this share of the white floor at
+# the top of the band the floor line misleads; above this speed [m/s] the unit is the likely cause.
+_WHITE_FLOOR_SHORTFALL = 0.5
+_IMPLAUSIBLE_SPEED = 1.0
+
+
+def _warn_as_analyze_does(data, units):
+    """The warnings and failed fits `slidespec analyze` prints, read from the result's fields."""
+    def warn(text, kind=RecordWarning):
+        _warnings.warn(text, kind, stacklevel=3)
+
+    speed = _value(data.get("measured_mean_speed"))
+    if data["observable"]["name"] != "force" and speed is not None and abs(speed) > _IMPLAUSIBLE_SPEED:
+        warn(f"mean speed {speed:.6g} m/s is implausible for friction; likely cause: x read in units={units!r}; "
+             "give units='mm', 'um', ...")
+    band = data["usable_band"]
+    if not band["omega_high"] > band["omega_low"]:
+        warn("no usable band: the sensor floor lies above the spectrum everywhere; likely cause: resolution or "
+             f"sensor_noise in the wrong unit (both in metres whatever units={units!r}: 0.5 um is 0.5e-6)")
+    if leaky := data["estimator"].get("leaky_points", 0):
+        warn(f"{leaky} points may be biased high by the window's leakage (the spectrum is steeper than a "
+             "prewhitened Hann window allows there; column leaky)")
+    if 0 < data["top_to_floor"] < _WHITE_FLOOR_SHORTFALL:
+        warn(f"the highest point lies at {data['top_to_floor']:.6g} of the white q^2/12 floor: the quantization "
+             "error is not white (a steady ramp read without noise to dither it; docs/analysis.md), so the floor "
+             "line is only a guide")
+    if data.get("slope_fit", {}).get("reaches_floor"):
+        warn("the slope band reaches beyond the usable band, where the sensor floor bends the spectrum")
+    for name, key in (("slope", "slope_fit"), ("alpha", "alpha_fit"), ("power-law", "power_law_fit"),
+                      ("model", "model_fit")):
+        if key in data and not data[key]["ok"]:
+            warn(f"{name} fit FAILED: {data[key]['failure']}", ModelWarning)
 
 
 def synth(params="reference", *, sample_interval=_SENSOR["sample_interval"], duration=_SENSOR["duration"],

@@ -1,9 +1,11 @@
 """ss.analyze with the command line's options on numpy arrays: channels, windows, the
 power-law fit and the joint model fit on the record's terms (docs/analysis.md)."""
 
+import json
 import os
 import pathlib
 import subprocess
+import warnings
 
 import numpy as np
 import pytest
@@ -49,7 +51,8 @@ def test_a_model_that_does_not_describe_the_record_is_a_failed_fit():
     t = DT * np.arange(20000)
     # A random walk with a line at 5 rad/s: no spring-driven slider makes a line.
     walk = np.cumsum(rng.normal(0, 1e-7, t.size)) + 1e-4 * t + 3e-6 * np.sin(5 * t)
-    a = ss.analyze(None, walk, dt=DT, compare=MACHINE, fit="alpha,a")
+    with pytest.warns(ss.ModelWarning, match="model fit FAILED: chi2/dof"):  # as the command line says
+        a = ss.analyze(None, walk, dt=DT, compare=MACHINE, fit="alpha,a")
     assert not a.ok
     assert not a.model_fit["ok"]
     assert "chi2/dof" in a.model_fit["failure"]
@@ -101,6 +104,43 @@ def test_machine_stiffness_drives_the_compared_case_through_a_spring():
 def basalt():
     """The measured basalt record: t [s], x [um], friction mu, normal stress [MPa]."""
     return np.loadtxt(BASALT, skiprows=1, unpack=True)
+
+
+def test_a_resolution_in_the_wrong_unit_warns_as_the_command_line_does(tmp_path):
+    t, x, _, _ = basalt()
+    # 0.1 is 0.1 m in Python (0.1 um was meant): the floor lies above the spectrum everywhere.
+    with pytest.warns(ss.RecordWarning) as caught:
+        a = ss.analyze(t, x, units="um", window=(11608, 11674), resolution=0.1)
+    messages = [str(w.message) for w in caught]
+    assert any("no usable band" in m and "resolution or sensor_noise" in m and "metres" in m for m in messages)
+    assert any("not white" in m for m in messages), messages
+    done = subprocess.run([CLI, "analyze", str(BASALT), "--window", "11608:11674", "--resolution", "0.1m",
+                           "--out", str(tmp_path / "basalt"), "--no-plot"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert "no usable band" in done.stderr and "not white" in done.stderr
+    expected = json.loads((tmp_path / "basalt.json").read_text())
+    assert a.usable_band == expected["usable_band"] and a.usable_band["omega_high"] == 0
+    assert a.ok == expected["ok"]  # no fit failed: the files hold what they claim
+
+
+def test_a_well_read_record_does_not_warn():
+    t, x, _, _ = basalt()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        a = ss.analyze(t, x, units="um", window=(11608, 11674), resolution=1e-7)
+    assert a.usable_band["omega_high"] > a.usable_band["omega_low"]
+
+
+def test_leaky_points_and_an_implausible_speed_warn():
+    t, x = ss.synth("reference", sample_interval=1e-3, duration=100, resolution=0, sensor_noise=0, seed=1)
+    with pytest.warns(ss.RecordWarning, match="leakage") as caught:
+        a = ss.analyze(t, x)
+    assert f"{a.estimator['leaky_points']} points" in str(caught[0].message)
+    assert a.estimator["leaky_points"] > 0 and a.leaky.sum() == a.estimator["leaky_points"]
+    bt, bx, _, _ = basalt()
+    with pytest.warns(ss.RecordWarning, match="implausible") as caught:
+        ss.analyze(bt, bx, window=(11608, 11674))  # microns read as metres: 3 m/s
+    assert "units" in str(caught[0].message)
 
 
 @pytest.mark.parametrize("fit", ["beta", "alpha,N", ["alpha", "beta"]])
