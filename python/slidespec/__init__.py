@@ -123,7 +123,8 @@ class Parameters(_Mapping):
     Keys and units (docs/model.md §2; parameter_table() gives them as data; blocks on
     blocks in docs/hierarchy.md):
     {keys}
-    Give v or eta1; the other is derived. A bad key or value raises ValueError naming it.
+    Give v or eta1; the other is derived (an eta1 given beside the v it derives from is
+    dropped, so Parameters(**p.to_dict()) is p). A bad key or value raises ValueError naming it.
     """
 
     __doc__ = __doc__.replace("{keys}", "\n    ".join(
@@ -132,6 +133,12 @@ class Parameters(_Mapping):
 
     def __init__(self, case="reference", /, **overrides):
         self._case = str(case)
+        if "v" in overrides and "eta1" in overrides:
+            # eta1 listed beside the v it was derived from (to_dict(), Result.parameters): as
+            # the command's --params, v is kept; an eta1 that v does not give stays an error.
+            derived = Parameters(case, **{key: value for key, value in overrides.items() if key != "eta1"})
+            if _typed("eta1", _text("eta1", overrides["eta1"])) == derived["eta1"]:
+                overrides = {key: value for key, value in overrides.items() if key != "eta1"}
         self._overrides = tuple((key, _text(key, value)) for key, value in overrides.items())
         self._values = {key: _typed(key, value)
                         for key, value in _core.describe(self._case, list(self._overrides))}

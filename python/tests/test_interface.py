@@ -1,8 +1,33 @@
-"""The module's surface as a notebook meets it: a namespace that holds the module's names only."""
+"""The module's surface as a notebook meets it: parameters that round-trip through their dicts,
+and a namespace that holds the module's names only."""
 
 import types
 
+import pytest
+
 import slidespec as ss
+
+
+@pytest.mark.parametrize("case", ss.cases())
+def test_parameters_round_trip_through_their_dict(case):
+    p = ss.Parameters(case)
+    assert ss.Parameters(**p.to_dict()) == p  # eta1 beside the v it derives from, as --params
+    assert ss.Parameters.from_dict(p.to_dict()) == p
+
+
+def test_parameters_round_trip_through_a_results_parameters():
+    p = ss.Parameters("reference", N=12, alpha=0.4, drive="spring", k_drive=1e4)
+    r = ss.run(p, omega_min=10, omega_max=100, realizations=2, seed=1, threads=1)
+    assert ss.Parameters(**r.parameters) == p
+    assert ss.Parameters(**r.parameters).landmarks == p.landmarks
+
+
+def test_an_eta1_that_v_does_not_give_is_still_refused():
+    with pytest.raises(ValueError, match="v and eta1: give one"):
+        ss.Parameters(v=1e-3, eta1=5)
+    p = ss.Parameters()
+    with pytest.raises(ValueError, match="v and eta1: give one"):
+        ss.Parameters(**(p.to_dict() | {"v": 2 * p["v"]}))
 
 
 def test_the_namespace_holds_the_modules_names_only():
@@ -11,3 +36,4 @@ def test_the_namespace_holds_the_modules_names_only():
     assert not [name for name in public if isinstance(getattr(ss, name), types.ModuleType)]
     for name in ("np", "os", "re", "json", "math", "stat", "errno", "warnings", "Mapping"):
         assert not hasattr(ss, name), name
+    assert issubclass(ss.RecordWarning, UserWarning)
