@@ -420,6 +420,11 @@ class Result(_Table):
         return {key: _typed(key, value) for key, value in self._data.get("parameters", {}).items()}
 
     @property
+    def seed(self):
+        """The run's random seed (request["seed"])."""
+        return self._data.get("request", {}).get("seed")
+
+    @property
     def state(self):
         """The saved run (bytes) of an interrupted result, for resume(); None otherwise."""
         return self._state
@@ -592,27 +597,37 @@ def resume(result, *, threads=0, simd="auto", progress=False):
 # ---------------------------------------------------------------------------------------
 # Reading the command line's outputs
 
-_LANDMARK_KEYS = ("renewal_rate", "omega_c", "diffusion_D", "eq1_prefactor", "coupling_eps")
+# The landmarks PREFIX.json holds, in its order (a spring's last four only with drive="spring").
+_LANDMARK_KEYS = ("renewal_rate", "omega_c", "diffusion_D", "eq1_prefactor", "coupling_eps", "forces_can_stall",
+                  "omega_s", "omega_resonance", "d0", "C_x_zero")
 _PARAMETER_KEY = _re.compile(r"^(%s)(_\d+)?$" % "|".join(_re.escape(k.removesuffix("_l"))
                                                         for k in _core.parameter_keys()))
 # A key is one word; prose with " = " in it (the "# columns:" line) is not a KEY = VALUE line.
 _KEY = _re.compile(r"^\w+\s*$")
 _SUB_BAND = _re.compile(r"^sub_band (\d+): omega (\S+) \.\. (\S+), dt = (\S+) s, duration = (\S+) s, "
-                       r"realizations = (\d+)")
+                        r"realizations = (\d+)")
+# A run's TSV lines that repeat what PREFIX.json holds elsewhere: the realizations summed over
+# the sub-bands, a spring's mean_speed (its v), and the columns derived from C_x (omega^2 C_x,
+# M^2 omega^4 C_x) and from the parameters (Eq. (1), eq1()).
+_RUN_TABLE_ONLY = ("realizations", "mean_speed")
+_RUN_DERIVED_COLUMNS = ("C_v", "C_F", "C_eq1")
 
 
 def _number(text):
+    """A value as PREFIX.json holds it: an int without '.', 'e' or 'E', else a float, true and
+    false as bools, any other text as text."""
     try:
         value = float(text)
     except ValueError:
         return {"true": True, "false": False}.get(text, text)
-    return int(value) if _re.fullmatch(r"[+-]?\d+", text) else value
+    return int(text) if _re.fullmatch(r"[+-]?\d+", text) else value
 
 
 def _read_table(text, path):
     """A TSV of the command line: '# key = value  # note' lines, a column line (plain,
-    or '#'-prefixed), then tab-separated rows."""
-    data = {"source": str(path)}
+    or '#'-prefixed), then tab-separated rows; a run's in the keys and types of its
+    PREFIX.json."""
+    data = {}
     parameters, landmarks, names, rows = {}, {}, None, []
     for number, line in enumerate(text.splitlines(), 1):
         if not line.strip():
@@ -632,15 +647,30 @@ def _read_table(text, path):
             elif " = " in body and _KEY.match(body.split(" = ", 1)[0]):
                 key, value = body.split(" = ", 1)
                 value, _, note = value.partition("  #")
-                key, value = key.strip(), value.strip()
+                key, value, note = key.strip(), value.strip(), note.strip()
                 if _PARAMETER_KEY.match(key):
-                    parameters[key] = value
+                    parameters[key] = _number(value)
                 elif key in _LANDMARK_KEYS:
-                    landmarks[key] = float(value)
+                    landmarks[key] = _number(value)
                 elif key == "measured_mean_speed":
                     error = _re.search(r"\+-\s*(\S+)", note)
                     data[key] = {"value": float(value),
                                  "standard_error": float(error.group(1)) if error else None}
+                elif key == "seed":
+                    data.setdefault("request", {})["seed"] = int(value)
+                elif key == "reached_precision":
+                    data[key] = _number(value)
+                    if target := _re.search(r"\(target (\S+)\)", note):
+                        data.setdefault("request", {})["precision"] = float(target.group(1))
+                elif key == "theory_kind":
+                    data[key] = value
+                    reason = note.partition("; ")[2]
+                    if reason:
+                        data["theory_kind_note"] = reason
+                elif key == "stationary":
+                    data[key] = _number(value)
+                    if note:
+                        data["stationarity"] = note
                 else:
                     data[key] = _number(value)
             continue
@@ -658,7 +688,16 @@ def _read_table(text, path):
     if parameters:
         data["parameters"] = parameters
     if landmarks:
-        data["landmarks"] = landmarks
+        if "forces_can_stall" not in landmarks:  # the TSV's header leaves it out
+            landmarks["forces_can_stall"] = Parameters.from_dict(parameters, data.get("case", "reference")
+                                                                 ).landmarks["forces_can_stall"]
+        data["landmarks"] = {key: landmarks[key] for key in _LANDMARK_KEYS if key in landmarks}
+    if "complete" in data:  # a run's table
+        data.setdefault("label", data.get("case"))  # printed only when it differs from the case
+        for key in _RUN_TABLE_ONLY:
+            data.pop(key, None)
+        rows = [{name: (value if _math.isfinite(value) else None) for name, value in row.items()
+                 if name not in _RUN_DERIVED_COLUMNS} for row in rows]
     data["points"] = rows
     return data
 
