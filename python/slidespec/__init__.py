@@ -650,8 +650,8 @@ def _read_table(text, path):
                 key, value, note = key.strip(), value.strip(), note.strip()
                 if _PARAMETER_KEY.match(key):
                     parameters[key] = _number(value)
-                elif key in _LANDMARK_KEYS:
-                    landmarks[key] = _number(value)
+                elif key in _LANDMARK_KEYS:  # doubles, as the JSON holds them ("0" is 0.0)
+                    landmarks[key] = value == "true" if value in ("true", "false") else float(value)
                 elif key == "measured_mean_speed":
                     error = _re.search(r"\+-\s*(\S+)", note)
                     data[key] = {"value": float(value),

@@ -53,6 +53,7 @@ def test_parameters_and_landmarks_are_numbers_under_the_jsons_keys(run):
     assert table.parameters == exact.parameters
     assert table.parameters["N"] == 12 and table.parameters["v"] == 5e-4
     assert table.landmarks == exact.landmarks
+    assert [type(value) for value in table.landmarks.values()] == [type(value) for value in exact.landmarks.values()]
     landmarks = {"renewal_rate", "omega_c", "diffusion_D", "eq1_prefactor", "coupling_eps", "forces_can_stall"}
     if spring:
         landmarks |= {"omega_s", "omega_resonance", "d0", "C_x_zero"}
