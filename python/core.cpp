@@ -496,7 +496,6 @@ PYBIND11_MODULE(_core, m) {
       "Every (key, value text) of a case with overrides; ValueError names a bad key.");
   m.def("parse_fit_parameters", &parse_fit_parameters,
         "The model parameters a --fit list names, checked as the command line checks them.");
-  m.def("python_names", &python_names, "A library message with the command line's options as Python keywords.");
   m.def("landmarks", &landmarks_dict, "The theory's landmarks of a parameter set, SI units.");
   m.def(
       "log_spaced_omegas",
