@@ -483,13 +483,13 @@ def _finish(handle):
         stationary = stationary.get("value", stationary.get("stationary"))
     if stationary is False:
         _warnings.warn("the run's spectrum is not stationary (see the result's 'stationary' fields)",
-                      ModelWarning, stacklevel=3)
+                      ModelWarning, stacklevel=4)
     request = data.get("request", {})
     if (result.complete and not request.get("duration") and not request.get("realizations")
             and data.get("reached_precision", 0) > request.get("precision", _math.inf)):
         _warnings.warn(f"the precision {request['precision']} was not reached within the work "
                       f"budget of a sub-band (reached {data['reached_precision']:.3g})",
-                      PrecisionWarning, stacklevel=3)
+                      PrecisionWarning, stacklevel=4)
     return result
 
 
@@ -937,7 +937,7 @@ _IMPLAUSIBLE_SPEED = 1.0
 def _warn_as_analyze_does(data, units):
     """The warnings and failed fits `slidespec analyze` prints, read from the result's fields."""
     def warn(text, kind=RecordWarning):
-        _warnings.warn(text, kind, stacklevel=3)
+        _warnings.warn(text, kind, stacklevel=4)
 
     speed = _value(data.get("measured_mean_speed"))
     if data["observable"]["name"] != "force" and speed is not None and abs(speed) > _IMPLAUSIBLE_SPEED:
