@@ -143,6 +143,18 @@ def test_leaky_points_and_an_implausible_speed_warn():
     assert "units" in str(caught[0].message)
 
 
+def test_a_slope_band_beyond_the_usable_band_warns():
+    t, x = ss.synth("reference", sample_interval=1e-2, duration=300, resolution=0.5e-6, sensor_noise=0.25e-6, seed=2)
+    sensor = dict(resolution=0.5e-6, sensor_noise=0.25e-6)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        inside = ss.analyze(t, x, fit_slope=(3, 15), **sensor)
+    assert not inside.slope_fit["reaches_floor"] and inside.usable_band["omega_high"] < 100
+    with pytest.warns(ss.RecordWarning, match="slope band reaches beyond the usable band"):
+        beyond = ss.analyze(t, x, fit_slope=(3, 100), **sensor)
+    assert beyond.slope_fit["reaches_floor"] and beyond.ok
+
+
 @pytest.mark.parametrize("fit", ["beta", "alpha,N", ["alpha", "beta"]])
 def test_a_fit_of_what_no_fit_varies_says_so_as_the_command_line_does(fit, tmp_path):
     t, x, _, _ = basalt()
