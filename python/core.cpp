@@ -80,28 +80,36 @@ std::string python_names(const std::string& message) {
     const auto other = std::find_if(renamed.begin(), renamed.end(), [&](const auto& r) { return r.first == option; });
     return other == renamed.end() ? std::nullopt : std::optional<std::string>(other->second);
   };
+  // Options given with their value's form, in the words of a Python call.
+  static const std::vector<std::pair<std::string, std::string>> phrases = {
+      {"--window T0:T1", "window=(T0, T1)"}, {"--resample DT", "resample=DT"}, {"--segments", "the field segments"}};
+  std::string text = message;
+  for (const auto& [option, call] : phrases)
+    for (std::size_t found = text.find(option); found != std::string::npos;
+         found = text.find(option, found + call.size()))
+      text.replace(found, option.size(), call);
   std::string out;
   std::size_t at = 0;
-  while (at < message.size()) {
-    const std::size_t dashes = message.find("--", at);
+  while (at < text.size()) {
+    const std::size_t dashes = text.find("--", at);
     const bool starts_word =
-        dashes != std::string::npos && (dashes == 0 || !std::isalnum(static_cast<unsigned char>(message[dashes - 1])));
+        dashes != std::string::npos && (dashes == 0 || !std::isalnum(static_cast<unsigned char>(text[dashes - 1])));
     if (dashes == std::string::npos) {
-      out += message.substr(at);
+      out += text.substr(at);
       break;
     }
     std::size_t end = dashes + 2;
-    while (end < message.size() && (std::isalnum(static_cast<unsigned char>(message[end])) ||
-                                    (message[end] == '-' && end + 1 < message.size() &&
-                                     std::isalpha(static_cast<unsigned char>(message[end + 1])))))
+    while (end < text.size() &&
+           (std::isalnum(static_cast<unsigned char>(text[end])) ||
+            (text[end] == '-' && end + 1 < text.size() && std::isalpha(static_cast<unsigned char>(text[end + 1])))))
       ++end;
-    const std::string option = message.substr(dashes + 2, end - dashes - 2);
+    const std::string option = text.substr(dashes + 2, end - dashes - 2);
     const std::optional<std::string> known = starts_word ? keyword(option) : std::nullopt;
-    out += message.substr(at, dashes - at);
+    out += text.substr(at, dashes - at);
     if (!known) {
-      out += message.substr(dashes, end - dashes);
-    } else if (option == "set" && end + 1 < message.size() && message[end] == ' ' &&
-               message.find('=', end) < message.find_first_of(" ,;)", end + 1)) {
+      out += text.substr(dashes, end - dashes);
+    } else if (option == "set" && end + 1 < text.size() && text[end] == ' ' &&
+               text.find('=', end) < text.find_first_of(" ,;)", end + 1)) {
       ++end;  // "--set k_drive=K" reads as the keyword "k_drive=K"
     } else {
       out += *known;
