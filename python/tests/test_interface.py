@@ -17,7 +17,7 @@ def test_parameters_round_trip_through_their_dict(case):
 
 def test_parameters_round_trip_through_a_results_parameters():
     p = ss.Parameters("reference", N=12, alpha=0.4, drive="spring", k_drive=1e4)
-    r = ss.run(p, omega_min=10, omega_max=100, realizations=2, seed=1, threads=1)
+    r = ss.run(p, omega_min=10, omega_max=100, realizations=4, seed=1, threads=1)
     assert ss.Parameters(**r.parameters) == p
     assert ss.Parameters(**r.parameters).landmarks == p.landmarks
 
