@@ -457,6 +457,8 @@ PYBIND11_MODULE(_core, m) {
     }
   });
   m.attr("version") = SLIDESPEC_VERSION;
+  m.attr("white_floor_shortfall") = kWhiteFloorShortfall;
+  m.attr("implausible_speed") = kImplausibleSpeed;
 
   // The Python functions' keyword defaults, from the structs the command line starts from.
   const RunRequest run_default{};

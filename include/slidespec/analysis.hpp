@@ -254,6 +254,13 @@ struct AnalysisRequest {
   double sensor_noise = 0;  ///< rms white noise of the sensor before quantization [m]
 };
 
+/// What `analyze` (and Python's ss.analyze) warns about, from a result's own fields: below
+/// this share of the white q^2/12 floor at the top of the band the floor line misleads
+/// (RecordSpectrum::top_to_floor), and a mean speed above this [m/s] is faster than any
+/// friction experiment the model describes, so the length unit is the likely cause.
+inline constexpr double kWhiteFloorShortfall = 0.5;
+inline constexpr double kImplausibleSpeed = 1.0;
+
 /// One point of a measured spectrum.
 struct AnalysisPoint {
   double omega;                     ///< [rad/s]

@@ -928,10 +928,11 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
     return Analysis(data)
 
 
-# The command line's thresholds (src/cli/analyze.cpp): below this share of the white floor at
-# the top of the band the floor line misleads; above this speed [m/s] the unit is the likely cause.
-_WHITE_FLOOR_SHORTFALL = 0.5
-_IMPLAUSIBLE_SPEED = 1.0
+# The command line's thresholds (include/slidespec/analysis.hpp): below this share of the white
+# floor at the top of the band the floor line misleads; above this speed [m/s] the unit is the
+# likely cause.
+_WHITE_FLOOR_SHORTFALL = _core.white_floor_shortfall
+_IMPLAUSIBLE_SPEED = _core.implausible_speed
 
 
 def _warn_as_analyze_does(data, units):

@@ -68,10 +68,6 @@ std::string short_number(double x) {
   return text;
 }
 
-// Below this share of the white floor at the top of the band, the floor line misleads.
-constexpr double kWhiteFloorShortfall = 0.5;
-// Faster than any friction experiment the model describes: the unit is the likely cause.
-constexpr double kImplausibleSpeed = 1.0;  // [m/s]
 // Exit status of a command whose outputs are written but do not hold what they claim.
 constexpr int kFitFailedStatus = 3;
 
