@@ -370,6 +370,10 @@ struct AlphaFit {
   double alpha_error = 0;  ///< standard error, scaled up by sqrt(chi2/dof) when > 1
   double chi2_per_dof = 0;
   int theory_order = 1;  ///< the order of the theory fitted
+  /// Why the fit is not at the order asked, in words ("" when it is): the refit beyond first
+  /// order stopped where no theory beyond first order holds at the alpha found (the random
+  /// forces can stall the block) or gave no positive alpha^2; the fit is the last one made.
+  std::string order_not_reached;
 };
 
 /// The model's spectrum at `params` (its own alpha) seen through the estimator, one value

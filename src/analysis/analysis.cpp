@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include "analysis/line_fit.hpp"
 #include "analysis/names.hpp"
@@ -471,9 +472,10 @@ std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Paramet
 }
 
 namespace {
-// Weighted least squares for alpha^2 with a given shape T (the spectrum at alpha = 1).
-AlphaFit fit_alpha_to(const RecordSpectrum& spectrum, const std::vector<double>& template_spectrum, double omega_low,
-                      double omega_high) {
+// Weighted least squares for alpha^2 with a given shape T (the spectrum at alpha = 1);
+// nothing when the band gives no positive alpha^2.
+std::optional<AlphaFit> fit_alpha_to(const RecordSpectrum& spectrum, const std::vector<double>& template_spectrum,
+                                     double omega_low, double omega_high) {
   if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("--fit-band: need 0 < LO < HI in rad/s");
   std::vector<std::size_t> inside;
   for (std::size_t k = 0; k < spectrum.points.size(); ++k)
@@ -508,7 +510,7 @@ AlphaFit fit_alpha_to(const RecordSpectrum& spectrum, const std::vector<double>&
       sigma[k] = p.standard_error / p.C_x * model;
     }
   }
-  if (!(alpha2 > 0)) throw InputError("--fit alpha: the measured spectrum gives no positive alpha^2 in the band");
+  if (!(alpha2 > 0 && std::isfinite(alpha2))) return std::nullopt;
   fit.chi2_per_dof = fit.points > 1 ? chi2 / (fit.points - 1) : 0;
   fit.alpha = std::sqrt(alpha2);
   fit.alpha_error = inflated(1 / std::sqrt(sum_tt), fit.chi2_per_dof) / (2 * fit.alpha);
@@ -520,18 +522,38 @@ AlphaFit fit_alpha(const RecordSpectrum& spectrum, const Parameters& params, dou
                    ModelOrder order) {
   Parameters unit_noise = params;
   unit_noise.alpha = 1;
-  AlphaFit fit = fit_alpha_to(spectrum, model_spectrum(spectrum, unit_noise, ModelOrder::first), omega_low, omega_high);
+  const std::optional<AlphaFit> first =
+      fit_alpha_to(spectrum, model_spectrum(spectrum, unit_noise, ModelOrder::first), omega_low, omega_high);
+  if (!first) throw InputError("--fit alpha: the measured spectrum gives no positive alpha^2 in the band");
+  AlphaFit fit = *first;
   // The second-order shape depends on alpha: refit at the alpha found until it settles
-  // (the shape changes by O(eps^2) per step, so a few steps reach the rounding).
+  // (the shape changes by O(eps^2) per step, so a few steps reach the rounding). Where no
+  // theory beyond first order holds at the alpha found, the series says nothing (past the
+  // stall it would send alpha off without bound): the fit stays the last one made.
   for (int step = 0; step < 8 && order == ModelOrder::best; ++step) {
     Parameters at_fit = params;
     at_fit.alpha = fit.alpha;
     if (model_order(at_fit, order) != 2) break;
+    const TheoryChoice holds = best_theory(at_fit);
+    if (holds.kind == TheoryKind::first_order) break;  // the first order holds: nothing to refine
+    if (holds.kind == TheoryKind::none) {
+      fit.order_not_reached = "fitted with the order " + std::to_string(fit.theory_order) +
+                              " theory: no theory beyond it holds at the alpha found, " +
+                              detail::short_number(fit.alpha) + ", to refit with";
+      break;
+    }
     const std::vector<double> shape = model_spectrum(spectrum, at_fit, order);
     std::vector<double> unit(shape.size());
     for (std::size_t k = 0; k < shape.size(); ++k) unit[k] = shape[k] / (fit.alpha * fit.alpha);
     const double previous = fit.alpha;
-    fit = fit_alpha_to(spectrum, unit, omega_low, omega_high);
+    std::optional<AlphaFit> refit = fit_alpha_to(spectrum, unit, omega_low, omega_high);
+    if (!refit) {
+      fit.order_not_reached = "the second-order theory at the alpha found, " + detail::short_number(previous) +
+                              ", gives no positive alpha^2 in the band: fitted with the order " +
+                              std::to_string(fit.theory_order) + " theory";
+      break;
+    }
+    fit = *refit;
     fit.theory_order = 2;
     if (std::fabs(fit.alpha - previous) <= 1e-12 * previous) break;
   }

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "analysis/names.hpp"
 #include "io/tables.hpp"
 #include "slidespec/analysis.hpp"
 #include "slidespec/input_error.hpp"
@@ -22,11 +23,7 @@ bool sets(const std::vector<std::string>& overrides, const std::string& key) {
   return std::any_of(overrides.begin(), overrides.end(), [&](const std::string& a) { return key_of(a) == key; });
 }
 
-std::string short_number(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", x);
-  return text;
-}
+using detail::short_number;
 
 double& field(Parameters& p, const std::string& name) {
   if (name == "alpha") return p.alpha;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstdio>
 #include <optional>
 #include <string>
 #include <utility>
@@ -12,6 +13,13 @@
 #include "util/suggest.hpp"
 
 namespace slidespec::detail {
+
+/// A number to three significant digits, as messages and notes give it.
+inline std::string short_number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
+}
 
 /// A word and the value it names; a table may give several words for one value, the first
 /// of them its name.

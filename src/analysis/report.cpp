@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "analysis/names.hpp"
 #include "io/tables.hpp"
 #include "slidespec/theory.hpp"
 
@@ -72,11 +73,6 @@ nlohmann::ordered_json spectrum_json(const RecordSpectrum& s, const std::vector<
 namespace slidespec::detail {
 
 namespace {
-std::string short_number(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", x);
-  return text;
-}
 
 void add_reason(Verdict& verdict, const std::string& reason) {
   verdict.reason += (verdict.ok ? "" : "; ") + reason;
@@ -99,6 +95,7 @@ Verdict judge_chi2(double chi2_per_dof, int dof) {
 
 Verdict judge_alpha(const AlphaFit& fit, const Parameters& fitted) {
   Verdict verdict = judge_chi2(fit.chi2_per_dof, fit.points - 1);
+  if (!fit.order_not_reached.empty()) add_reason(verdict, fit.order_not_reached);
   const TheoryChoice holds = best_theory(fitted);
   if (holds.kind == TheoryKind::none) add_reason(verdict, "no theory holds at the fitted alpha: " + holds.reason);
   return verdict;

@@ -164,6 +164,14 @@ fi
 # A model fit on the machine's terms that cannot describe the slip: exit 3, ok false, FAILED.
 "$bin" analyze "$basalt" --window 11608:11674 --contact-area 25cm2 --machine-stiffness 0.001MPa/um --compare-case reference --fit alpha,a --no-plot --out "$work/mf" 2> "$work/mf.err"
 [ $? -eq 3 ] && grep -q "model fit FAILED" "$work/mf.err" && grep -q '^# model_fit_ok = false' "$work/mf.tsv" && grep -q '"drive": "spring"' "$work/mf.json" || fail "failed model fit: not exit 3 with FAILED, ok false and the spring drive"
+# An alpha fit whose alpha lies where the block can stall (no theory beyond first order to
+# refit with): the work is written as a failed fit, exit 3, not refused as bad input.
+"$bin" analyze "$basalt" --window 11608:11674 --compare-case reference --fit alpha --no-plot --out "$work/fa" 2> "$work/fa.err"
+status=$?
+[ $status -eq 3 ] && grep -q "alpha fit FAILED" "$work/fa.err" && grep -q "^# alpha_fit_ok = false.*no theory beyond it holds" "$work/fa.tsv" || fail "alpha fit into the stall: status $status, not a failed fit: $(cat "$work/fa.err")"
+/usr/bin/python3 -c "
+import json; f = json.load(open('$work/fa.json'))['alpha_fit']
+assert not f['ok'] and f['theory_order'] == 1 and 'no theory beyond it holds' in f['failure'], f" || fail "alpha fit into the stall: JSON"
 expect_refused window-across-rates "sampling rate changes inside --window" analyze "$basalt" --window 11600:11700 $out
 expect_refused window-outside "record runs from" analyze "$basalt" --window 0:100 $out
 expect_refused window-syntax "T0:T1" analyze "$basalt" --window 100 $out
