@@ -123,7 +123,10 @@ struct Record {
   double jitter = 0;                                 ///< largest |interval - median| / median of the samples kept
   bool resampled = false;                            ///< interpolated onto the uniform grid
   double interpolation_cut = 0;                      ///< resampled: omega above which interpolation filters [rad/s]
-  std::vector<std::string> notes;                    ///< every choice made about the sampling, in words
+  /// Resampled: the input interval that sets interpolation_cut [s], the coarsest median
+  /// interval of the parts the record's time span overlaps.
+  double interpolation_interval = 0;
+  std::vector<std::string> notes;  ///< every choice made about the sampling, in words
 
   std::size_t samples() const { return displacement.empty() ? force.size() : displacement.size(); }
 };
@@ -298,7 +301,10 @@ struct RecordSpectrum {
   /// below the first one where the floor exceeds a tenth of C_x (or the highest point).
   double usable_low = 0, usable_high = 0;
   bool top_set_by_interpolation = false;  ///< a resampled record's band cut where interpolation filters
-  bool usable_high_set_by_floor = false;  ///< else by the estimator's top (half of Nyquist)
+  double interpolation_interval = 0;      ///< the input interval [s] behind that cut
+  bool top_set_by_omega_max = false;      ///< the omega_max asked for, below the estimator's own top
+  bool usable_high_set_by_floor = false;  ///< else by the estimator's top (the bin below Nyquist for
+                                          ///< welch, half of Nyquist for streaming)
 };
 
 /// Fits and removes v t, then estimates C_x(omega) with the SpectrumEstimator (one lane,

@@ -247,10 +247,17 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
   if (record.interpolation_cut > 0 && !(request.omega_max > 0 && request.omega_max <= record.interpolation_cut)) {
     band.omega_max = record.interpolation_cut;
     result.top_set_by_interpolation = true;
+    result.interpolation_interval = record.interpolation_interval;
   }
   const std::vector<double> xi = sliding_fluctuation(record, result.sliding);
   result.points = result.estimator == Estimator::welch ? welch_points(record, band, xi, result)
                                                        : streaming_points(record, band, xi, result);
+  // The estimator's own top: the bin below Nyquist (welch), half of Nyquist (streaming).
+  const double nyquist = std::numbers::pi / record.dt, spacing = result.welch.bin_spacing;
+  const double estimator_top =
+      result.estimator == Estimator::welch ? (std::ceil(nyquist / spacing - 1e-9) - 1) * spacing : nyquist / 2;
+  result.top_set_by_omega_max =
+      !result.top_set_by_interpolation && request.omega_max > 0 && request.omega_max < estimator_top;
 
   // White noise of variance q^2/12 (+ sigma^2) per sample (docs/model.md §3: C = s^2 dt / 2 pi),
   // through the same bins and window as the estimate so that the two compare point by point.

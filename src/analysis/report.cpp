@@ -12,9 +12,11 @@ namespace slidespec::detail {
 
 std::string top_set_by(const RecordSpectrum& s) {
   if (s.usable_high_set_by_floor) return "the sensor floor reaching 10% of the spectrum";
-  if (s.top_set_by_interpolation) return "the resampling's interpolation filter";
-  if (s.estimator == Estimator::welch) return "the bin below Nyquist, or the omega_max asked for";
-  return "half of Nyquist, or the omega_max asked for";
+  if (s.top_set_by_interpolation)
+    return "the interpolation filter of resampling samples " + short_number(s.interpolation_interval) + " s apart";
+  if (s.top_set_by_omega_max) return "the omega_max asked for";
+  if (s.estimator == Estimator::welch) return "the bin below Nyquist";
+  return "half of Nyquist";
 }
 
 nlohmann::ordered_json spectrum_json(const RecordSpectrum& s, const std::vector<double>& theory) {

@@ -85,6 +85,45 @@ void keep_samples(Record& record, std::size_t first, std::size_t last) {
       *channel = {channel->begin() + std::ptrdiff_t(first), channel->begin() + std::ptrdiff_t(last)};
 }
 
+namespace {
+
+/// The part of `parts` with the longest interval among those [start, end] overlaps.
+std::size_t coarsest_part(const std::vector<SamplingPart>& parts, double start, double end) {
+  std::size_t coarsest = parts.size();
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const bool before_next = k + 1 == parts.size() || start < parts[k + 1].start;
+    const bool after_start = k == 0 || end >= parts[k].start;
+    if (before_next && after_start && (coarsest == parts.size() || parts[k].interval > parts[coarsest].interval))
+      coarsest = k;
+  }
+  return coarsest;
+}
+
+}  // namespace
+
+void set_interpolation_cut(Record& record) {
+  const double end = record.start_time + double(record.samples() - 1) * record.dt;
+  const std::size_t k = coarsest_part(record.parts, record.start_time, end);
+  record.interpolation_interval = k < record.parts.size() ? record.parts[k].interval : record.dt;
+  record.interpolation_cut =
+      std::min(std::acos(1 - 3 * kInterpolationLoss) / record.interpolation_interval, std::numbers::pi / record.dt);
+}
+
+std::string interpolation_cut_words(const Record& record) {
+  const double end = record.start_time + double(record.samples() - 1) * record.dt;
+  if (record.interpolation_cut >= std::numbers::pi / record.dt)
+    return "the band is cut at the grid's Nyquist, " + shortest(record.interpolation_cut) + " rad/s";
+  std::string interval = "the median input interval " + shortest(record.interpolation_interval) + " s";
+  if (record.parts.size() > 1) {
+    const SamplingPart& part = record.parts[coarsest_part(record.parts, record.start_time, end)];
+    interval = "the input interval " + shortest(part.interval) + " s of the part " + shortest(part.start) + ".." +
+               shortest(part.end) + " s, the coarsest that " + shortest(record.start_time) + ".." + shortest(end) +
+               " s overlaps";
+  }
+  return "interpolation filters the spectrum above " + shortest(record.interpolation_cut) +
+         " rad/s, where the band is cut (acos(0.85) / d, d " + interval + ")";
+}
+
 void make_uniform(Record& record, const std::vector<double>& time, const std::vector<int>& where,
                   const std::string& source, const std::string& place, const RecordFormat& format) {
   const auto at = [&](std::size_t i) { return source + ": " + place + " " + std::to_string(where[i]) + ": "; };
@@ -162,12 +201,11 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
     record.dt = grid;
     record.resampled = true;
     // The loss is set by the input intervals (the offsets' spread), the grid's Nyquist by dt.
-    record.interpolation_cut = std::min(std::acos(1 - 3 * kInterpolationLoss) / typical, std::numbers::pi / grid);
+    set_interpolation_cut(record);
     record.notes.push_back(
         "resampled onto a uniform grid every " + shortest(grid) + " s by linear interpolation (intervals " +
         shortest(*std::min_element(d.begin(), d.end())) + ".." + shortest(*std::max_element(d.begin(), d.end())) +
-        " s, median " + shortest(typical) + " s); interpolation filters the spectrum above " +
-        shortest(record.interpolation_cut) + " rad/s, where the band is cut" +
+        " s, median " + shortest(typical) + " s); " + interpolation_cut_words(record) +
         (grid > 1.5 * typical ? "; a grid coarser than the samples aliases what lies above its Nyquist" : ""));
     return;
   }

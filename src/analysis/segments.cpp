@@ -108,6 +108,7 @@ Record record_window(const Record& record, double start, double end) {
                      " s");
   detail::keep_samples(window, std::size_t(a), std::size_t(b) + 1);
   window.start_time = record.start_time + a * record.dt;
+  if (window.resampled) detail::set_interpolation_cut(window);  // the parts this stretch overlaps
   return window;
 }
 
@@ -122,7 +123,10 @@ Record longest_steady(const Record& record, const std::vector<SteadySegment>& se
                 "at %.3g m/s; --window T0:T1 picks another",
                 segments.size(), longest->start, longest->end, longest->mean_speed);
   notes.push_back(note);
-  return record_window(record, longest->start, longest->end);
+  Record window = record_window(record, longest->start, longest->end);
+  if (window.resampled && window.interpolation_cut != record.interpolation_cut)
+    notes.push_back("in the segment, " + detail::interpolation_cut_words(window));
+  return window;
 }
 
 }  // namespace slidespec

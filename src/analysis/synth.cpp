@@ -51,6 +51,7 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
                 .jitter = 0,
                 .resampled = false,
                 .interpolation_cut = 0,
+                .interpolation_interval = 0,
                 .notes = {}};
   record.displacement.reserve(static_cast<std::size_t>(samples));
   record.displacement.push_back(0.0);

@@ -6,6 +6,7 @@
 #include <complex>
 #include <numbers>
 #include <random>
+#include <tuple>
 
 #include "slidespec/analysis.hpp"
 
@@ -104,11 +105,17 @@ TEST(Resampling, GapsAreRefusedNamingTheOptionAndJitterCanBeRefused) {
   EXPECT_NE(accepted.notes.front().find("treated as uniform"), std::string::npos);
 }
 
-/// A record at 0.1 s, then at 0.01 s, as the basalt record.
-std::pair<std::vector<double>, std::vector<double>> two_rates() {
-  std::vector<double> t, x;
-  for (int k = 0; k < 600; ++k) t.push_back(0.1 * k), x.push_back(3e-6 * 0.1 * k);
-  for (int k = 1; k <= 3000; ++k) t.push_back(59.9 + 0.01 * k), x.push_back(x.back() + 1e-5 * 0.01);
+/// A record at 0.1 s (`coarse` samples at 3 um/s), then at 0.01 s (`fine` samples at 10 um/s),
+/// as the basalt record; plus a random walk of `walk` [m] a sample.
+std::pair<std::vector<double>, std::vector<double>> two_rates(int coarse = 600, int fine = 3000, double walk = 0) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> noise(0, 1);
+  std::vector<double> t{0}, x{0};
+  for (int k = 1; k < coarse + fine; ++k) {
+    const double interval = k < coarse ? 0.1 : 0.01, speed = k < coarse ? 3e-6 : 1e-5;
+    t.push_back(t.back() + interval);
+    x.push_back(x.back() + speed * interval + walk * noise(rng));
+  }
   return {t, x};
 }
 
@@ -128,6 +135,43 @@ TEST(Resampling, ARateChangeIsReportedAndTheLongestPartOrTheWindowAnalyzed) {
   RecordFormat across;
   across.window = {{30, 80}};
   EXPECT_THROW(record_from_samples(t, x, across), InputError);
+}
+
+// Resampled, a record's band stops where interpolation filters the coarsest input interval of
+// the stretch analysed: acos(0.85) / 0.1 s = 5.5 rad/s in the 0.1 s part, not the 55 rad/s of
+// the 0.01 s median, which would give points beyond the 0.1 s samples' own Nyquist.
+TEST(Resampling, TheCutFollowsTheCoarsestIntervalOfTheStretchAnalysed) {
+  const double coarse_cut = std::acos(0.85) / 0.1, fine_cut = std::acos(0.85) / 0.01;
+  const auto [t, x] = two_rates(600, 3000, 1e-8);
+  RecordFormat median;
+  median.resample = Resampling::median;
+  const Record whole = record_from_samples(t, x, median);
+  ASSERT_NEAR(whole.dt, 0.01, 1e-9);
+  EXPECT_NEAR(whole.interpolation_interval, 0.1, 1e-9);
+  EXPECT_NEAR(whole.interpolation_cut, coarse_cut, 1e-6);
+  ASSERT_FALSE(whole.notes.empty());
+  EXPECT_NE(whole.notes.back().find("input interval 0.1 s"), std::string::npos) << whole.notes.back();
+  const RecordSpectrum s = analyze_record(whole, {});
+  EXPECT_TRUE(s.top_set_by_interpolation);
+  EXPECT_LE(s.points.back().omega, coarse_cut);
+  // A stretch of the resampled record, and a --window as read: the parts each overlaps.
+  for (const auto& [start, end, cut] :
+       {std::tuple{10.0, 50.0, coarse_cut}, std::tuple{50.0, 70.0, coarse_cut}, std::tuple{61.0, 89.0, fine_cut}}) {
+    EXPECT_NEAR(record_window(whole, start, end).interpolation_cut, cut, 1e-6) << start << ".." << end;
+    RecordFormat window = median;
+    window.window = {{start, end}};
+    EXPECT_NEAR(record_from_samples(t, x, window).interpolation_cut, cut, 1e-6) << start << ".." << end;
+  }
+  // The longest steady segment in the finer part: its own cut, said in a note.
+  const auto [later_t, later_x] = two_rates(300, 6000, 1e-8);
+  const Record later = record_from_samples(later_t, later_x, median);
+  EXPECT_NEAR(later.interpolation_cut, coarse_cut, 1e-6);
+  std::vector<std::string> notes;
+  const Record segment = longest_steady(later, steady_segments(later), notes);
+  EXPECT_GT(segment.start_time, 29.9);  // the 0.1 s part ends at 29.9 s
+  EXPECT_NEAR(segment.interpolation_cut, fine_cut, 1e-6);
+  ASSERT_FALSE(notes.empty());
+  EXPECT_NE(notes.back().find("input interval 0.01 s"), std::string::npos) << notes.back();
 }
 
 TEST(Segments, AVelocityStepAndAHoldSplitTheRecord) {

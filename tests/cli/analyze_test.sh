@@ -147,6 +147,26 @@ PY
 done
 "$bin" analyze "$basalt" --no-plot --out "$work/real" 2> "$work/real.err" || fail "basalt without options"
 grep -q "rate changes inside the record" "$work/real.err" || fail "basalt: the rate change is not said"
+# Resampled, the band stops where interpolation filters the coarsest input interval analysed:
+# the basalt's longest steady segment was read every 0.1 s, so acos(0.85) / 0.1 s = 5.5 rad/s,
+# and below it the spectrum is the unresampled one's within the error bars.
+"$bin" analyze "$basalt" --resample median --no-plot --out "$work/rsm" 2> "$work/rsm.err" || fail "basalt --resample median: $(cat "$work/rsm.err")"
+"$bin" analyze "$basalt" --window 11608:11674 --no-plot --out "$work/real" 2> /dev/null || fail "basalt --window 11608:11674"
+/usr/bin/python3 - "$work/rsm.json" "$work/real.json" <<'PY' || fail "basalt --resample median: band beyond the 0.1 s samples' interpolation cut: $(cat "$work/rsm.err")"
+import json, math, sys
+import numpy as np
+resampled, raw = (json.load(open(name)) for name in sys.argv[1:])
+cut = math.acos(0.85) / 0.1
+assert abs(resampled["record"]["dt"] - 0.01) < 1e-9, resampled["record"]
+assert resampled["usable_band"]["omega_high"] <= cut, resampled["usable_band"]
+assert "0.1 s" in resampled["usable_band"]["top_set_by"], resampled["usable_band"]
+assert any("input interval 0.1 s" in note for note in resampled["notes"]), resampled["notes"]
+omega = np.log([p["omega"] for p in raw["points"]])
+for p in resampled["points"]:
+    assert p["omega"] <= cut, p
+    c, se = (math.exp(np.interp(math.log(p["omega"]), omega, np.log([q[k] for q in raw["points"]]))) for k in ("C_x", "stderr"))
+    assert abs(p["C_x"] - c) < 2 * math.hypot(p["stderr"], se), (p["omega"], p["C_x"], c)
+PY
 # A power law with the floor, jointly: parameters with errors, or a failure said so (exit 3).
 "$bin" analyze "$basalt" --window 11608:11674 --fit power-law --no-plot --out "$work/pl" 2> "$work/pl.err" || fail "power-law fit on the basalt record: $(cat "$work/pl.err")"
 /usr/bin/python3 -c "
