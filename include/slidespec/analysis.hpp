@@ -298,7 +298,8 @@ struct RecordSpectrum {
   /// white (a steady ramp read without dither; docs/analysis.md), 0 without a floor.
   double top_to_floor = 0;
   /// The usable band: from the lowest point (set by the record length) to the highest point
-  /// below the first one where the floor exceeds a tenth of C_x (or the highest point).
+  /// below the first one where the floor exceeds a tenth of C_x (or the highest point); 0 .. 0
+  /// when the floor exceeds it at the lowest point already (no usable band).
   double usable_low = 0, usable_high = 0;
   bool top_set_by_interpolation = false;  ///< a resampled record's band cut where interpolation filters
   double interpolation_interval = 0;      ///< the input interval [s] behind that cut

@@ -275,7 +275,9 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
     if (!floor_reached && p.noise_floor > kFloorShareOfUsable * p.C_x && white > 0) {
       floor_reached = true;
       result.usable_high_set_by_floor = true;
+      // Reached at the lowest point: no usable band, 0 .. 0.
       result.usable_high = k > 0 ? result.points[k - 1].omega : 0;
+      if (k == 0) result.usable_low = 0;
     }
   }
   result.top_to_floor = white > 0 ? result.points.back().C_x / floor.back() : 0;
@@ -430,6 +432,10 @@ std::pair<double, double> default_alpha_band(const RecordSpectrum& s, const Para
   const Landmarks l = landmarks(p);
   const double low = std::max(s.usable_low, 5 * l.renewal_rate);
   const double high = std::min(s.usable_high, l.omega_c / 3);
+  if (!(s.usable_high > s.usable_low))
+    throw InputError(
+        "--fit alpha: no usable band (the sensor floor exceeds 10% of the spectrum from the lowest "
+        "point on); give --fit-band LO HI");
   if (!(high > low))
     throw InputError("--fit alpha: the usable band " + io::format_number(s.usable_low) + " .. " +
                      io::format_number(s.usable_high) +

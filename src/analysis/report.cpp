@@ -10,13 +10,24 @@
 
 namespace slidespec::detail {
 
+namespace {
+constexpr const char* kNoUsableBand = "none: the sensor floor exceeds 10% of the spectrum from the lowest point on";
+}  // namespace
+
 std::string top_set_by(const RecordSpectrum& s) {
+  if (!(s.usable_high > s.usable_low)) return kNoUsableBand;
   if (s.usable_high_set_by_floor) return "the sensor floor reaching 10% of the spectrum";
   if (s.top_set_by_interpolation)
     return "the interpolation filter of resampling samples " + short_number(s.interpolation_interval) + " s apart";
   if (s.top_set_by_omega_max) return "the omega_max asked for";
   if (s.estimator == Estimator::welch) return "the bin below Nyquist";
   return "half of Nyquist";
+}
+
+std::string usable_band_line(const RecordSpectrum& s) {
+  if (!(s.usable_high > s.usable_low)) return std::string("none  # ") + kNoUsableBand;
+  return io::format_number(s.usable_low) + " .. " + io::format_number(s.usable_high) + "  # [rad/s], top set by " +
+         top_set_by(s);
 }
 
 nlohmann::ordered_json spectrum_json(const RecordSpectrum& s, const std::vector<double>& theory) {
@@ -38,7 +49,10 @@ nlohmann::ordered_json spectrum_json(const RecordSpectrum& s, const std::vector<
   }
   doc["quantization_variance"] = s.quantization_variance;
   doc["top_to_floor"] = s.top_to_floor;
-  doc["usable_band"] = {{"omega_low", s.usable_low}, {"omega_high", s.usable_high}, {"top_set_by", top_set_by(s)}};
+  doc["usable_band"] = {{"omega_low", s.usable_low},
+                        {"omega_high", s.usable_high},
+                        {"empty", !(s.usable_high > s.usable_low)},
+                        {"top_set_by", top_set_by(s)}};
   doc["estimator"] = {{"name", to_string(s.estimator)}, {"reason", s.estimator_reason}};
   if (s.estimator == Estimator::welch) {
     doc["estimator"]["window"] = "hann";

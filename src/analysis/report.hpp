@@ -14,6 +14,10 @@ namespace slidespec::detail {
 /// filter of a resampled record, the estimator's top or the omega_max asked for.
 std::string top_set_by(const RecordSpectrum& spectrum);
 
+/// The usable band as the table's `# usable_band =` line gives it: "LO .. HI  # [rad/s], top set
+/// by ...", or "none  # ..." when the floor leaves no band.
+std::string usable_band_line(const RecordSpectrum& spectrum);
+
 /// The spectrum's own fields: observable, the mean motion (or force) removed, the floor's
 /// variance, usable band, estimator, and every point (with `theory` per point when given).
 nlohmann::ordered_json spectrum_json(const RecordSpectrum& spectrum, const std::vector<double>& theory = {});

@@ -171,8 +171,7 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
       << "  # q [m]\n# sensor_noise = " << number(o.request.sensor_noise)
       << "  # sigma [m]; floor = q^2/12 + sigma^2, white\n"
       << "# top_to_floor = " << number(s.top_to_floor) << "  # C_x / floor at the highest point\n"
-      << "# usable_band = " << number(s.usable_low) << " .. " << number(s.usable_high) << "  # [rad/s], top set by "
-      << detail::top_set_by(s) << "\n"
+      << "# usable_band = " << detail::usable_band_line(s) << "\n"
       << "# estimator = " << to_string(s.estimator) << "  # " << s.estimator_reason << "\n";
   for (const std::string& note : o.notes) out << "# note = " << note << "\n";
   if (s.estimator == Estimator::welch)

@@ -95,6 +95,10 @@ grep -q "implausible.*read in m (from --units)" "$work/over.err" || fail "no imp
 # An empty usable band (a resolution given in the wrong unit) is warned about with its cause.
 "$bin" analyze "$work/mm.csv" --resolution 1 --quiet --no-plot --out "$work/floor" 2> "$work/floor.err"
 grep -q "no usable band.*wrong unit" "$work/floor.err" || fail "empty usable band not explained: $(cat "$work/floor.err")"
+grep -q "^# usable_band = none  # " "$work/floor.tsv" || fail "empty usable band: the table says $(grep usable_band "$work/floor.tsv")"
+/usr/bin/python3 -c "
+import json; b = json.load(open('$work/floor.json'))['usable_band']
+assert b['empty'] and b['omega_low'] == b['omega_high'] == 0 and b['top_set_by'].startswith('none'), b" || fail "empty usable band: the JSON does not say none"
 printf 't;x\n0;0,001\n0,001;0,002\n' > "$work/comma.csv"
 expect_refused decimal-comma "decimal commas" analyze "$work/comma.csv" $out
 expect_refused bad-resolution "resolution" analyze "$work/mm.csv" --resolution 1furlong $out
@@ -167,6 +171,10 @@ for p in resampled["points"]:
     c, se = (math.exp(np.interp(math.log(p["omega"]), omega, np.log([q[k] for q in raw["points"]]))) for k in ("C_x", "stderr"))
     assert abs(p["C_x"] - c) < 2 * math.hypot(p["stderr"], se), (p["omega"], p["C_x"], c)
 PY
+# What set the top of the band, one thing named: the bin below Nyquist, or the omega_max asked for.
+grep -q "^# usable_band = .*top set by the bin below Nyquist$" "$work/real.tsv" || fail "basalt: top of the band: $(grep usable_band "$work/real.tsv")"
+"$bin" analyze "$basalt" --window 11608:11674 --omega-max 10 --no-plot --out "$work/top" 2> /dev/null || fail "basalt --omega-max 10"
+grep -q "^# usable_band = .*top set by the omega_max asked for$" "$work/top.tsv" || fail "basalt --omega-max 10: top of the band: $(grep usable_band "$work/top.tsv")"
 # A power law with the floor, jointly: parameters with errors, or a failure said so (exit 3).
 "$bin" analyze "$basalt" --window 11608:11674 --fit power-law --no-plot --out "$work/pl" 2> "$work/pl.err" || fail "power-law fit on the basalt record: $(cat "$work/pl.err")"
 /usr/bin/python3 -c "
