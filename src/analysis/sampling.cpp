@@ -66,13 +66,20 @@ std::vector<std::pair<std::size_t, std::size_t>> rate_parts(const std::vector<do
   return parts;
 }
 
+/// A record time [s] as a user reads it off the file and gives it back to --window.
+std::string seconds(double t) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.10g", t);
+  return text;
+}
+
 std::string describe_parts(const std::vector<double>& time,
                            const std::vector<std::pair<std::size_t, std::size_t>>& parts) {
   std::string text;
   for (const auto& [first, last] : parts) {
     const std::vector<double> d = intervals(time, first, last);
-    text += (text.empty() ? "" : ", ") + shortest(time[first]) + ".." + shortest(time[last - 1]) + " s every " +
-            (d.empty() ? std::string("?") : shortest(median(d))) + " s";
+    text += (text.empty() ? "" : ", ") + seconds(time[first]) + ".." + seconds(time[last - 1]) + " s every " +
+            (d.empty() ? std::string("?") : shortest(median(d))) + " s (" + std::to_string(last - first) + " samples)";
   }
   return text;
 }
@@ -152,15 +159,27 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
     if (format.window)
       throw InputError(source + ": the sampling rate changes inside --window (parts: " + describe_parts(t, parts) +
                        "); give a --window inside one part, or --resample DT (or median) to interpolate");
-    // The longest part, said so; the others are listed in the note.
-    const auto longest = std::max_element(parts.begin(), parts.end(), [&](const auto& p, const auto& q) {
-      return t[p.second - 1] - t[p.first] < t[q.second - 1] - t[q.first];
+    // The longest part in time (docs/analysis.md: the length sets the lowest omega and the
+    // scatter at every omega), said so; the others are listed in the note, and the part with
+    // the most samples named when it is another.
+    const auto duration = [&](const auto& p) { return t[p.second - 1] - t[p.first]; };
+    const auto longest = std::max_element(parts.begin(), parts.end(),
+                                          [&](const auto& p, const auto& q) { return duration(p) < duration(q); });
+    const auto most = std::max_element(parts.begin(), parts.end(), [](const auto& p, const auto& q) {
+      return p.second - p.first < q.second - q.first;
     });
-    record.notes.push_back("the sampling rate changes inside the record (parts: " + describe_parts(t, parts) +
-                           "); analyzing the longest part, " + shortest(t[longest->first]) + ".." +
-                           shortest(t[longest->second - 1]) +
-                           " s; --window T0:T1 picks another, --resample "
-                           "DT interpolates the whole record");
+    const auto span = [&](const auto& p) { return seconds(t[p.first]) + ".." + seconds(t[p.second - 1]) + " s"; };
+    std::string note = "the sampling rate changes inside the record (parts: " + describe_parts(t, parts) +
+                       "); analyzing the longest part in time, " + span(*longest) + " (" +
+                       shortest(duration(*longest)) +
+                       " s: the length sets the lowest omega and the scatter at every omega); ";
+    if (most != longest)
+      note += "the part " + span(*most) + " holds the most samples (" + std::to_string(most->second - most->first) +
+              ") and reaches higher omega: --window " + seconds(t[most->first]) + ":" + seconds(t[most->second - 1]) +
+              " picks it";
+    else
+      note += "--window T0:T1 picks another";
+    record.notes.push_back(note + ", --resample DT interpolates the whole record");
     t = {t.begin() + std::ptrdiff_t(longest->first), t.begin() + std::ptrdiff_t(longest->second)};
     keep_samples(record, longest->first, longest->second);
     offset += longest->first;

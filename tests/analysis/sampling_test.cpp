@@ -126,7 +126,8 @@ TEST(Resampling, ARateChangeIsReportedAndTheLongestPartOrTheWindowAnalyzed) {
   EXPECT_NEAR(longest.parts[0].interval, 0.1, 1e-9);
   EXPECT_NEAR(longest.parts[1].interval, 0.01, 1e-9);
   EXPECT_NEAR(longest.dt, 0.1, 1e-9);  // 60 s at 0.1 s against 30 s at 0.01 s
-  EXPECT_NE(longest.notes.front().find("longest part"), std::string::npos);
+  EXPECT_NE(longest.notes.front().find("longest part in time"), std::string::npos) << longest.notes.front();
+  EXPECT_NE(longest.notes.front().find("holds the most samples (3000)"), std::string::npos) << longest.notes.front();
   RecordFormat after;
   after.window = {{61, 89}};
   const Record part = record_from_samples(t, x, after);

@@ -151,6 +151,10 @@ PY
 done
 "$bin" analyze "$basalt" --no-plot --out "$work/real" 2> "$work/real.err" || fail "basalt without options"
 grep -q "rate changes inside the record" "$work/real.err" || fail "basalt: the rate change is not said"
+# The part analysed is the longest in time, said so, and the part with the most samples named
+# with the --window that picks it.
+grep -q "longest part in time, 11607.7..11674.2 s.*the part 11674.21..11726.03 s holds the most samples (5183).*--window 11674.21:11726.03 picks it" "$work/real.err" || fail "basalt: the part analysed and the one with the most samples not said: $(cat "$work/real.err")"
+"$bin" analyze "$basalt" --window 11674.21:11726.03 --no-plot --out "$work/most" 2> "$work/most.err" || fail "basalt: the --window the note gives is refused: $(cat "$work/most.err")"
 # Resampled, the band stops where interpolation filters the coarsest input interval analysed:
 # the basalt's longest steady segment was read every 0.1 s, so acos(0.85) / 0.1 s = 5.5 rad/s,
 # and below it the spectrum is the unresampled one's within the error bars.
