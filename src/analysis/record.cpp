@@ -267,6 +267,16 @@ bool is_number(const std::string& field) {
   return word == "nan" || word == "-nan" || word == "inf" || word == "-inf" || word == "infinity";
 }
 
+/// A header without its trailing unit in brackets: "F" of "F (N)", "x" of "x [mm]".
+std::string without_bracket(const std::string& name) {
+  const std::string n = trim(name);
+  for (const auto& [open, close] : {std::pair{'(', ')'}, std::pair{'[', ']'}}) {
+    const auto start = n.rfind(open);
+    if (start != std::string::npos && start > 0 && n.back() == close) return trim(n.substr(0, start));
+  }
+  return n;
+}
+
 std::string column_list(const std::vector<std::string>& names) {
   std::string list;
   for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
@@ -509,11 +519,20 @@ class RecordReader {
     fail(line_number, "column " + name + ": '" + field + "' is not a number");
   }
 
+  /// The column headed `name`, or else the one whose header is `name` and a unit in brackets
+  /// ("F" for "F (N)", "Displ" for "Displ(microns)"; any case) when only one is.
   int find_column(const std::string& name, const char* option, int line_number) const {
     const auto found = std::find(names_.begin(), names_.end(), name);
-    if (found == names_.end())
+    if (found != names_.end()) return static_cast<int>(found - names_.begin());
+    std::vector<int> matches;
+    for (int k = 0; k < static_cast<int>(names_.size()); ++k)
+      if (lower(without_bracket(names_[std::size_t(k)])) == lower(trim(name))) matches.push_back(k);
+    if (matches.size() > 1)
+      fail(line_number, std::string(option) + ": '" + name + "' names " + std::to_string(matches.size()) +
+                            " columns (columns: " + column_list(names_) + "); give the whole header");
+    if (matches.empty())
       fail(line_number, std::string(option) + ": no column '" + name + "' (columns: " + column_list(names_) + ")");
-    return static_cast<int>(found - names_.begin());
+    return matches.front();
   }
 
   void choose_columns(int line_number) {

@@ -67,6 +67,30 @@ TEST(Channels, HeaderUnitsAsWrittenAndForceColumnsNeverAsDisplacement) {
   EXPECT_EQ(parse_length_unit("\u00b5m"), LengthUnit::um);
 }
 
+TEST(Channels, AColumnIsNamedByItsHeaderWithOrWithoutItsUnit) {
+  const std::string lab = "t (s),x (mm),F (N),G [kN]\n0,1,10,1\n0.1,2,11,1\n0.2,3,12,1\n";
+  RecordFormat named;
+  named.column = "x";
+  named.force_column = "F";
+  named.observable = Observable::force;
+  named.time_column = "t";
+  const Record r = read(lab, named);
+  EXPECT_EQ(r.column, "x (mm)");
+  EXPECT_EQ(r.unit, LengthUnit::mm);
+  EXPECT_DOUBLE_EQ(r.force[1], 11);
+  named.force_column = "g";  // any case, a unit in square brackets too
+  EXPECT_DOUBLE_EQ(read(lab, named).force[1], 1000);
+  named.force_column = "F (N)";  // the whole header, as before
+  EXPECT_DOUBLE_EQ(read(lab, named).force[1], 11);
+  // Two headers without their units alike: the name is ambiguous, and said so.
+  RecordFormat twice;
+  twice.column = "x";
+  const std::string two = "t,x (mm),x (um)\n0,1,1\n0.1,2,2\n";
+  EXPECT_NE(refusal(two, twice).find("names 2 columns"), std::string::npos) << refusal(two, twice);
+  twice.column = "x (um)";
+  EXPECT_EQ(read(two, twice).unit, LengthUnit::um);
+}
+
 TEST(Channels, AForceInKilonewtonsGivesItsSpectrumInNewtons) {
   std::mt19937_64 rng(11);
   std::normal_distribution<double> noise(0, 0.01);  // [kN]: 10 N rms

@@ -208,6 +208,9 @@ expect_refused window-across-rates "sampling rate changes inside --window" analy
 expect_refused window-outside "record runs from" analyze "$basalt" --window 0:100 $out
 expect_refused window-syntax "T0:T1" analyze "$basalt" --window 100 $out
 expect_refused friction-column "not a displacement" analyze "$basalt" --column Friction $out
+# A column named by its header without the unit in brackets: Displ for Displ(microns).
+"$bin" analyze "$basalt" --window 11608:11674 --column Displ --no-plot --out "$work/col" 2> "$work/col.err" || fail "--column Displ for Displ(microns): $(cat "$work/col.err")"
+grep -q "^# observable = displacement.*of column Displ(microns)$" "$work/col.tsv" || fail "--column Displ: $(grep observable "$work/col.tsv")"
 expect_refused dt-with-time "has a time column" analyze "$basalt" --dt 0.1 $out
 expect_refused resample-word "median" analyze "$basalt" --resample mean $out
 expect_refused omega-min-too-low "reaches down to" analyze "$basalt" --window 11608:11674 --omega-min 0.01 $out
