@@ -123,8 +123,8 @@ std::string interpolation_cut_words(const Record& record) {
   std::string interval = "the median input interval " + shortest(record.interpolation_interval) + " s";
   if (record.parts.size() > 1) {
     const SamplingPart& part = record.parts[coarsest_part(record.parts, record.start_time, end)];
-    interval = "the input interval " + shortest(part.interval) + " s of the part " + shortest(part.start) + ".." +
-               shortest(part.end) + " s, the coarsest that " + shortest(record.start_time) + ".." + shortest(end) +
+    interval = "the input interval " + shortest(part.interval) + " s of the part " + seconds(part.start) + ".." +
+               seconds(part.end) + " s, the coarsest that " + seconds(record.start_time) + ".." + seconds(end) +
                " s overlaps";
   }
   return "interpolation filters the spectrum above " + shortest(record.interpolation_cut) +
