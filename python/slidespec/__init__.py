@@ -780,7 +780,8 @@ class Analysis(_Table):
     segment_samples, segments, ...} says how the spectrum was estimated.
     Fields: slope_fit {slope, standard_error, chi2_per_dof, force_slope, omega_low,
     omega_high [rad/s], ...}; alpha_fit {alpha, standard_error, chi2_per_dof, ...};
-    mean_speed [m/s]; usable_band {omega_low, omega_high} [rad/s]; dt, duration [s].
+    mean_speed [m/s]; usable_band {omega_low, omega_high} [rad/s] (with empty: true, both 0,
+    where the sensor floor covers everything); dt, duration [s].
     """
 
     @property

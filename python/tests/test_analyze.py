@@ -201,3 +201,18 @@ def test_the_force_channel_is_named_once():
     t, _, mu, _ = basalt()
     a = ss.analyze(t, None, force=mu, force_units="mu", normal_force=1e3, window=(11608, 11674))
     assert a.observable["channel"] == "force channel (mu) x normal force 1000 N"
+
+
+def test_resampling_cuts_the_band_at_the_coarsest_interval_analysed():
+    # The basalt record is sampled at 0.1 s, then 0.01 s; resampled onto the 0.01 s grid, the
+    # stretch analysed lies in the 0.1 s part, where interpolation filters above acos(0.85)/0.1.
+    t, x, _, _ = basalt()
+    a = ss.analyze(t, x, units="um", resample="median")
+    assert 0 < a.usable_band["omega_high"] <= np.arccos(0.85) / 0.1
+
+
+def test_an_alpha_fit_into_the_stall_is_a_failed_fit_not_an_error():
+    t, x, _, _ = basalt()
+    with pytest.warns(ss.ModelWarning, match="FAILED"):
+        a = ss.analyze(t, x, units="um", window=(11608, 11674), compare="reference", fit="alpha")
+    assert not a.ok

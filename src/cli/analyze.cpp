@@ -409,8 +409,10 @@ int command_analyze(Options o) {
       f.model->alpha = f.alpha->alpha;
       f.alpha_verdict = detail::judge_alpha(*f.alpha, *f.model);
     }
-    f.model_order = model_order(*f.model, order);
-    f.model_values = model_spectrum(s, *f.model, order);
+    // The theory column is the one the alpha fit was made with (first order where it stopped).
+    const ModelOrder shown = f.alpha && f.alpha->theory_order == 1 ? ModelOrder::first : order;
+    f.model_order = model_order(*f.model, shown);
+    f.model_values = model_spectrum(s, *f.model, shown);
   }
 
   if (!f.ok()) {

@@ -204,6 +204,8 @@ status=$?
 /usr/bin/python3 -c "
 import json; f = json.load(open('$work/fa.json'))['alpha_fit']
 assert not f['ok'] and f['theory_order'] == 1 and 'no theory beyond it holds' in f['failure'], f" || fail "alpha fit into the stall: JSON"
+grep -q "^# columns: .*theory \[m^2 s\] the model's first-order theory" "$work/fa.tsv" \
+  || fail "alpha fit into the stall: the theory column is not the first order it was fitted with"
 expect_refused window-across-rates "sampling rate changes inside --window" analyze "$basalt" --window 11600:11700 $out
 expect_refused window-outside "record runs from" analyze "$basalt" --window 0:100 $out
 expect_refused window-syntax "T0:T1" analyze "$basalt" --window 100 $out
