@@ -11,6 +11,7 @@ cd "$(dirname "$0")/.."
 packages=(cmake ninja-build g++ pkg-config git
           libeigen3-dev libxsimd-dev libfftw3-dev librandom123-dev
           libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev zlib1g-dev
+          libcairo2-dev fonts-dejavu-core  # run's and merge's figure (src/figure/)
           python3 python3-numpy python3-matplotlib
           python3-dev pybind11-dev python3-tqdm python3-pytest
           python3-venv python3-pip python3-setuptools python3-wheel

@@ -1,11 +1,27 @@
 // The theory line of a figure: the exact theory of a table's model, recomputed on a fine
-// grid from the parameters in the table's '#' lines.
+// grid from the parameters in the table's '#' lines; and the figure of a run's table,
+// drawn here with cairo (src/figure/).
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <future>
+#include <map>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
+#include <thread>
+#include <tuple>
 
 #include "cli/plot.hpp"
+#include "figure/spectrum_figure.hpp"
+#include "figure/text.hpp"
+#include "io/tables.hpp"
 #include "slidespec/parameters.hpp"
 #include "slidespec/theory.hpp"
 
@@ -75,6 +91,20 @@ TableModel read_table_model(const std::string& path) {
   return model;
 }
 
+/// exact_spectrum over `omegas`, half on a second thread: a run's figure waits for this
+/// line once the run's threads are done, with both cores free.
+std::vector<double> exact_spectrum_on_two_threads(const Parameters& p, const std::vector<double>& omegas) {
+  constexpr std::size_t kWorthAThread = 16;  // a solve takes ~10 us, a thread's start ~50 us
+  if (omegas.size() < kWorthAThread) return exact_spectrum(p, omegas);
+  const std::vector<double> low(omegas.begin(), omegas.begin() + static_cast<std::ptrdiff_t>(omegas.size() / 2));
+  const std::vector<double> high(omegas.begin() + static_cast<std::ptrdiff_t>(omegas.size() / 2), omegas.end());
+  auto upper = std::async(std::launch::async, [&] { return exact_spectrum(p, high); });
+  std::vector<double> values = exact_spectrum(p, low);
+  const std::vector<double> rest = upper.get();
+  values.insert(values.end(), rest.begin(), rest.end());
+  return values;
+}
+
 }  // namespace
 
 std::pair<std::vector<double>, std::vector<double>> fine_theory_of_table(const std::string& path) {
@@ -83,7 +113,7 @@ std::pair<std::vector<double>, std::vector<double>> fine_theory_of_table(const s
   std::vector<double> omegas =
       log_spaced_omegas(model.omega_low, model.omega_high * (1 + 1e-9), kTheoryPointsPerDecade);
   if (omegas.empty() || omegas.back() < model.omega_high) omegas.push_back(model.omega_high);
-  std::vector<double> spectrum = exact_spectrum(*model.parameters, omegas);
+  std::vector<double> spectrum = exact_spectrum_on_two_threads(*model.parameters, omegas);
   // Halve the grid where log C bends: a resonance narrower than the base grid is found
   // by its neighbours' curvature and resolved within a few halvings.
   for (int round = 0; round < kRefinements && omegas.size() < kMostPoints; ++round) {
@@ -98,7 +128,7 @@ std::pair<std::vector<double>, std::vector<double>> fine_theory_of_table(const s
     if (added.empty()) break;
     std::sort(added.begin(), added.end());
     added.erase(std::unique(added.begin(), added.end()), added.end());
-    const std::vector<double> values = exact_spectrum(*model.parameters, added);
+    const std::vector<double> values = exact_spectrum_on_two_threads(*model.parameters, added);
     std::vector<std::pair<double, double>> merged;
     for (std::size_t k = 0; k < omegas.size(); ++k) merged.emplace_back(omegas[k], spectrum[k]);
     for (std::size_t k = 0; k < added.size(); ++k) merged.emplace_back(added[k], values[k]);
@@ -113,5 +143,207 @@ std::pair<std::vector<double>, std::vector<double>> fine_theory_of_table(const s
   }
   return {omegas, spectrum};
 }
+
+namespace {
+
+/// A table as plot_spectra.py reads it: '#' metadata (trailing comments cut), columns by name.
+struct Table {
+  std::map<std::string, std::string> metadata;
+  std::map<std::string, std::vector<double>> columns;
+
+  const std::vector<double>& column(const std::string& name) const {
+    static const std::vector<double> none;
+    const auto found = columns.find(name);
+    return found == columns.end() ? none : found->second;
+  }
+  std::optional<double> number(const std::string& key) const {
+    const auto found = metadata.find(key);
+    if (found == metadata.end()) return std::nullopt;
+    return io::parse_number(found->second);
+  }
+};
+
+std::vector<std::string> tab_fields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::istringstream in(line);
+  for (std::string field; std::getline(in, field, '\t');) fields.push_back(field);
+  return fields;
+}
+
+Table read_table(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read " + path);
+  Table table;
+  std::vector<std::string> names;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("#", 0) == 0) {
+      const auto equals = line.find(" = ");
+      if (equals != std::string::npos && names.empty()) {
+        std::string key = line.substr(1, equals - 1);
+        key.erase(0, key.find_first_not_of(' '));
+        table.metadata[key] = line.substr(equals + 3, line.find("  #", equals) - equals - 3);
+      } else if (line.find('\t') != std::string::npos) {
+        names = tab_fields(line.substr(line.find_first_not_of("# ")));
+      }
+      continue;
+    }
+    const std::vector<std::string> fields = tab_fields(line);
+    if (fields.empty()) continue;
+    if (names.empty() || !io::parse_number(fields[0])) {
+      names = fields;
+      continue;
+    }
+    for (std::size_t k = 0; k < names.size() && k < fields.size(); ++k)
+      table.columns[names[k]].push_back(io::parse_number(fields[k]).value_or(NAN));
+  }
+  if (table.column("omega").empty() || table.column("C_x").empty())
+    throw std::runtime_error(path + ": no omega and C_x columns");
+  return table;
+}
+
+/// '0.0005' -> '5e-4', '30' -> '30': plot_spectra.py's short numbers.
+std::string short_number(double value) {
+  char text[32];
+  if (value != 0 && !(std::abs(value) >= 1e-2 && std::abs(value) < 1e4)) {
+    const int exponent = static_cast<int>(std::floor(std::log10(std::abs(value))));
+    double mantissa = value / std::pow(10.0, exponent);
+    mantissa = std::round(mantissa * 100) / 100;
+    if (std::abs(mantissa) >= 10) return short_number(std::copysign(1.0, value) * std::pow(10.0, exponent + 1));
+    std::snprintf(text, sizeof text, "%ge%d", mantissa, exponent);
+  } else {
+    std::snprintf(text, sizeof text, "%.4g", value);
+  }
+  return text;
+}
+
+/// 'v', '5e-4' -> 'v = 0.5 mm/s': a parameter with its symbol, in the largest unit that keeps
+/// its number at 0.1 or above.
+std::string parameter_text(const std::string& key, const std::string& value) {
+  struct Style {
+    const char* symbol;
+    std::vector<std::pair<const char*, double>> units;
+  };
+  static const std::map<std::string, Style> styles = {
+      {"N", {"N", {{"", 1}}}},
+      {"M", {"M", {{"kg", 1}, {"g", 1e-3}}}},
+      {"m", {"m", {{"kg", 1}, {"g", 1e-3}, {"mg", 1e-6}}}},
+      {"k0", {"*k*_{0}", {{"N/m", 1}}}},
+      {"k1", {"*k*_{1}", {{"N/m", 1}}}},
+      {"eta0", {"*η*_{0}", {{"1/s", 1}}}},
+      {"eta1", {"*η*_{1}", {{"1/s", 1}}}},
+      {"v", {"v", {{"m/s", 1}, {"mm/s", 1e-3}, {"µm/s", 1e-6}}}},
+      {"a", {"a", {{"m", 1}, {"mm", 1e-3}, {"µm", 1e-6}, {"nm", 1e-9}}}},
+      {"alpha", {"*α*", {{"", 1}}}},
+      {"F_drive", {"*F*_{drive}", {{"N", 1}}}},
+      {"F_kin", {"*F*_{kin}", {{"N", 1}}}}};
+  const auto style = styles.find(key);
+  const std::string symbol = style == styles.end() ? figure::literal(key) : style->second.symbol;
+  const std::optional<double> number = io::parse_number(value);
+  if (!number || style == styles.end()) return symbol + " = " + figure::literal(value);
+  auto [unit, size] = style->second.units.back();
+  for (const auto& [candidate, candidate_size] : style->second.units)
+    if (std::abs(*number) >= 0.1 * candidate_size) {
+      unit = candidate;
+      size = candidate_size;
+      break;
+    }
+  return symbol + " = " + short_number(*number / size) + (*unit ? std::string(" ") + unit : "");
+}
+
+/// The legend entry of a single run: its case and the parameters the paper varies, plus
+/// those set by --set (named in its label), marked when incomplete or not stationary.
+std::string legend_label(const Table& table, const std::string& path) {
+  const auto case_name = table.metadata.find("case");
+  std::string name =
+      case_name != table.metadata.end() ? case_name->second : std::filesystem::path(path).filename().string();
+  std::vector<std::string> keys = {"N", "v", "a", "alpha"};
+  const auto label = table.metadata.find("label");
+  if (label != table.metadata.end()) {  // "reference + N=5, alpha=3"
+    const std::string& text = label->second;
+    name = text.substr(0, text.find(" + "));
+    if (text.find(" + ") != std::string::npos) {
+      std::istringstream changes(text.substr(text.find(" + ") + 3));
+      for (std::string change; std::getline(changes, change, ',');) {
+        std::string key = change.substr(0, change.find('='));
+        key.erase(0, key.find_first_not_of(' '));
+        key.erase(key.find_last_not_of(' ') + 1);
+        if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+      }
+    }
+  }
+  std::string parameters;
+  for (const std::string& key : keys) {
+    const auto value = table.metadata.find(key);
+    if (value == table.metadata.end()) continue;
+    parameters += (parameters.empty() ? ": " : ", ") + parameter_text(key, value->second);
+  }
+  std::string text = figure::literal(name) + parameters;
+  const auto stationary = table.metadata.find("stationary");
+  if (stationary != table.metadata.end() && stationary->second.rfind("false", 0) == 0)
+    text += " (NOT STATIONARY: no spectrum)";
+  const auto complete = table.metadata.find("complete");
+  if (complete != table.metadata.end() && complete->second == "false") text += " (incomplete)";
+  return text;
+}
+
+// The paper's Fig. 2 peak near 4e4 rad/s is absent from the equations as written (docs/model.md §4).
+constexpr double kPeakNoteOmega = 1e4;
+const char* const kPeakNote =
+    "No peak near 4e4 rad/s: the model's equations overdamp the miniblocks (docs/model.md §4)";
+
+}  // namespace
+
+RunFigure run_figure(const std::string& path, const FigureStyle& style) {
+  const Table table = read_table(path);
+  figure::Spectrum spectrum;
+  spectrum.label = legend_label(table, path);
+  spectrum.omega = table.column("omega");
+  spectrum.C_x = table.column("C_x");
+  spectrum.standard_error = table.column("stderr");
+  spectrum.theory = table.column("theory");
+  std::tie(spectrum.line_omega, spectrum.line_C_x) = fine_theory_of_table(path);
+  if (spectrum.line_omega.empty()) {  // no model named: the table's own theory column
+    spectrum.line_omega = spectrum.omega;
+    spectrum.line_C_x = spectrum.theory;
+  }
+  spectrum.omega_c = table.number("omega_c").value_or(0);
+  // Eq. (1) where it applies, v/a << omega << omega_c: from 5 v/a to omega_c/3.
+  const std::vector<double>& eq1 = table.column("C_eq1");
+  const auto v = table.number("v"), a = table.number("a");
+  if (!eq1.empty() && v && a && *a > 0 && spectrum.omega_c > 0)
+    for (std::size_t i = 0; i < spectrum.omega.size(); ++i)
+      if (spectrum.omega[i] >= 5 * *v / *a && spectrum.omega[i] <= spectrum.omega_c / 3) {
+        spectrum.eq1_omega.push_back(spectrum.omega[i]);
+        spectrum.eq1_C_x.push_back(eq1[i]);
+      }
+
+  figure::SpectrumFigure drawing;
+  drawing.residuals = !spectrum.theory.empty() && !spectrum.standard_error.empty();
+  const double highest = *std::max_element(spectrum.omega.begin(), spectrum.omega.end());
+  if (highest > kPeakNoteOmega) drawing.footnote = kPeakNote;
+  drawing.spectra.push_back(std::move(spectrum));
+
+  figure::Page page;
+  page.height = drawing.residuals ? 6.2 : 5;
+  if (!style.size.empty()) std::sscanf(style.size.c_str(), "%lfx%lf", &page.width, &page.height);
+  page.dpi = style.dpi;
+  page.format = style.format == "pdf"   ? figure::Format::pdf
+                : style.format == "svg" ? figure::Format::svg
+                                        : figure::Format::png;
+  return {std::move(drawing), page};
+}
+
+std::string draw_run_figure(const std::string& path, const FigureStyle& style) {
+  // The output-set tests (tests/cli/commit_test.sh) stop a run here, its state saved and
+  // its outputs not yet written: SLIDESPEC_FIGURE_STALL=FILE writes the pid to FILE and waits.
+  if (const char* stall = std::getenv("SLIDESPEC_FIGURE_STALL")) {
+    std::ofstream(stall) << getpid() << "\n";
+    std::this_thread::sleep_for(std::chrono::minutes(1));
+  }
+  const RunFigure drawing = run_figure(path, style);
+  return figure::draw(drawing.figure, drawing.page).bytes;
+}
+
+void prepare_run_figure() { figure::prepare_fonts_in_background(); }
 
 }  // namespace slidespec::cli

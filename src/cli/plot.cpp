@@ -146,6 +146,13 @@ void FigureStyle::check() const {
       throw InputError("--size: '" + size + "' is not WxH in inches (e.g. 7x5, each 0.5 to 100)");
   }
   if (!(dpi >= 10 && dpi <= 2400)) throw InputError("--dpi: must be between 10 and 2400");
+  constexpr double kMostPixels = 32767;  // a side of an image cairo draws
+  double width = 7, height = 6.2;
+  if (!size.empty()) std::sscanf(size.c_str(), "%lfx%lf", &width, &height);
+  if (format == "png" && std::max(width, height) * dpi > kMostPixels)
+    throw InputError("--dpi: a " + io::format_number(width) + "x" + io::format_number(height) + " in PNG at " +
+                     io::format_number(dpi) + " dpi is wider than " + io::format_number(kMostPixels) +
+                     " pixels; lower --dpi or use --format pdf or svg");
 }
 
 void check_title(const std::string& title, const FigureStyle& style) {

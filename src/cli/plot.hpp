@@ -1,11 +1,13 @@
-// Pictures come from tools/plot_spectra.py (matplotlib, Debian's python3-matplotlib),
-// with the exact theory computed here on a fine grid for every table that names its
-// model parameters.
+// The figures: a run's (run, merge) drawn here with cairo (src/figure/), the others by
+// tools/plot_spectra.py (matplotlib, Debian's python3-matplotlib); both with the exact
+// theory computed here on a fine grid for every table that names its model parameters.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
+
+#include "figure/spectrum_figure.hpp"
 
 namespace slidespec::cli {
 
@@ -21,7 +23,8 @@ struct FigureStyle {
   void add_to(CLI::App& command);
   /// --size, --dpi only (the format comes from the output's extension).
   void add_size_to(CLI::App& command);
-  /// Throws InputError for an unknown format, a malformed size or a dpi out of 10..2400.
+  /// Throws InputError for an unknown format, a malformed size, a dpi out of 10..2400 or a
+  /// PNG of more than 32767 pixels a side (cairo's limit).
   void check() const;
   /// PREFIX.<format>.
   std::string path(const std::string& prefix) const { return prefix + "." + format; }
@@ -44,6 +47,22 @@ void start_plotter();
 /// stderr; 127 the tool could not be started; 128 + the signal that killed it).
 int plot(const std::vector<std::string>& tables, const std::string& out, const std::string& title,
          const FigureStyle& style = {});
+
+/// What the figure of a run's table (run, merge) shows, and its page: the style's format,
+/// size and resolution (7x6.2 in with the residual panel, 7x5 without).
+struct RunFigure {
+  figure::SpectrumFigure figure;
+  figure::Page page;
+};
+RunFigure run_figure(const std::string& table, const FigureStyle& style);
+
+/// The figure of a run's table, drawn here (src/figure/): the bytes of the file. Throws
+/// std::runtime_error when it cannot be drawn.
+std::string draw_run_figure(const std::string& table, const FigureStyle& style);
+
+/// Starts the figure's fonts on a thread of their own, so that draw_run_figure finds them
+/// ready when the run ends.
+void prepare_run_figure();
 
 /// Points per decade of the theory line at least (more where it bends: resonances).
 inline constexpr int kTheoryPointsPerDecade = 96;

@@ -174,11 +174,13 @@ bool write_outputs(const Context& context, const RunSession& session, const RunR
     outputs.add(out + ".tsv", io::run_table(p, session.case_name(), session.request(), result));
     outputs.add(out + ".json", io::run_json(p, session.case_name(), session.request(), result));
     if (!options.no_plot) {
-      const std::string drawn =
-          outputs.add_written_by_other(figure, std::filesystem::path(figure).extension().string());
-      const int status = plot({outputs.temporary(out + ".tsv")}, drawn, "", options.figure);
-      if (status != 0)
-        throw std::runtime_error(figure + " not drawn (the plotter exited with status " + std::to_string(status) + ")");
+      try {
+        outputs.add(figure, draw_run_figure(outputs.temporary(out + ".tsv"), options.figure));
+      } catch (const io::WriteError&) {
+        throw;
+      } catch (const std::exception& e) {
+        throw std::runtime_error(figure + " not drawn (" + e.what() + ")");
+      }
     }
     outputs.commit();
   } catch (const std::exception& e) {
@@ -210,7 +212,7 @@ RunOutcome run_and_write(const Context& context, RunSession& session, const RunO
                          const std::string& out) {
   const std::string state_path = out + ".state";
   const bool writes = context.writes_outputs();
-  if (writes && !options.no_plot) start_plotter();
+  if (writes && !options.no_plot) prepare_run_figure();
   Progress own_progress(options.quiet || !writes);
   Progress& progress = options.shared_progress ? *options.shared_progress : own_progress;
   RunSession::Control control;

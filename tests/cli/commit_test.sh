@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Commit, then forget: a finished run survives whatever happens while its outputs are
-# written. A plotter that dies, or slidespec itself killed (SIGKILL) while drawing, leaves
-# the run's state; the command slidespec prints then writes outputs identical to an
+# written. A figure that cannot be drawn (out of memory), or slidespec itself killed
+# (SIGKILL) while drawing, leaves the run's state; the command slidespec prints then writes outputs identical to an
 # undisturbed run's. A second writer on the same output prefix is refused while the first
 # holds it.
 source "$(dirname "$0")/common.sh"
@@ -11,46 +11,33 @@ cd "$work" || exit 1
 band="--omega-min 100 --omega-max 1000 --precision 0.2 --seed 3"
 "$bin" run $band --out reference --quiet || fail "the undisturbed run failed"
 
-# A plotter that is killed (by the OOM killer, say) as it draws.
-cat > dying_plotter.sh << 'EOF'
-#!/bin/sh
-kill -9 $$
-EOF
-# A plotter that draws slowly: once handed its work (it starts with the run and reads its
-# arguments at the run's end), it says so (its pid) and waits: as the sleep itself (exec),
-# so that killing that pid leaves nothing holding the test's output open for a minute.
-cat > slow_plotter.sh << 'EOF'
-#!/bin/sh
-cat > /dev/null
-echo $$ > plotting
-exec sleep 60
-EOF
-chmod +x dying_plotter.sh slow_plotter.sh
-
 same_as_reference() {  # PREFIX: its table is the undisturbed run's, its JSON and figure there
   cmp -s "$1.tsv" reference.tsv || fail "$2: $1.tsv differs from the undisturbed run's table"
   [ -s "$1.json" ] && [ -s "$1.png" ] || fail "$2: $1.json or $1.png missing"
 }
 
-# 1. The plotter dies: no output of the set appears, the state stays, exit status 1, and
-# the printed command finishes the job.
-SLIDESPEC_PYTHON=$work/dying_plotter.sh "$bin" run $band --out killed --quiet 2> err
+# 1. The figure cannot be drawn: a 24000-pixel-square PNG (2.3 GB) beyond the memory
+# allowed. No output of the set appears, the state stays, exit status 1, and the printed
+# command finishes the job.
+(ulimit -v 1500000 && exec "$bin" run $band --out killed --quiet --dpi 2400 --size 10x10) 2> err
 status=$?
-[ $status -eq 1 ] || fail "killed plotter: exit status $status, expected 1: $(cat err)"
-[ -s killed.state ] || fail "killed plotter: the finished run's state is gone"
-ls killed.tsv killed.json killed.png > /dev/null 2>&1 && fail "killed plotter: a part of the output set appeared"
+[ $status -eq 1 ] || fail "figure out of memory: exit status $status, expected 1: $(cat err)"
+grep -q "killed.png not drawn" err || fail "figure out of memory: no message naming the figure: $(cat err)"
+[ -s killed.state ] || fail "figure out of memory: the finished run's state is gone"
+ls killed.tsv killed.json killed.png > /dev/null 2>&1 && fail "figure out of memory: a part of the output set appeared"
 finish=$(sed -n 's/.*write its outputs with: slidespec //p' err)
-[ -n "$finish" ] || fail "killed plotter: no command to finish the job: $(cat err)"
-"$bin" $finish --quiet || fail "killed plotter: '$finish' failed"
-same_as_reference killed "killed plotter"
-[ -e killed.state ] && fail "killed plotter: the state stayed after the outputs were written"
+[ -n "$finish" ] || fail "figure out of memory: no command to finish the job: $(cat err)"
+"$bin" $finish --quiet || fail "figure out of memory: '$finish' failed"
+same_as_reference killed "figure out of memory"
+[ -e killed.state ] && fail "figure out of memory: the state stayed after the outputs were written"
 
-# 2. slidespec itself killed (SIGKILL) while it draws: the state is already on disk.
-export SLIDESPEC_PYTHON=$work/slow_plotter.sh
+# 2. slidespec itself killed (SIGKILL) while it draws: the state is already on disk. The
+# figure stalls there (SLIDESPEC_FIGURE_STALL), so the kill lands while it draws.
+export SLIDESPEC_FIGURE_STALL=$work/plotting
 start_in_background run $band --out cut --quiet
-unset SLIDESPEC_PYTHON
+unset SLIDESPEC_FIGURE_STALL
 for _ in $(seq 400); do [ -s plotting ] && break; sleep 0.05; done
-[ -s plotting ] || fail "SIGKILL: the slow plotter never started"
+[ -s plotting ] || fail "SIGKILL: the figure never started"
 # 3. Meanwhile a second writer on the same prefix is refused, and changes nothing.
 "$bin" run $band --out cut --quiet 2> err2
 status=$?
@@ -58,11 +45,10 @@ status=$?
 grep -q "another slidespec is writing" err2 || fail "second writer: no clear message: $(cat err2)"
 kill -9 "$pid"
 wait "$pid" 2> /dev/null
-kill "$(cat plotting)" 2> /dev/null
 [ -s cut.state ] || fail "SIGKILL while drawing: the finished run's state is gone"
 "$bin" run --resume cut --quiet || fail "SIGKILL while drawing: the resume failed"
 same_as_reference cut "SIGKILL while drawing"
 [ -e cut.state ] || [ -e cut.lock ] && fail "SIGKILL while drawing: state or lock left after the resume"
 
-[ $failures -eq 0 ] && echo "commit: a killed plotter, a SIGKILL while drawing and a second writer lost no run"
+[ $failures -eq 0 ] && echo "commit: a figure out of memory, a SIGKILL while drawing and a second writer lost no run"
 exit $((failures > 0))

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """No include runs from a lower layer to a higher one (README.md, "Layout"):
-util < model < simd < stepper, estimator < theory < run < io < analysis < cli, python.
+util < model < simd < stepper, estimator < theory < run < io < analysis < figure < cli, python.
 
 A file's layer is its folder under src/ (or, for include/slidespec/NAME.hpp, the layer of
 what it declares); every quoted #include must name a file of the same or a lower layer.
@@ -11,7 +11,7 @@ import re
 import sys
 
 ORDER = [("util",), ("model",), ("simd",), ("stepper", "estimator"), ("theory",), ("run",), ("io",),
-         ("analysis",), ("cli", "python")]
+         ("analysis",), ("figure",), ("cli", "python")]
 RANK = {room: rank for rank, rooms in enumerate(ORDER) for room in rooms}
 # Public headers: the layer of the code that implements them.
 PUBLIC = {"input_error": "util", "parameters": "model", "simd": "simd", "stepper": "stepper",
