@@ -390,8 +390,9 @@ Layout lay_out(cairo_t* cr, const SpectrumFigure& figure, const Page& page, cons
 
   C_x_ticks = log_ticks(layout.C_x, static_cast<int>(spectrum_height / (kTickSpacing * kTickFont)), C_x_minor);
   if (residuals)
-    residual_ticks =
-        linear_ticks(layout.residual, static_cast<int>(residual_height / (kTickSpacing * kResidualTickFont)));
+    // Zero and one tick on either side at least, however low the panel.
+    residual_ticks = linear_ticks(layout.residual,
+                                  std::max(3, static_cast<int>(residual_height / (kTickSpacing * kResidualTickFont))));
   double widest = 0;
   for (const Tick& tick : C_x_ticks) widest = std::max(widest, measure(cr, tick.label, kTickFont).width);
   for (const Tick& tick : residual_ticks) widest = std::max(widest, measure(cr, tick.label, kResidualTickFont).width);

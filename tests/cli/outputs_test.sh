@@ -101,6 +101,13 @@ grep -q "^# k_drive" "$work/drives_drive=force.tsv" && fail "sweep across drives
 expect_refused plot-jpg "unknown figure format" plot "$work/small.tsv" -o "$work/out.jpg"
 expect_refused run-format "--format" run --format jpg $out
 expect_refused run-size "--size" run --size big $out
+expect_refused run-png-beyond-cairo "32767 pixels" run --size 20x10 --dpi 2400 $out
+# run and merge draw their own figure: a PDF and an SVG of the page asked for.
+"$bin" run --omega-min 1 --omega-max 100 --realizations-range 0:8 --save-state "$work/part.state" --no-plot \
+  --quiet --out "$work/part" || fail "a part of a run"
+"$bin" merge "$work/part.state" --out "$work/merged" --format svg --size 5x4 --quiet \
+  && grep -q 'width="360pt" height="288pt"' "$work/merged.svg" && tail -c 10 "$work/merged.svg" | grep -q "</svg>" \
+  || fail "merge --format svg --size 5x4: not a whole 5x4 in SVG"
 expect_refused plot-long-title "--title" plot "$work/small.tsv" -o "$work/out.png" --title "$(printf 'x%.0s' $(seq 200))"
 
 # cmake --install into a temporary prefix: the installed executable plots with the

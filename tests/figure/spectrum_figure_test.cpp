@@ -29,7 +29,8 @@ SpectrumFigure known_figure() {
     s.omega.push_back(kOmegas[i]);
     s.theory.push_back(theory_at(kOmegas[i]));
     s.C_x.push_back(theory_at(kOmegas[i]) * (1 + kOffsets[i]));
-    s.standard_error.push_back(0.02 * s.C_x.back());
+    // Bars reaching past the marker, so that its own fill is told from the bar's colour.
+    s.standard_error.push_back(0.1 * s.C_x.back());
   }
   for (double decade = 0; decade <= 2.0001; decade += 0.01) {
     s.line_omega.push_back(std::pow(10.0, decade));
@@ -148,7 +149,8 @@ TEST_F(KnownFigure, MarkersSitAtTheirValues) {
   const Layout& layout = drawn_.layout;
   for (std::size_t i = 0; i < kOmegas.size(); ++i) {
     const double C_x = theory_at(kOmegas[i]) * (1 + kOffsets[i]);
-    const Color seen = image.at(x_of(layout, kOmegas[i]), y_of(layout, C_x));
+    // Beside the centre, inside the marker (radius 2 pt), clear of its bar (1 pt wide).
+    const Color seen = image.at(x_of(layout, kOmegas[i]) + 1.3, y_of(layout, C_x));
     EXPECT_TRUE(close_to(seen, kFirstColor)) << "omega " << kOmegas[i] << ": " << describe(seen);
   }
 }
@@ -172,8 +174,8 @@ TEST_F(KnownFigure, ResidualsSitAtTheirValues) {
   const Image image(drawn_.bytes);
   ASSERT_TRUE(image.valid());
   const Layout& layout = drawn_.layout;
-  // The axis reaches the farthest point with its bar, and room: 1.15 (0.5 + 0.02 * 1.5).
-  EXPECT_NEAR(layout.residual.high, 1.15 * 0.53, 1e-9);
+  // The axis reaches the farthest point with its bar, and room: 1.15 (0.5 + 0.1 * 1.5).
+  EXPECT_NEAR(layout.residual.high, 1.15 * 0.65, 1e-9);
   EXPECT_NEAR(layout.residual.low, -layout.residual.high, 1e-12);
   for (std::size_t i = 0; i < kOmegas.size(); ++i) {
     const Color seen = image.at(x_of(layout, kOmegas[i]), residual_y_of(layout, kOffsets[i]));
