@@ -2,10 +2,12 @@
 // run: `slidespec run --case reference` (0.1 .. 1e5 rad/s, 5% per point) on two threads
 // against a plain loop that only draws as many renewals as that run needs, on one core.
 #include <benchmark/benchmark.h>
+#include <cairo.h>
 
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +16,9 @@
 #include <random>
 #include <string>
 
+#include "cli/plot.hpp"
+#include "figure/png.hpp"
+#include "figure/spectrum_figure.hpp"
 #include "process_time.hpp"
 #include "slidespec/run.hpp"
 
@@ -83,8 +88,9 @@ BENCHMARK(ReferenceSpectrumVsPlainRenewals)
 // iteration so both see the same load: `figure_over_no_plot` is the ratio (wall
 // time, goal <= 1.1). The executable runs as a child process; its outputs go to /tmp under
 // this process's id (benchmarks of other checkouts may run beside it). The CPU seconds of
-// the commands (the plotter's included) say what the figure costs when the cores are
-// shared and wall times stretch.
+// the commands say what the figure costs when the cores are shared and wall times stretch.
+// Ten alternations: the figure adds ~20 ms to a ~0.25 s run whose own wall time varies by
+// more than that from one run to the next.
 struct CommandTime {
   double wall = 0, cpu = 0;
 };
@@ -125,6 +131,72 @@ void ReferenceRunWithFigureVsNoPlot(benchmark::State& state) {
   state.counters["figure_cpu_s"] = with_figure.cpu / n;
   state.counters["no_plot_cpu_s"] = without.cpu / n;
 }
-BENCHMARK(ReferenceRunWithFigureVsNoPlot)->Iterations(3)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(ReferenceRunWithFigureVsNoPlot)->Iterations(10)->Unit(benchmark::kSecond)->UseRealTime();
+
+double milliseconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// A PNG read back into an image surface by cairo.
+cairo_surface_t* read_png(const std::string& png) {
+  struct Reading {
+    const std::string* bytes;
+    std::size_t at;
+  } reading{&png, 0};
+  return cairo_image_surface_create_from_png_stream(
+      [](void* closure, unsigned char* data, unsigned int length) {
+        auto* r = static_cast<Reading*>(closure);
+        if (r->at + length > r->bytes->size()) return CAIRO_STATUS_READ_ERROR;
+        std::copy_n(r->bytes->data() + r->at, length, data);
+        r->at += length;
+        return CAIRO_STATUS_SUCCESS;
+      },
+      &reading);
+}
+
+// The figure of a reference run's table, part by part, in this process, as `run` draws it
+// at its end (ms): the fine theory line, the page drawn (the PNG's encoding excluded), the
+// PNG encoded; `first_figure_ms` is the first whole figure of the process, fontconfig's
+// start included (a run starts that on a thread of its own while it simulates).
+void ReferenceRunFigureParts(benchmark::State& state) {
+  const std::string prefix = "/tmp/slidespec_bench_" + std::to_string(getpid()) + "_parts";
+  if (std::system(
+          (std::string(SLIDESPEC_EXECUTABLE) + " run --case reference --quiet --no-plot --out " + prefix).c_str()) !=
+      0) {
+    state.SkipWithError("the reference run failed");
+    return;
+  }
+  const std::string table = prefix + ".tsv";
+  auto start = std::chrono::steady_clock::now();
+  const std::string first = cli::draw_run_figure(table, {});
+  const double first_figure = milliseconds_since(start);
+  cairo_surface_t* page = read_png(first);
+  double theory = 0, drawing = 0, encoding = 0;
+  for (auto _ : state) {
+    start = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(cli::fine_theory_of_table(table));
+    theory += milliseconds_since(start);
+    const cli::RunFigure figure = cli::run_figure(table, {});
+    start = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(figure::draw(figure.figure, figure.page));
+    const double whole = milliseconds_since(start);
+    start = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(figure::encode_png(cairo_image_surface_get_data(page), cairo_image_surface_get_width(page),
+                                                cairo_image_surface_get_height(page),
+                                                cairo_image_surface_get_stride(page), figure.page.dpi));
+    const double png = milliseconds_since(start);
+    encoding += png;
+    drawing += whole - png;
+  }
+  cairo_surface_destroy(page);
+  for (const char* suffix : {".tsv", ".json"}) std::remove((prefix + suffix).c_str());
+  const double n = static_cast<double>(state.iterations());
+  state.counters["first_figure_ms"] = first_figure;
+  state.counters["theory_line_ms"] = theory / n;
+  state.counters["page_ms"] = drawing / n;
+  state.counters["png_ms"] = encoding / n;
+  state.counters["png_kB"] = static_cast<double>(first.size()) / 1000;
+}
+BENCHMARK(ReferenceRunFigureParts)->Iterations(10)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

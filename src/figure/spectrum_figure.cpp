@@ -3,8 +3,6 @@
 #include <cairo-pdf.h>
 #include <cairo-svg.h>
 #include <cairo.h>
-#include <pthread.h>
-#include <sched.h>
 
 #include <algorithm>
 #include <cmath>
@@ -519,9 +517,6 @@ DrawnFigure draw(const SpectrumFigure& figure, const Page& page) {
 
 void prepare_fonts_in_background() {
   static std::future<void> prepared = std::async(std::launch::async, [] {
-    // Only on a core the run leaves idle: the run it overlaps keeps every core busy.
-    const sched_param lowest{};
-    pthread_setschedparam(pthread_self(), SCHED_IDLE, &lowest);
     SurfacePointer surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1, 1), cairo_surface_destroy);
     ContextPointer cr(cairo_create(surface.get()), cairo_destroy);
     // The glyphs of the tick labels and the Greek letters, upright and oblique.
