@@ -4,7 +4,7 @@
 # (offline, no build isolation, no compiler cache: what a fresh machine sees), installs it
 # into a fresh venv (--system-site-packages: Debian's numpy and matplotlib), checks the module
 # against the `slidespec` command the wheel puts on PATH, `python -m slidespec` and the build's
-# executable bit for bit, draws a run's figure with the wheel's plotting tool, and uninstalls,
+# executable bit for bit, draws a run's table with the wheel's plotting tool, and uninstalls,
 # leaving the venv as it was. Usage: tools/check_wheel.sh [EXECUTABLE]
 # (EXECUTABLE: a further slidespec to agree with; default build/slidespec when it exists)
 set -euo pipefail
@@ -72,8 +72,8 @@ for name, command in commands.items():
     rows = [line.split("\t") for line in printed.splitlines() if line and not line.startswith("#")]
     assert same_bits([float(r[0]) for r in rows], omega), name
     assert same_bits([float(r[1]) for r in rows], theory), name
-    # Two threads against the module's one: the numbers do not depend on it. The figure is
-    # drawn by the plotting tool the wheel carries.
+    # Two threads against the module's one: the numbers do not depend on it. The run draws
+    # its figure itself (cairo); `plot` draws it with the plotting tool the wheel carries.
     out = Path(name.replace(" ", "_").replace("'", ""))
     subprocess.run([*command, "run", "--case", "reference", *sets, "--omega-min", "1", "--omega-max", "1e3",
                     "--precision", "0.08", "--seed", "3", "--threads", "2", "--out", str(out), "--quiet"],
@@ -82,6 +82,10 @@ for name, command in commands.items():
     for column in ("omega", "C_x", "stderr", "theory"):
         assert same_bits(getattr(run, column), [q[column] for q in points]), (name, column)
     assert out.with_suffix(".png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
+    drawn = out.with_name(out.name + "_matplotlib.png")
+    subprocess.run([*command, "plot", str(out.with_suffix(".tsv")), "-o", str(drawn)], check=True,
+                   env=dict(os.environ, SLIDESPEC_TOOLS=""))
+    assert drawn.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
     print(f"check_wheel: {name} agrees with the module bit for bit, and drew its figure", file=sys.stderr)
 PYTHON
 )
