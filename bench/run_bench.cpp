@@ -137,23 +137,6 @@ double milliseconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// A PNG read back into an image surface by cairo.
-cairo_surface_t* read_png(const std::string& png) {
-  struct Reading {
-    const std::string* bytes;
-    std::size_t at;
-  } reading{&png, 0};
-  return cairo_image_surface_create_from_png_stream(
-      [](void* closure, unsigned char* data, unsigned int length) {
-        auto* r = static_cast<Reading*>(closure);
-        if (r->at + length > r->bytes->size()) return CAIRO_STATUS_READ_ERROR;
-        std::copy_n(r->bytes->data() + r->at, length, data);
-        r->at += length;
-        return CAIRO_STATUS_SUCCESS;
-      },
-      &reading);
-}
-
 // The figure of a reference run's table, part by part, in this process, as `run` draws it
 // at its end (ms): the fine theory line, the page drawn (the PNG's encoding excluded), the
 // PNG encoded; `first_figure_ms` is the first whole figure of the process, fontconfig's
@@ -170,7 +153,7 @@ void ReferenceRunFigureParts(benchmark::State& state) {
   auto start = std::chrono::steady_clock::now();
   const std::string first = cli::draw_run_figure(table, {});
   const double first_figure = milliseconds_since(start);
-  cairo_surface_t* page = read_png(first);
+  cairo_surface_t* page = figure::read_png(first);
   double theory = 0, drawing = 0, encoding = 0;
   for (auto _ : state) {
     start = std::chrono::steady_clock::now();

@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
 #include <future>
 #include <stdexcept>
@@ -116,6 +117,22 @@ std::string encode_png(const unsigned char* pixels, int width, int height, int s
   put_chunk(png, "IDAT", stream);
   put_chunk(png, "IEND", "");
   return png;
+}
+
+cairo_surface_t* read_png(const std::string& png) {
+  struct Reading {
+    const std::string* bytes;
+    std::size_t at;
+  } reading{&png, 0};
+  return cairo_image_surface_create_from_png_stream(
+      [](void* closure, unsigned char* data, unsigned int length) {
+        auto* r = static_cast<Reading*>(closure);
+        if (r->at + length > r->bytes->size()) return CAIRO_STATUS_READ_ERROR;
+        std::copy_n(r->bytes->data() + r->at, length, data);
+        r->at += length;
+        return CAIRO_STATUS_SUCCESS;
+      },
+      &reading);
 }
 
 }  // namespace slidespec::figure

@@ -100,19 +100,7 @@ TEST_P(PngSizes, CairosReaderAgrees) {
   const std::vector<std::uint32_t> pixels = test_card(width, height);
   const std::string png =
       encode_png(reinterpret_cast<const unsigned char*>(pixels.data()), width, height, width * 4, 72);
-  struct Reader {
-    const std::string* bytes;
-    std::size_t at = 0;
-  } reader{&png};
-  cairo_surface_t* image = cairo_image_surface_create_from_png_stream(
-      [](void* closure, unsigned char* data, unsigned int length) {
-        auto* r = static_cast<Reader*>(closure);
-        if (r->at + length > r->bytes->size()) return CAIRO_STATUS_READ_ERROR;
-        std::copy_n(r->bytes->data() + r->at, length, data);
-        r->at += length;
-        return CAIRO_STATUS_SUCCESS;
-      },
-      &reader);
+  cairo_surface_t* image = read_png(png);
   ASSERT_EQ(cairo_surface_status(image), CAIRO_STATUS_SUCCESS);
   EXPECT_EQ(cairo_image_surface_get_width(image), width);
   EXPECT_EQ(cairo_image_surface_get_height(image), height);

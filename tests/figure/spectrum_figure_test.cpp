@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "figure/axes.hpp"
+#include "figure/png.hpp"
 #include "figure/spectrum_figure.hpp"
 
 namespace slidespec::figure {
@@ -44,17 +45,7 @@ SpectrumFigure known_figure() {
 /// A PNG read back by cairo.
 class Image {
  public:
-  explicit Image(const std::string& png) : bytes_(png) {
-    surface_ = cairo_image_surface_create_from_png_stream(
-        [](void* closure, unsigned char* data, unsigned int length) {
-          auto* self = static_cast<Image*>(closure);
-          if (self->at_ + length > self->bytes_.size()) return CAIRO_STATUS_READ_ERROR;
-          std::copy_n(self->bytes_.data() + self->at_, length, data);
-          self->at_ += length;
-          return CAIRO_STATUS_SUCCESS;
-        },
-        this);
-  }
+  explicit Image(const std::string& png) : surface_(read_png(png)) {}
   ~Image() { cairo_surface_destroy(surface_); }
   Image(const Image&) = delete;
   Image& operator=(const Image&) = delete;
@@ -72,8 +63,6 @@ class Image {
   }
 
  private:
-  std::string bytes_;
-  std::size_t at_ = 0;
   cairo_surface_t* surface_;
 };
 
