@@ -129,11 +129,9 @@ void draw_ticks(cairo_t* cr, const Box& box, const Scale& scale, Edge edge, cons
       stroke_line(cr, at, box.bottom(), at, box.bottom() + length, width, kBlack);
   };
   for (const double value : minor) mark(value, kMinorTick, kMinorTickWidth);
-  set_color(cr, kBlack);
   for (const Tick& tick : ticks) {
     mark(tick.value, kMajorTick, kMajorTickWidth);
     if (!labelled) continue;
-    set_color(cr, kBlack);
     const double at = scale.at(tick.value);
     if (edge == Edge::left)
       draw_text(cr, tick.label, font, box.left - kMajorTick - kTickPad, at, 1, Vertical::middle);
@@ -172,13 +170,14 @@ struct LegendEntry {
 
 std::vector<LegendEntry> legend_entries(const SpectrumFigure& figure) {
   std::vector<LegendEntry> entries;
-  bool any_eq1 = false;
+  bool any_eq1 = false, any_line = false;
   for (const Spectrum& s : figure.spectra) {
     entries.push_back({s.label, true, !s.line_omega.empty(), false, s.color});
     any_eq1 |= s.eq1_omega.size() >= 2;
+    any_line |= !s.line_omega.empty();
   }
   entries.push_back({"simulation, ±1 stderr", true, false, false, kHandleGrey});
-  entries.push_back({"exact first-order theory", false, true, false, kHandleGrey});
+  if (any_line) entries.push_back({"exact first-order theory", false, true, false, kHandleGrey});
   if (any_eq1) entries.push_back({"Eq. (1)", false, true, true, kBlack});
   return entries;
 }
@@ -365,9 +364,14 @@ Ranges ranges_of(const SpectrumFigure& figure) {
   return ranges;
 }
 
+/// The ticks of the three axes: labelled, and the minor ones between.
+struct Ticks {
+  std::vector<Tick> omega, C_x, residual;
+  std::vector<double> omega_minor, C_x_minor;
+};
+
 Layout lay_out(cairo_t* cr, const SpectrumFigure& figure, const Page& page, const Ranges& ranges, bool residuals,
-               std::vector<Tick>& omega_ticks, std::vector<double>& omega_minor, std::vector<Tick>& C_x_ticks,
-               std::vector<double>& C_x_minor, std::vector<Tick>& residual_ticks) {
+               Ticks& ticks) {
   const double width = page.width * kPointsPerInch, height = page.height * kPointsPerInch;
   Layout layout;
   layout.omega = Scale::around(ranges.omega.low, ranges.omega.high, true);
@@ -386,19 +390,19 @@ Layout lay_out(cairo_t* cr, const SpectrumFigure& figure, const Page& page, cons
   const double residual_height = residuals ? shared - spectrum_height : 0;
   if (!(spectrum_height > 0)) throw std::runtime_error("the figure is too small for its labels");
 
-  C_x_ticks = log_ticks(layout.C_x, static_cast<int>(spectrum_height / (kTickSpacing * kTickFont)), C_x_minor);
+  ticks.C_x = log_ticks(layout.C_x, static_cast<int>(spectrum_height / (kTickSpacing * kTickFont)), ticks.C_x_minor);
   if (residuals)
     // Zero and one tick on either side at least, however low the panel.
-    residual_ticks = linear_ticks(layout.residual,
+    ticks.residual = linear_ticks(layout.residual,
                                   std::max(3, static_cast<int>(residual_height / (kTickSpacing * kResidualTickFont))));
   double widest = 0;
-  for (const Tick& tick : C_x_ticks) widest = std::max(widest, measure(cr, tick.label, kTickFont).width);
-  for (const Tick& tick : residual_ticks) widest = std::max(widest, measure(cr, tick.label, kResidualTickFont).width);
+  for (const Tick& tick : ticks.C_x) widest = std::max(widest, measure(cr, tick.label, kTickFont).width);
+  for (const Tick& tick : ticks.residual) widest = std::max(widest, measure(cr, tick.label, kResidualTickFont).width);
   const double left = kPad + line_height(cr, kAxisLabelFont) + kPad + widest + kTickPad + kMajorTick;
   const double right = 3 * kPad;
   const double panel_width = width - left - right;
   if (!(panel_width > 0)) throw std::runtime_error("the figure is too narrow for its labels");
-  omega_ticks = log_ticks(layout.omega, static_cast<int>(panel_width / (3 * kTickFont)), omega_minor);
+  ticks.omega = log_ticks(layout.omega, static_cast<int>(panel_width / (3 * kTickFont)), ticks.omega_minor);
 
   layout.spectrum = {left, top, panel_width, spectrum_height};
   layout.residuals = {left, top + spectrum_height + kPanelGap, panel_width, residual_height};
@@ -427,27 +431,25 @@ Layout draw_page(cairo_t* cr, const SpectrumFigure& figure, const Page& page) {
   cairo_set_font_options(cr, options);
   cairo_font_options_destroy(options);
 
-  std::vector<Tick> omega_ticks, C_x_ticks, residual_ticks;
-  std::vector<double> omega_minor, C_x_minor;
-  const Layout layout =
-      lay_out(cr, figure, page, ranges, residuals, omega_ticks, omega_minor, C_x_ticks, C_x_minor, residual_ticks);
+  Ticks ticks;
+  const Layout layout = lay_out(cr, figure, page, ranges, residuals, ticks);
   const double width = page.width * kPointsPerInch, height = page.height * kPointsPerInch;
 
   set_color(cr, kWhite);
   cairo_paint(cr);
-  draw_grid(cr, layout.spectrum, layout.omega, omega_ticks, layout.C_x, C_x_ticks);
+  draw_grid(cr, layout.spectrum, layout.omega, ticks.omega, layout.C_x, ticks.C_x);
   draw_spectra(cr, figure, layout);
   draw_frame(cr, layout.spectrum);
-  draw_ticks(cr, layout.spectrum, layout.C_x, Edge::left, C_x_ticks, C_x_minor, kTickFont, true);
-  draw_ticks(cr, layout.spectrum, layout.omega, Edge::bottom, omega_ticks, omega_minor, kTickFont, !residuals);
+  draw_ticks(cr, layout.spectrum, layout.C_x, Edge::left, ticks.C_x, ticks.C_x_minor, kTickFont, true);
+  draw_ticks(cr, layout.spectrum, layout.omega, Edge::bottom, ticks.omega, ticks.omega_minor, kTickFont, !residuals);
   label_omega_c(cr, figure, layout);
   const Box& bottom_panel = residuals ? layout.residuals : layout.spectrum;
   if (residuals) {
-    draw_grid(cr, layout.residuals, layout.omega, omega_ticks, layout.residual, residual_ticks);
+    draw_grid(cr, layout.residuals, layout.omega, ticks.omega, layout.residual, ticks.residual);
     draw_residuals(cr, figure, layout);
     draw_frame(cr, layout.residuals);
-    draw_ticks(cr, layout.residuals, layout.residual, Edge::left, residual_ticks, {}, kResidualTickFont, true);
-    draw_ticks(cr, layout.residuals, layout.omega, Edge::bottom, omega_ticks, omega_minor, kTickFont, true);
+    draw_ticks(cr, layout.residuals, layout.residual, Edge::left, ticks.residual, {}, kResidualTickFont, true);
+    draw_ticks(cr, layout.residuals, layout.omega, Edge::bottom, ticks.omega, ticks.omega_minor, kTickFont, true);
   }
   draw_legend(cr, figure, layout);
 
