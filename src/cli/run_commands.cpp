@@ -460,6 +460,7 @@ class MergeCommand final : public Command {
 
   int run() override {
     options_.figure.check();
+    if (!options_.no_plot && context_.writes_outputs()) prepare_run_figure();
     std::vector<RunSession> parts;
     for (const std::string& path : parts_) {
       try {
