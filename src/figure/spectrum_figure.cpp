@@ -32,6 +32,7 @@ constexpr double kResidualMarkerRadius = 1.5, kResidualMarkerEdge = 0.3, kResidu
                  kResidualCapHalf = 1.5;
 // The spectrum takes three quarters of the height the panels share.
 constexpr double kSpectrumShare = 0.75;
+constexpr double kLeastPanel = 1;  // [pt]
 // Labelled ticks at least this many font sizes apart.
 constexpr double kTickSpacing = 2.5;
 // The residual axis reaches the farthest point and its bar, with room, within these bounds.
@@ -385,10 +386,11 @@ Layout lay_out(cairo_t* cr, const SpectrumFigure& figure, const Page& page, cons
   const double top = kPad + (omega_c ? kMajorTick + kTickPad + line_height(cr, kOmegaCFont) : 0);
   const double bottom = kPad + (figure.footnote.empty() ? 0 : line_height(cr, kNoteFont) + kPad) +
                         line_height(cr, kAxisLabelFont) + kPad + line_height(cr, kTickFont) + kTickPad + kMajorTick;
-  const double shared = height - top - bottom - (residuals ? kPanelGap : 0);
+  // A page too small for its labels still gets panels (a point or more): it is drawn, if
+  // crowded, rather than losing the run's whole output set.
+  const double shared = std::max(height - top - bottom - (residuals ? kPanelGap : 0), 2 * kLeastPanel);
   const double spectrum_height = residuals ? kSpectrumShare * shared : shared;
   const double residual_height = residuals ? shared - spectrum_height : 0;
-  if (!(spectrum_height > 0)) throw std::runtime_error("the figure is too small for its labels");
 
   ticks.C_x = log_ticks(layout.C_x, static_cast<int>(spectrum_height / (kTickSpacing * kTickFont)), ticks.C_x_minor);
   if (residuals)
@@ -400,8 +402,7 @@ Layout lay_out(cairo_t* cr, const SpectrumFigure& figure, const Page& page, cons
   for (const Tick& tick : ticks.residual) widest = std::max(widest, measure(cr, tick.label, kResidualTickFont).width);
   const double left = kPad + line_height(cr, kAxisLabelFont) + kPad + widest + kTickPad + kMajorTick;
   const double right = 3 * kPad;
-  const double panel_width = width - left - right;
-  if (!(panel_width > 0)) throw std::runtime_error("the figure is too narrow for its labels");
+  const double panel_width = std::max(width - left - right, kLeastPanel);
   ticks.omega = log_ticks(layout.omega, static_cast<int>(panel_width / (3 * kTickFont)), ticks.omega_minor);
 
   layout.spectrum = {left, top, panel_width, spectrum_height};
