@@ -66,12 +66,21 @@ std::vector<Tick> log_ticks(const Scale& scale, int most, std::vector<double>& m
     else
       minor.push_back(std::pow(10.0, decade));
   }
-  if (step == 1 && last - first <= 10)
-    for (int decade = first - 1; decade <= last; ++decade)
-      for (int k = 2; k <= 9; ++k) {
-        const double value = k * std::pow(10.0, decade);
-        if (std::log10(value) >= scale.low && std::log10(value) <= scale.high) minor.push_back(value);
-      }
+  if (step != 1 || last - first > 10) return ticks;
+  // Less than two decades labelled (a range within a decade or so): the multiples of a
+  // decade carry labels too, 2 and 5 when there is room for them only, "2×10^{−1}".
+  const bool label_multiples = ticks.size() < 2;
+  const bool all_multiples = scale.high - scale.low < 0.6;
+  for (int decade = first - 1; decade <= last; ++decade)
+    for (int k = 2; k <= 9; ++k) {
+      const double value = k * std::pow(10.0, decade);
+      if (std::log10(value) < scale.low || std::log10(value) > scale.high) continue;
+      if (label_multiples && (all_multiples || k == 2 || k == 5))
+        ticks.push_back({value, std::to_string(k) + "×10^{" + signed_number("%.0f", decade) + "}"});
+      else
+        minor.push_back(value);
+    }
+  std::sort(ticks.begin(), ticks.end(), [](const Tick& a, const Tick& b) { return a.value < b.value; });
   return ticks;
 }
 

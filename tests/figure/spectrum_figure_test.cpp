@@ -259,6 +259,20 @@ TEST(FigureAxes, DecadesLabelledWithinTheirNumber) {
   EXPECT_EQ(minor.size(), 35u - 9u);  // the unlabelled decades
 }
 
+TEST(FigureAxes, WithinADecadeTheMultiplesAreLabelled) {
+  std::vector<double> minor;
+  Scale omega;
+  omega.low = -1.05;  // 0.089 .. 0.79 rad/s: the first sub-band of an interrupted run
+  omega.high = -0.1;
+  omega.logarithmic = true;
+  const std::vector<Tick> ticks = log_ticks(omega, 15, minor);
+  ASSERT_EQ(ticks.size(), 3u);
+  EXPECT_EQ(ticks[0].label, "10^{\u22121}");
+  EXPECT_EQ(ticks[1].label, "2×10^{\u22121}");
+  EXPECT_DOUBLE_EQ(ticks[2].value, 0.5);
+  EXPECT_EQ(minor.size(), 5u);  // 9e-2 and 3, 4, 6, 7 x 0.1
+}
+
 TEST(FigureAxes, LinearTicksAreRound) {
   const Scale residual{-0.0787, 0.0787, 0, 1, false};
   const std::vector<Tick> ticks = linear_ticks(residual, 3);
