@@ -1,7 +1,12 @@
 #include "figure/text.hpp"
 
+#include <cairo-ft.h>
+#include <ft2build.h>
+#include FT_FREETYPE_H
+
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace slidespec::figure {
@@ -62,10 +67,30 @@ double rise(const Piece& piece, double size) {
 
 }  // namespace
 
+namespace {
+
+// Debian's fonts-dejavu-core, read directly: fontconfig's start (3-7 ms) would be most of
+// what a figure's text costs.
+constexpr const char* kDejaVuDirectory = "/usr/share/fonts/truetype/dejavu/";
+
+/// The face in `file` of DejaVu's directory, else DejaVu Sans in that slant as fontconfig
+/// finds it (another system's layout).
+cairo_font_face_t* dejavu(const char* file, cairo_font_slant_t slant) {
+  static FT_Library library = [] {
+    FT_Library opened = nullptr;
+    return FT_Init_FreeType(&opened) == 0 ? opened : nullptr;
+  }();
+  FT_Face face = nullptr;
+  if (library != nullptr && FT_New_Face(library, (std::string(kDejaVuDirectory) + file).c_str(), 0, &face) == 0)
+    return cairo_ft_font_face_create_for_ft_face(face, 0);  // both live as long as the process
+  return cairo_toy_font_face_create("DejaVu Sans", slant, CAIRO_FONT_WEIGHT_NORMAL);
+}
+
+}  // namespace
+
 const Fonts& fonts() {
-  static const Fonts faces = {
-      cairo_toy_font_face_create("DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL),
-      cairo_toy_font_face_create("DejaVu Sans", CAIRO_FONT_SLANT_OBLIQUE, CAIRO_FONT_WEIGHT_NORMAL)};
+  static const Fonts faces = {dejavu("DejaVuSans.ttf", CAIRO_FONT_SLANT_NORMAL),
+                              dejavu("DejaVuSans-Oblique.ttf", CAIRO_FONT_SLANT_OBLIQUE)};
   return faces;
 }
 

@@ -9,8 +9,7 @@
 
 namespace slidespec::figure {
 
-/// The faces every label is set in (DejaVu Sans, upright and oblique). Made once per
-/// process: the first costs fontconfig's start, a few milliseconds.
+/// The faces every label is set in (DejaVu Sans, upright and oblique), made once per process.
 struct Fonts {
   cairo_font_face_t* upright;
   cairo_font_face_t* italic;
