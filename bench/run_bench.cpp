@@ -139,8 +139,7 @@ double milliseconds_since(std::chrono::steady_clock::time_point start) {
 
 // The figure of a reference run's table, part by part, in this process, as `run` draws it
 // at its end (ms): the fine theory line, the page drawn (the PNG's encoding excluded), the
-// PNG encoded; `first_figure_ms` is the first whole figure of the process, fontconfig's
-// start included (a run starts that on a thread of its own while it simulates).
+// PNG encoded; `first_figure_ms` is the first whole figure of the process, as a run's is.
 void ReferenceRunFigureParts(benchmark::State& state) {
   const std::string prefix = "/tmp/slidespec_bench_" + std::to_string(getpid()) + "_parts";
   if (std::system(

@@ -344,6 +344,4 @@ std::string draw_run_figure(const std::string& path, const FigureStyle& style) {
   return figure::draw(drawing.figure, drawing.page).bytes;
 }
 
-void prepare_run_figure() { figure::prepare_fonts_in_background(); }
-
 }  // namespace slidespec::cli

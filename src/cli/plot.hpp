@@ -60,10 +60,6 @@ RunFigure run_figure(const std::string& table, const FigureStyle& style);
 /// std::runtime_error when it cannot be drawn.
 std::string draw_run_figure(const std::string& table, const FigureStyle& style);
 
-/// Starts the figure's fonts on a thread of their own, so that draw_run_figure finds them
-/// ready when the run ends.
-void prepare_run_figure();
-
 /// Points per decade of the theory line at least (more where it bends: resonances).
 inline constexpr int kTheoryPointsPerDecade = 96;
 

@@ -212,7 +212,6 @@ RunOutcome run_and_write(const Context& context, RunSession& session, const RunO
                          const std::string& out) {
   const std::string state_path = out + ".state";
   const bool writes = context.writes_outputs();
-  if (writes && !options.no_plot) prepare_run_figure();
   Progress own_progress(options.quiet || !writes);
   Progress& progress = options.shared_progress ? *options.shared_progress : own_progress;
   RunSession::Control control;
@@ -460,7 +459,6 @@ class MergeCommand final : public Command {
 
   int run() override {
     options_.figure.check();
-    if (!options_.no_plot && context_.writes_outputs()) prepare_run_figure();
     std::vector<RunSession> parts;
     for (const std::string& path : parts_) {
       try {

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <future>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -516,15 +515,6 @@ DrawnFigure draw(const SpectrumFigure& figure, const Page& page) {
     check(cairo_surface_status(surface.get()));
   }
   return drawn;
-}
-
-void prepare_fonts_in_background() {
-  static std::future<void> prepared = std::async(std::launch::async, [] {
-    SurfacePointer surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1, 1), cairo_surface_destroy);
-    ContextPointer cr(cairo_create(surface.get()), cairo_destroy);
-    // The glyphs of the tick labels and the Greek letters, upright and oblique.
-    draw_text(cr.get(), "0123456789 ±−*ωα*(rad/s)", kTickFont, 0, 0, 0, Vertical::baseline);
-  });
 }
 
 }  // namespace slidespec::figure

@@ -65,10 +65,4 @@ struct DrawnFigure {
 /// large for memory, say) or there is nothing to draw (no positive value).
 DrawnFigure draw(const SpectrumFigure& figure, const Page& page);
 
-/// Starts the fonts (fontconfig, the faces, the glyphs of numbers) on a thread of their
-/// own, so that a later draw() finds them ready. At the normal priority: draw() may wait
-/// for it, and a thread of the lowest would starve on a loaded machine. Harmless to call
-/// more than once.
-void prepare_fonts_in_background();
-
 }  // namespace slidespec::figure
