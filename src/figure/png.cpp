@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <future>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -34,10 +35,17 @@ void put_chunk(std::string& out, const char* type, const std::string& data) {
 }
 
 /// Rows [first, last) as PNG scanlines: a filter byte, then red, green, blue per pixel.
-std::string scanlines(const unsigned char* pixels, int width, int stride, int first, int last) {
+/// Not cleared first: every byte is written.
+struct Scanlines {
+  std::unique_ptr<unsigned char[]> bytes;
+  std::size_t size;
+};
+
+Scanlines scanlines(const unsigned char* pixels, int width, int stride, int first, int last) {
   const auto row_bytes = 1 + 3 * static_cast<std::size_t>(width);
-  std::string rows(row_bytes * static_cast<std::size_t>(last - first), '\0');
-  auto* out = reinterpret_cast<unsigned char*>(rows.data());
+  Scanlines rows{std::make_unique_for_overwrite<unsigned char[]>(row_bytes * static_cast<std::size_t>(last - first)),
+                 row_bytes * static_cast<std::size_t>(last - first)};
+  unsigned char* out = rows.bytes.get();
   for (int y = first; y < last; ++y) {
     const auto* source = reinterpret_cast<const std::uint32_t*>(pixels + static_cast<std::ptrdiff_t>(y) * stride);
     *out++ = kNoFilter;
@@ -54,17 +62,24 @@ std::string scanlines(const unsigned char* pixels, int width, int stride, int fi
 /// One part of a zlib stream split as pigz splits it: the first part carries the zlib
 /// header and ends on a byte boundary (a sync flush), a last part is raw deflate ending the
 /// stream. The checksum of the whole is appended by the caller.
-std::string deflate_part(const std::string& data, bool first, bool last) {
+std::string deflate_part(const Scanlines& data, bool first, bool last) {
   z_stream stream{};
   if (deflateInit2(&stream, kCompressionLevel, Z_DEFLATED, first ? 15 : -15, 8, Z_DEFAULT_STRATEGY) != Z_OK)
     throw std::runtime_error("encode_png: zlib failed to start");
-  std::string compressed(deflateBound(&stream, static_cast<uLong>(data.size())) + 16, '\0');
-  stream.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
-  stream.avail_in = static_cast<uInt>(data.size());
-  stream.next_out = reinterpret_cast<Bytef*>(compressed.data());
-  stream.avail_out = static_cast<uInt>(compressed.size());
-  const int status = deflate(&stream, last ? Z_FINISH : Z_SYNC_FLUSH);
-  compressed.resize(stream.total_out);
+  stream.next_in = data.bytes.get();
+  stream.avail_in = static_cast<uInt>(data.size);
+  // In pieces: a figure compresses ~25-fold, so a buffer of deflateBound (the input's size)
+  // would mostly be memory cleared and never written.
+  std::string compressed;
+  unsigned char piece[1 << 16];
+  int status = Z_OK;
+  do {
+    stream.next_out = piece;
+    stream.avail_out = sizeof piece;
+    status = deflate(&stream, last ? Z_FINISH : Z_SYNC_FLUSH);
+    if (status == Z_BUF_ERROR) status = Z_OK;  // the flush had ended on a full piece: nothing more
+    compressed.append(reinterpret_cast<const char*>(piece), sizeof piece - stream.avail_out);
+  } while (status == Z_OK && stream.avail_out == 0);
   deflateEnd(&stream);
   if (status != (last ? Z_STREAM_END : Z_OK)) throw std::runtime_error("encode_png: zlib failed");
   return compressed;
@@ -79,9 +94,9 @@ struct Part {
 
 Part compress_rows(const unsigned char* pixels, int width, int stride, int first, int last, bool first_part,
                    bool last_part) {
-  const std::string rows = scanlines(pixels, width, stride, first, last);
-  return {deflate_part(rows, first_part, last_part),
-          adler32(1, reinterpret_cast<const Bytef*>(rows.data()), static_cast<uInt>(rows.size())), rows.size()};
+  const Scanlines rows = scanlines(pixels, width, stride, first, last);
+  return {deflate_part(rows, first_part, last_part), adler32(1, rows.bytes.get(), static_cast<uInt>(rows.size)),
+          rows.size};
 }
 
 }  // namespace

@@ -114,6 +114,27 @@ TEST_P(PngSizes, CairosReaderAgrees) {
   cairo_surface_destroy(image);
 }
 
+// Noise does not compress: each half's stream spans several of the writer's 64 kB pieces.
+TEST(Png, IncompressiblePixelsSurviveWhole) {
+  const int width = 300, height = 300;
+  std::vector<std::uint32_t> pixels(static_cast<std::size_t>(width) * height);
+  std::uint32_t state = 12345;
+  for (std::uint32_t& pixel : pixels) pixel = 0xff000000u | ((state = state * 1664525u + 1013904223u) >> 8);
+  const std::string png =
+      encode_png(reinterpret_cast<const unsigned char*>(pixels.data()), width, height, width * 4, 150);
+  EXPECT_GT(png.size(), std::size_t{4} << 16);
+  const Decoded decoded = decode(png);
+  ASSERT_EQ(decoded.scanlines.size(), static_cast<std::size_t>(height) * (1 + 3 * width));
+  for (int y = 0; y < height; y += 17)
+    for (int x = 0; x < width; x += 13) {
+      const std::uint32_t pixel = pixels[static_cast<std::size_t>(y) * width + x];
+      const auto* rgb = reinterpret_cast<const unsigned char*>(decoded.scanlines.data()) +
+                        static_cast<std::size_t>(y) * (1 + 3 * width) + 1 + 3 * x;
+      ASSERT_EQ(rgb[0], (pixel >> 16) & 0xff) << x << "," << y;
+      ASSERT_EQ(rgb[2], pixel & 0xff) << x << "," << y;
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Png, PngSizes,
                          testing::Values(std::make_pair(1, 1), std::make_pair(13, 63), std::make_pair(40, 64),
                                          std::make_pair(33, 131), std::make_pair(1050, 930)));
