@@ -182,8 +182,8 @@ std::vector<LegendEntry> legend_entries(const SpectrumFigure& figure) {
   return entries;
 }
 
-/// The legend in the corner of the spectrum's panel that hides the fewest drawn points
-/// (matplotlib's "best", over its corners: upper right, upper left, lower left, lower right).
+/// The legend where it hides the fewest drawn points of the spectrum's panel (matplotlib's
+/// "best", over the same nine places).
 void draw_legend(cairo_t* cr, const SpectrumFigure& figure, const Layout& layout) {
   const std::vector<LegendEntry> entries = legend_entries(figure);
   const double font = kLegendFont, border = 0.4 * font, spacing = 0.5 * font, handle = 2 * font,
@@ -194,10 +194,15 @@ void draw_legend(cairo_t* cr, const SpectrumFigure& figure, const Layout& layout
   const double width = 2 * border + handle + handle_pad + text_width;
   const double height = 2 * border + entries.size() * row + (entries.size() - 1) * spacing;
   const Box& panel = layout.spectrum;
-  const Box corners[] = {{panel.right() - outside - width, panel.top + outside, width, height},
-                         {panel.left + outside, panel.top + outside, width, height},
-                         {panel.left + outside, panel.bottom() - outside - height, width, height},
-                         {panel.right() - outside - width, panel.bottom() - outside - height, width, height}};
+  // matplotlib's order: upper right, upper left, lower left, lower right, then the middles
+  // of the right and left edges, of the bottom and top, and the centre.
+  const double left = panel.left + outside, right = panel.right() - outside - width;
+  const double top = panel.top + outside, bottom = panel.bottom() - outside - height;
+  const double middle_x = panel.left + (panel.width - width) / 2, middle_y = panel.top + (panel.height - height) / 2;
+  const Box corners[] = {
+      {right, top, width, height},       {left, top, width, height},       {left, bottom, width, height},
+      {right, bottom, width, height},    {right, middle_y, width, height}, {left, middle_y, width, height},
+      {middle_x, bottom, width, height}, {middle_x, top, width, height},   {middle_x, middle_y, width, height}};
   auto covered = [&](const Box& box) {
     std::size_t count = 0;
     auto count_in = [&](const std::vector<double>& xs, const std::vector<double>& ys) {
