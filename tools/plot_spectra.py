@@ -48,6 +48,7 @@ PARAMETER_STYLE = {
     "alpha": (r"$\alpha$", [("", 1)]),
     "F_drive": (r"$F_\mathrm{drive}$", [("N", 1)]),
     "F_kin": (r"$F_\mathrm{kin}$", [("N", 1)]),
+    "k_drive": (r"$k_\mathrm{drive}$", [("N/m", 1)]),
 }
 # Parameters a single run's legend names: the ones the paper's figures vary.
 HEADLINE_PARAMETERS = ("N", "v", "a", "alpha")

@@ -235,7 +235,8 @@ std::string parameter_text(const std::string& key, const std::string& value) {
       {"a", {"a", {{"m", 1}, {"mm", 1e-3}, {"µm", 1e-6}, {"nm", 1e-9}}}},
       {"alpha", {"*α*", {{"", 1}}}},
       {"F_drive", {"*F*_{drive}", {{"N", 1}}}},
-      {"F_kin", {"*F*_{kin}", {{"N", 1}}}}};
+      {"F_kin", {"*F*_{kin}", {{"N", 1}}}},
+      {"k_drive", {"*k*_{drive}", {{"N/m", 1}}}}};
   const auto style = styles.find(key);
   const std::string symbol = style == styles.end() ? figure::literal(key) : style->second.symbol;
   const std::optional<double> number = io::parse_number(value);

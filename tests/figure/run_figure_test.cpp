@@ -69,6 +69,15 @@ TEST(RunFigure, MarksAnInterruptedRunAndTheKeysSet) {
   EXPECT_EQ(s.label.size() - s.label.rfind(" (incomplete)"), std::string(" (incomplete)").size()) << s.label;
 }
 
+TEST(RunFigure, NamesASpringsStiffnessWithItsUnit) {
+  const std::string path =
+      write_run_table("spring", "reference + drive=spring, k_drive=1000", "",
+                      ParameterBuilder("reference").set("drive", "spring").set("k_drive", "1000").build());
+  const cli::RunFigure drawing = cli::run_figure(path, {});
+  const std::string& label = drawing.figure.spectra[0].label;
+  EXPECT_NE(label.find("drive = spring, *k*_{drive} = 1000 N/m"), std::string::npos) << label;
+}
+
 TEST(RunFigure, TakesTheStylesPage) {
   const std::string path = write_run_table("styled", "reference", "");
   cli::FigureStyle style;
