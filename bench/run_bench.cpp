@@ -139,7 +139,8 @@ double milliseconds_since(std::chrono::steady_clock::time_point start) {
 
 // The figure of a reference run's table, part by part, in this process, as `run` draws it
 // at its end (ms): the fine theory line, the page drawn (the PNG's encoding excluded), the
-// PNG encoded; `first_figure_ms` is the first whole figure of the process, as a run's is.
+// PNG encoded; `first_figure_ms` is the first whole figure of the process, the exact
+// theory's first use in it included (a run's figure follows the run's own use of it).
 void ReferenceRunFigureParts(benchmark::State& state) {
   const std::string prefix = "/tmp/slidespec_bench_" + std::to_string(getpid()) + "_parts";
   if (std::system(
