@@ -468,6 +468,8 @@ def _log_error_bars(values, stderr):
 
 def _plot_eq1(axes, spectrum, columns, factor):
     omega = columns["omega"]
+    if spectrum.number("omega_resonance") is not None:
+        return  # a spring's run: Eq. (1) is the constant force's asymptote, above its spectrum
     if "C_eq1" in columns:
         eq1 = columns["C_eq1"]
     elif spectrum.number("eq1_prefactor") is not None:
@@ -487,19 +489,23 @@ OMEGA_C_LABEL_HEIGHT = 14
 
 
 def mark_omega_c(axes, spectra, colors):
-    """A dotted vertical line labelled ω_c per distinct omega_c; grey when all files agree,
-    else in the colour of the first file with that omega_c. Returns the height the labels
-    take above the axes (points), which a title must clear."""
-    marks = {}
+    """A dotted vertical line labelled ω_c per distinct omega_c (ω_res at a spring's
+    omega_resonance, where k_drive stiffens the block); grey when all files agree, else in the
+    colour of the first file with that resonance. Returns the height the labels take above
+    the axes (points), which a title must clear."""
+    marks, labels = {}, {}
     for spectrum, color in zip(spectra, colors):
-        omega_c = spectrum.number("omega_c")
+        spring = spectrum.number("omega_resonance")
+        omega_c = spring if spring is not None else spectrum.number("omega_c")
         if omega_c and omega_c > 0 and not any(math.isclose(omega_c, seen, rel_tol=1e-6)
                                                for seen in marks):
             marks[omega_c] = color
+            labels[omega_c] = r"$\omega_{\mathrm{res}}$" if spring is not None else r"$\omega_c$"
     if not marks:
         return 0
     line_colors = ["0.4"] if len(marks) == 1 else list(marks.values())
     positions = [math.log10(omega_c) for omega_c in marks]
+    texts = list(labels.values())
     for x, color in zip(positions, line_colors):
         axes.axvline(x, linestyle=":", color=color, linewidth=1.2, zorder=0)
     # Labelled as ticks on the top edge, where they cannot collide with data or legend: a
@@ -507,11 +513,11 @@ def mark_omega_c(axes, spectra, colors):
     # an eighth of the figure's drawing time in layout).
     edge = axes.get_xaxis_transform()  # x: data, y: axes fraction
     size, pad = matplotlib.rcParams["xtick.major.size"], matplotlib.rcParams["xtick.major.pad"]
-    for x, color in zip(positions, line_colors):
+    for x, color, text in zip(positions, line_colors, texts):
         axes.add_artist(Line2D([x], [1], transform=edge, marker=TICKUP, markersize=size, clip_on=False,
                                markeredgewidth=matplotlib.rcParams["xtick.major.width"],
                                color=matplotlib.rcParams["xtick.color"]))
-        axes.annotate(r"$\omega_c$", (x, 1), xycoords=edge, xytext=(0, size + pad),
+        axes.annotate(text, (x, 1), xycoords=edge, xytext=(0, size + pad),
                       textcoords="offset points", ha="center", va="bottom", fontsize=11, color=color)
     return size + pad + OMEGA_C_LABEL_HEIGHT
 

@@ -307,13 +307,18 @@ RunFigure run_figure(const std::string& path, const FigureStyle& style) {
     spectrum.line_omega = spectrum.omega;
     spectrum.line_C_x = spectrum.theory;
   }
-  spectrum.omega_c = table.number("omega_c").value_or(0);
+  // Under a spring the block resonates at omega_resonance, stiffened by k_drive, and the
+  // paper's Eq. (1), the constant force's asymptote, lies above its spectrum.
+  const std::optional<double> spring_resonance = table.number("omega_resonance");
+  const double omega_c = table.number("omega_c").value_or(0);
+  spectrum.resonance = spring_resonance.value_or(omega_c);
+  if (spring_resonance) spectrum.resonance_label = "*ω*_{res}";
   // Eq. (1) where it applies, v/a << omega << omega_c: from 5 v/a to omega_c/3.
   const std::vector<double>& eq1 = table.column("C_eq1");
   const auto v = table.number("v"), a = table.number("a");
-  if (!eq1.empty() && v && a && *a > 0 && spectrum.omega_c > 0)
+  if (!spring_resonance && !eq1.empty() && v && a && *a > 0 && omega_c > 0)
     for (std::size_t i = 0; i < spectrum.omega.size(); ++i)
-      if (spectrum.omega[i] >= 5 * *v / *a && spectrum.omega[i] <= spectrum.omega_c / 3) {
+      if (spectrum.omega[i] >= 5 * *v / *a && spectrum.omega[i] <= omega_c / 3) {
         spectrum.eq1_omega.push_back(spectrum.omega[i]);
         spectrum.eq1_C_x.push_back(eq1[i]);
       }

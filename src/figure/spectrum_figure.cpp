@@ -216,7 +216,7 @@ void draw_legend(cairo_t* cr, const SpectrumFigure& figure, const Layout& layout
       count_in(s.line_omega, s.line_C_x);
       count_in(s.eq1_omega, s.eq1_C_x);
       // A line crossing the box counts as one point hidden, as in matplotlib.
-      const double omega_c = s.omega_c > 0 ? layout.omega.at(s.omega_c) : NAN;
+      const double omega_c = s.resonance > 0 ? layout.omega.at(s.resonance) : NAN;
       count += omega_c >= box.left && omega_c <= box.right();
     }
     return count;
@@ -294,8 +294,8 @@ void draw_spectra(cairo_t* cr, const SpectrumFigure& figure, const Layout& layou
   clip_to(cr, layout.spectrum);
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   for (const Spectrum& s : figure.spectra) {
-    if (!(s.omega_c > 0)) continue;
-    const double at = x.at(s.omega_c);
+    if (!(s.resonance > 0)) continue;
+    const double at = x.at(s.resonance);
     dashed(cr, 1 * kOmegaCWidth, 1.65 * kOmegaCWidth);
     stroke_line(cr, at, layout.spectrum.top, at, layout.spectrum.bottom(), kOmegaCWidth,
                 figure.spectra.size() == 1 ? kOmegaCGrey : s.color);
@@ -333,12 +333,13 @@ void draw_spectra(cairo_t* cr, const SpectrumFigure& figure, const Layout& layou
 /// The omega_c marks' labels on the top edge: a tick up and "ω_c" above it.
 void label_omega_c(cairo_t* cr, const SpectrumFigure& figure, const Layout& layout) {
   for (const Spectrum& s : figure.spectra) {
-    if (!(s.omega_c > 0)) continue;
-    const double at = layout.omega.at(s.omega_c);
+    if (!(s.resonance > 0)) continue;
+    const double at = layout.omega.at(s.resonance);
     if (at < layout.spectrum.left || at > layout.spectrum.right()) continue;
     stroke_line(cr, at, layout.spectrum.top, at, layout.spectrum.top - kMajorTick, kMajorTickWidth, kBlack);
     set_color(cr, figure.spectra.size() == 1 ? kOmegaCGrey : s.color);
-    draw_text(cr, "*ω*_{*c*}", kOmegaCFont, at, layout.spectrum.top - kMajorTick - kTickPad, 0.5, Vertical::bottom);
+    draw_text(cr, s.resonance_label, kOmegaCFont, at, layout.spectrum.top - kMajorTick - kTickPad, 0.5,
+              Vertical::bottom);
   }
 }
 
@@ -386,7 +387,7 @@ Layout lay_out(cairo_t* cr, const SpectrumFigure& figure, const Page& page, cons
   layout.residual = Scale{-limit, limit, 0, 1, false};
 
   const bool omega_c =
-      std::any_of(figure.spectra.begin(), figure.spectra.end(), [](const Spectrum& s) { return s.omega_c > 0; });
+      std::any_of(figure.spectra.begin(), figure.spectra.end(), [](const Spectrum& s) { return s.resonance > 0; });
   const double top = kPad + (omega_c ? kMajorTick + kTickPad + line_height(cr, kOmegaCFont) : 0);
   const double bottom = kPad + (figure.footnote.empty() ? 0 : line_height(cr, kNoteFont) + kPad) +
                         line_height(cr, kAxisLabelFont) + kPad + line_height(cr, kTickFont) + kTickPad + kMajorTick;

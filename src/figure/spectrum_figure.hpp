@@ -25,7 +25,10 @@ struct Spectrum {
   std::vector<double> theory;                      ///< the table's theory at its points: the residuals' reference
   std::vector<double> line_omega, line_C_x;        ///< the theory as a line, on a fine grid
   std::vector<double> eq1_omega, eq1_C_x;          ///< Eq. (1), where it applies
-  double omega_c = 0;                              ///< marked on the top edge; 0 for none
+  /// The block's resonance (omega_c; under a spring omega_resonance), a dotted line
+  /// labelled on the top edge; 0 for none.
+  double resonance = 0;
+  std::string resonance_label = "*ω*_{*c*}";  ///< as text markup
 };
 
 enum class Format { png, pdf, svg };

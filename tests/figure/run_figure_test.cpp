@@ -49,7 +49,8 @@ TEST(RunFigure, ShowsTheTableItsTheoryAndItsLandmarks) {
   EXPECT_GE(s.eq1_omega.front(), 5 * p.v / p.a);
   EXPECT_LE(s.eq1_omega.back(), landmarks(p).omega_c / 3);
   EXPECT_LT(s.eq1_omega.front(), 5 * p.v / p.a * std::pow(10.0, 1.0 / 8) * 1.001);
-  EXPECT_NEAR(s.omega_c, landmarks(p).omega_c, 1e-9 * s.omega_c);
+  EXPECT_NEAR(s.resonance, landmarks(p).omega_c, 1e-9 * s.resonance);
+  EXPECT_EQ(s.resonance_label, "*ω*_{*c*}");
   // Up to 1e5 rad/s: the footnote on the paper's peak near 4e4 rad/s.
   EXPECT_NE(drawing.figure.footnote.find("4e4 rad/s"), std::string::npos);
   EXPECT_TRUE(drawing.figure.residuals);
@@ -76,6 +77,19 @@ TEST(RunFigure, NamesASpringsStiffnessWithItsUnit) {
   const cli::RunFigure drawing = cli::run_figure(path, {});
   const std::string& label = drawing.figure.spectra[0].label;
   EXPECT_NE(label.find("drive = spring, *k*_{drive} = 1000 N/m"), std::string::npos) << label;
+}
+
+// Under a spring the block resonates at omega_resonance = sqrt((N k0 + k_drive)/M), and the
+// paper's Eq. (1), the constant force's asymptote, does not describe it: not drawn.
+TEST(RunFigure, MarksASpringsResonanceAndLeavesOutEq1) {
+  const Parameters p = ParameterBuilder("reference").set("drive", "spring").set("k_drive", "1e5").build();
+  const std::string path = write_run_table("spring_resonance", "reference + drive=spring, k_drive=1e5", "", p);
+  const figure::Spectrum& s = cli::run_figure(path, {}).figure.spectra[0];
+  const double resonance = std::sqrt((p.N * p.k0 + p.k_drive) / p.M);
+  EXPECT_NEAR(s.resonance, resonance, 1e-9 * resonance);
+  EXPECT_GT(s.resonance, 1.1 * landmarks(p).omega_c);
+  EXPECT_EQ(s.resonance_label, "*ω*_{res}");
+  EXPECT_TRUE(s.eq1_omega.empty());
 }
 
 TEST(RunFigure, TakesTheStylesPage) {

@@ -179,7 +179,7 @@ TEST_F(KnownFigure, ResidualsSitAtTheirValues) {
 
 TEST_F(KnownFigure, OmegaCIsADottedGreyLine) {
   SpectrumFigure figure = known_figure();
-  figure.spectra[0].omega_c = 30;
+  figure.spectra[0].resonance = 30;
   const DrawnFigure drawn = draw(figure, page_);
   const Image image(drawn.bytes);
   ASSERT_TRUE(image.valid());

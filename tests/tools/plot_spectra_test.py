@@ -244,6 +244,19 @@ class FigureTest(unittest.TestCase):
         self.assertGreaterEqual(axes.title.get_window_extent(renderer).y0, label_box.y1)
 
 
+    def test_a_spring_run_marks_its_resonance_and_has_no_eq1(self):
+        prefix = self.path / "spring"
+        subprocess.run([SLIDESPEC, "theory", "--set", "drive=spring", "--set", "k_drive=1e5", "--out",
+                        str(prefix)], check=True, capture_output=True, timeout=120)
+        theory = prefix.with_suffix(".tsv")
+        figure = self.render(theory)
+        axes = figure.axes[0]
+        (label,) = [t for t in axes.texts if t.get_text() == r"$\omega_{\mathrm{res}}$"]
+        resonance = plot_spectra.read_spectrum(str(theory)).number("omega_resonance")
+        self.assertAlmostEqual(label.xy[0], math.log10(resonance))
+        self.assertFalse([line for line in axes.lines if line.get_gid() == plot_spectra.EQ1_ID])
+
+
     def test_a_png_is_the_picture_matplotlibs_own_save_draws(self):
         run = simulated_table(theory_table(self.path, "reference"), self.path / "run.tsv",
                               ["case = reference"])
