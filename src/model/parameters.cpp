@@ -469,7 +469,8 @@ Parameters ParameterBuilder::build() const {
   if (p.drive == Drive::spring && p.k_drive == 0)
     throw InputError("parameter k_drive: drive=spring needs the spring's stiffness k_drive > 0 [N/m]");
   if (p.drive == Drive::force && p.k_drive != 0)
-    throw InputError("parameter k_drive: a drive spring's stiffness needs drive=spring (drive is force)");
+    throw InputError(
+        "parameter k_drive: a drive spring's stiffness needs drive=spring (drive is force; k_drive=0 leaves it out)");
   if (p.chain == ChainEnds::ring && p.N < 3)
     throw InputError("parameter chain: a ring needs N >= 3 (got N = " + std::to_string(p.N) + ")");
   build_levels(p);
