@@ -338,7 +338,6 @@ class RunCommand final : public Command {
     if (!options.resume.empty()) return resume(options);
     const Parameters p = model_.build();
     RunSession session(p, options.request, model_.label(p));  // validates before any work
-    refuse_duration_raised(p, options.request);
     // A finished run removes its state but for a part, which merge reads, so one left behind
     // is that, or an unfinished run (or one whose outputs were never written) this run would orphan.
     if (std::error_code ignored; std::filesystem::exists(options.out + ".state", ignored)) {
@@ -362,17 +361,6 @@ class RunCommand final : public Command {
  private:
   bool given(const char* name) const { return subcommand().count(name) > 0; }
 
-  /// The plan lengthens a fixed duration to the segments its lowest point needs; a run
-  /// that would simulate more than was asked is refused, naming the least it can be.
-  void refuse_duration_raised(const Parameters& p, const RunRequest& request) const {
-    if (!given("--duration")) return;
-    const std::vector<SubBand> plan = plan_sub_bands(p, request);
-    if (plan.empty() || plan.front().duration <= kDurationRoundingSlack * request.duration) return;
-    throw InputError("--duration: " + io::format_number(request.duration) + " s is shorter than the " +
-                     io::format_number(plan.front().duration) +
-                     " s the lowest point (omega = " + io::format_number(request.omega_min) +
-                     " rad/s) needs; ask for at least that, or raise --omega-min");
-  }
   /// A run saves a state of at least (points + 2) doubles per realization of each
   /// sub-band (its own periodogram means, control and speed) before its outputs: refused
   /// at once where even that cannot fit. A run of fixed realizations knows its count; a
@@ -398,8 +386,6 @@ class RunCommand final : public Command {
     throw InputError("--out " + out + ": the run's state needs at least " + megabytes(bytes) + " and " +
                      directory.string() + " has " + megabytes(static_cast<double>(space.available)) + " free");
   }
-  // A duration is rounded up to whole time steps: far below this.
-  static constexpr double kDurationRoundingSlack = 1.01;
   std::string out_prefix() const {
     return !given("--out") && !options_.resume.empty() ? options_.resume : options_.out;
   }

@@ -167,7 +167,8 @@ std::string sweep_table(const std::vector<SweepAxis>& axes, const std::vector<Sw
   }
   for (std::size_t r = 0; r < runs.size(); ++r)
     out << "# run_" << r << " = " << runs[r].label << "  # " << runs[r].table
-        << (runs[r].result.complete ? "" : ", incomplete") << "\n";
+        << (runs[r].result.complete ? "" : ", incomplete")
+        << (runs[r].result.stationary ? "" : ", NOT STATIONARY: " + runs[r].result.stationarity) << "\n";
   out << "# columns: run (index of the run_ lines); the swept keys; omega [rad/s]; C_x [m^2 s] estimate;"
          " stderr [m^2 s]; theory [m^2 s]; n_avg; bandwidth [rad/s]; theory2 [m^2 s] (as in each run's table)\n"
          "# run";
@@ -208,6 +209,8 @@ std::string sweep_json(const std::vector<SweepAxis>& axes, const std::vector<Swe
     entry["label"] = run.label;
     entry["table"] = run.table;
     entry["complete"] = run.result.complete;
+    entry["stationary"] = run.result.stationary;
+    if (!run.result.stationary) entry["stationarity"] = run.result.stationarity;
     entry["measured_mean_speed"] = {{"value", run.result.mean_speed}, {"standard_error", run.result.mean_speed_error}};
     entry["reached_precision"] = run.result.reached_precision;
     entry["points"] = nlohmann::ordered_json::array();

@@ -99,6 +99,24 @@ double planned_first_round_work(const Parameters& p, const RunRequest& r) {
 
 namespace {
 
+// A duration is rounded up to whole time steps: far below this.
+constexpr double kDurationRoundingSlack = 1.01;
+
+/// `x` rounded up to three significant digits: a least value a message names is then itself enough.
+std::string text_up(double x) {
+  const double unit = std::pow(10.0, std::floor(std::log10(x)) - 2);
+  return text(std::ceil(x / unit) * unit);
+}
+
+/// The plan lengthens a fixed duration to the segments its lowest point needs: a run that
+/// would simulate more than was asked is refused, naming the least it can be.
+void check_duration_not_raised(const RunRequest& r, const std::vector<SubBand>& plan) {
+  if (!(r.duration > 0) || plan.empty() || plan.front().duration <= kDurationRoundingSlack * r.duration) return;
+  throw InputError("--duration: " + text(r.duration) + " s is shorter than the " + text_up(plan.front().duration) +
+                   " s the lowest point (omega = " + text(r.omega_min) +
+                   " rad/s) needs; ask for at least that, or raise --omega-min");
+}
+
 /// A fixed count of realizations too small for every point's error bar: each point needs
 /// kMinimumSegments segments of its band from all realizations together (the scatter
 /// between them).
@@ -131,7 +149,9 @@ void validate_request(const Parameters& p, const RunRequest& r) {
     throw InputError(
         "alpha: 0 gives no random force, so C_x is zero at every omega and there is "
         "nothing to simulate");
-  check_realizations_give_segments(r, plan_sub_bands(p, r));
+  const std::vector<SubBand> plan = plan_sub_bands(p, r);
+  check_duration_not_raised(r, plan);
+  check_realizations_give_segments(r, plan);
   const double work = planned_first_round_work(p, r);
   const double budget = r.work_budget > 0 ? r.work_budget : kDefaultWorkBudget;
   if (work > budget) {
@@ -142,7 +162,8 @@ void validate_request(const Parameters& p, const RunRequest& r) {
         weight > 1 ? " (its " + text(100 * weight) + " blocks count " + text(weight) + " per step)" : "";
     throw InputError(option + ": the run plans " + text(work) + " realization-steps" + blocks +
                      " before its first result, over the work budget of " + text(budget) +
-                     " (about an hour on two cores); change " + option + " or raise --work-budget");
+                     (r.work_budget > 0 ? "" : " (the default: about an hour on two cores)") + "; change " + option +
+                     " or raise --work-budget");
   }
 }
 

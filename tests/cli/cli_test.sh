@@ -169,15 +169,14 @@ status=$?
 grep -q "^# stationary = false  # the random forces can stall the block.*too short to tell" "$work/stall-short.tsv" \
   || fail "short stall-capable run not marked as unable to tell"
 
-# A spring-driven block that sticks in part (a soft spring reloads it slowly, k_drive 0.4
-# and 0.5 N/m): a fifth to a third of its realizations slide slower than v/2. Stiffer (1 and 10 N/m)
-# it stalls less, but the spring's stretch wanders over (F_drive - F_kin + the random forces'
-# reach) / k_drive, which the load point takes 1e4 and 1e3 s to take up, and the lowest
-# realizations (3280 s) do not span 20 such times. Neither is a spectrum (exit 3). At
-# 1e3 N/m (10 s) they do, and the block's early settling is allowed for (exit 0).
-spring_slow="some realizations stalled"
-spring_short="wanders over .* under 20 times that: extend the band down"
-for case in "0.4 $spring_slow" "0.5 $spring_slow" "1 $spring_short" "10 $spring_short" "1e3 "; do
+# A spring-driven block whose forces can stall it: the spring's stretch wanders over
+# (F_drive - F_kin + the random forces' reach) / k_drive, which the load point takes
+# tau = 2.5e4, 2e4, 1e4 and 1e3 s to take up at 0.4, 0.5, 1 and 10 N/m; the lowest
+# realizations (3280 s) do not span 20 tau: not a spectrum (exit 3), the message naming the
+# omega_min and the --duration that would do (its realizations slower than v/2 prove nothing
+# where the spring's range allows them). At 1e3 N/m (tau = 10 s) they do (exit 0).
+spring_short="wanders over .* under 20 times that: extend the band down (--omega-min .* or lower), give --duration"
+for case in "1e3 " "0.4 $spring_short" "0.5 $spring_short" "1 $spring_short" "10 $spring_short"; do
   k=${case%% *} why=${case#* }
   "$bin" run --set N=7 --set F_drive=8 --set F_kin=6 --set k1=0 --set drive=spring --set k_drive=$k \
     --omega-min 0.3 --omega-max 3 --realizations 32 --out "$work/spring-stall" --no-plot --quiet 2> /dev/null
@@ -190,6 +189,21 @@ for case in "0.4 $spring_slow" "0.5 $spring_slow" "1 $spring_short" "10 $spring_
   grep -q "^# stationary = false  # .*$why" "$work/spring-stall.tsv" \
     || fail "spring-driven run short of v (k_drive $k) not marked: $why"
 done
+# A sweep says which of its runs is not a spectrum, in its table and its JSON.
+"$bin" sweep k_drive=10,1e3 --set N=7 --set F_drive=8 --set F_kin=6 --set k1=0 --set drive=spring \
+  --omega-min 0.3 --omega-max 3 --realizations 32 --out "$work/spring-sweep" --no-plot --quiet 2> /dev/null
+[ $? -eq 3 ] || fail "a sweep with a run that is not stationary did not exit 3"
+grep -q "^# run_0 = .*NOT STATIONARY: the forces can stall" "$work/spring-sweep.tsv" || fail "sweep table: run 0 not flagged"
+grep -q "^# run_1 = .*NOT STATIONARY" "$work/spring-sweep.tsv" && fail "sweep table: run 1 flagged"
+/usr/bin/python3 -c "
+import json; runs = json.load(open('$work/spring-sweep.json'))['runs']
+assert [r['stationary'] for r in runs] == [False, True] and 'stationarity' in runs[0], runs" \
+  || fail "sweep JSON: stationary per run"
+# Its advice, followed, gives a spectrum (k_drive 10 N/m, as the last refusal above named it).
+advised=$(grep -o -- "--omega-min [0-9.e+-]* rad/s or lower" "$work/spring-stall.tsv" | cut -d' ' -f2)
+"$bin" run --set N=7 --set F_drive=8 --set F_kin=6 --set k1=0 --set drive=spring --set k_drive=10 \
+  --omega-min "$advised" --omega-max 3 --realizations 32 --out "$work/spring-advised" --no-plot --quiet 2> /dev/null \
+  || fail "the spring-stall advice, --omega-min $advised, followed: exit $?"
 
 # Where the forces stall the block there is no spectrum: said in the table, the JSON and
 # the exit status (3), while every named case is stationary.
