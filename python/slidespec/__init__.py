@@ -482,8 +482,8 @@ def _finish(handle):
     if isinstance(stationary, dict):
         stationary = stationary.get("value", stationary.get("stationary"))
     if stationary is False:
-        _warnings.warn("the run's spectrum is not stationary (see the result's 'stationary' fields)",
-                      ModelWarning, stacklevel=4)
+        why = data.get("stationarity") or "see the result's 'stationary' fields"
+        _warnings.warn(f"the run's spectrum is not stationary: {why}", ModelWarning, stacklevel=4)
     request = data.get("request", {})
     if (result.complete and not request.get("duration") and not request.get("realizations")
             and data.get("reached_precision", 0) > request.get("precision", _math.inf)):
