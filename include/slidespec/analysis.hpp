@@ -96,6 +96,10 @@ struct RecordFormat {
   double machine_stiffness = 0;         ///< K [N/m]: slip = x - F/K; 0: none given
 };
 
+/// RecordFormat::time_tolerance lies in (0, kLoosestTimeTolerance): beyond half an interval
+/// a sample is lost, not late.
+inline constexpr double kLoosestTimeTolerance = 0.5;
+
 /// A stretch of a record sampled at one rate.
 struct SamplingPart {
   double start = 0, end = 0;  ///< first and last sample time [s]

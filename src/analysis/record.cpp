@@ -737,8 +737,10 @@ class RecordReader {
 
 void check_format(const RecordFormat& format) {
   if (format.dt < 0 || !std::isfinite(format.dt)) throw InputError("--dt: must be a positive number of seconds");
-  if (!(format.time_tolerance > 0 && format.time_tolerance < 0.5))
-    throw InputError("time tolerance must be between 0 and 0.5");
+  if (!(format.time_tolerance > 0 && format.time_tolerance < kLoosestTimeTolerance))
+    throw InputError("--time-tolerance: must lie between 0 and " + io::format_number(kLoosestTimeTolerance) +
+                     " (exclusive), a share of the median interval; a record off by more is not uniform: --resample "
+                     "median interpolates it, --window T0:T1 picks a stretch");
   if (format.contact_area < 0 || !std::isfinite(format.contact_area))
     throw InputError("--contact-area: must be an area > 0");
   if (format.normal_force < 0 || !std::isfinite(format.normal_force))

@@ -84,6 +84,18 @@ std::string describe_parts(const std::vector<double>& time,
   return text;
 }
 
+/// The longest run [first, last) of samples in time with no interval over kGap medians.
+std::pair<std::size_t, std::size_t> longest_without_gap(const std::vector<double>& time, double typical) {
+  std::pair<std::size_t, std::size_t> best{0, 1};
+  std::size_t start = 0;
+  for (std::size_t i = 1; i <= time.size(); ++i)
+    if (i == time.size() || time[i] - time[i - 1] > kGap * typical) {
+      if (time[i - 1] - time[start] > time[best.second - 1] - time[best.first]) best = {start, i};
+      start = i;
+    }
+  return best;
+}
+
 }  // namespace
 
 void keep_samples(Record& record, std::size_t first, std::size_t last) {
@@ -228,15 +240,29 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
         (grid > 1.5 * typical ? "; a grid coarser than the samples aliases what lies above its Nyquist" : ""));
     return;
   }
-  if (jittered)
-    throw InputError(
-        at(offset + worst) + "sampling is not uniform: interval " + shortest(d[worst - 1]) + " s where the median is " +
-        shortest(typical) + " s (intervals " + shortest(*std::min_element(d.begin(), d.end())) + ".." +
-        shortest(*std::max_element(d.begin(), d.end())) + " s, " + shortest(jitter * 100) + "% off; tolerance " +
-        shortest(format.time_tolerance * 100) + "%" +
-        (gap ? ", a gap of " + shortest(longest_interval / typical) + " intervals" : "") +
-        "); give --resample median to interpolate onto a uniform grid" + (gap ? " (across the gap)" : "") +
-        ", or --time-tolerance " + shortest(std::ceil(jitter * 100 + 1e-9) / 100) + " to treat it as uniform");
+  if (jittered) {
+    // Only what would be accepted: a tolerance below the limit, and for a gap the longest
+    // stretch without one.
+    std::string advice = "give --resample median to interpolate onto a uniform grid";
+    if (gap) {
+      const auto [from, to] = longest_without_gap(t, typical);
+      if (to - from >= kFewestSamples)
+        advice = "give --window " + seconds(t[from]) + ":" + seconds(t[to - 1]) +
+                 " to analyze the longest stretch without a gap (" + std::to_string(to - from) +
+                 " samples), or --resample median to interpolate across the gap";
+      else
+        advice += " (across the gap)";
+    }
+    const double accepting = std::ceil(jitter * 100 + 1e-9) / 100;
+    if (accepting < kLoosestTimeTolerance)
+      advice += ", or --time-tolerance " + shortest(accepting) + " to treat it as uniform";
+    throw InputError(at(offset + worst) + "sampling is not uniform: interval " + shortest(d[worst - 1]) +
+                     " s where the median is " + shortest(typical) + " s (intervals " +
+                     shortest(*std::min_element(d.begin(), d.end())) + ".." +
+                     shortest(*std::max_element(d.begin(), d.end())) + " s, " + shortest(jitter * 100) +
+                     "% off; tolerance " + shortest(format.time_tolerance * 100) + "%" +
+                     (gap ? ", a gap of " + shortest(longest_interval / typical) + " intervals" : "") + "); " + advice);
+  }
   record.dt = (t.back() - t.front()) / double(t.size() - 1);
   if (jitter > RecordFormat{}.time_tolerance)
     record.notes.push_back("treated as uniform every " + shortest(record.dt) +

@@ -105,6 +105,70 @@ TEST(Resampling, GapsAreRefusedNamingTheOptionAndJitterCanBeRefused) {
   EXPECT_NE(accepted.notes.front().find("treated as uniform"), std::string::npos);
 }
 
+/// Follows every option a refusal of `format` suggests (--time-tolerance X, --window A:B,
+/// --resample median): each must be accepted. Returns the refusal's message.
+std::string follow_the_advice(const std::vector<double>& t, const std::vector<double>& x, const RecordFormat& format) {
+  std::string message;
+  try {
+    record_from_samples(t, x, format);
+    ADD_FAILURE() << "accepted";
+    return message;
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  if (const auto at = message.find("--time-tolerance "); at != std::string::npos) {
+    RecordFormat loose = format;
+    loose.time_tolerance = std::stod(message.substr(at + 17));
+    EXPECT_NO_THROW(record_from_samples(t, x, loose)) << message;
+  }
+  if (const auto at = message.find("--window "); at != std::string::npos) {
+    std::size_t used = 0;
+    RecordFormat window = format;
+    const double t0 = std::stod(message.substr(at + 9), &used);
+    window.window = {{t0, std::stod(message.substr(at + 9 + used + 1))}};
+    EXPECT_NO_THROW(record_from_samples(t, x, window)) << message;
+  }
+  EXPECT_NE(message.find("--resample median"), std::string::npos) << message;
+  RecordFormat median = format;
+  median.resample = Resampling::median;
+  EXPECT_NO_THROW(record_from_samples(t, x, median)) << message;
+  return message;
+}
+
+TEST(Resampling, ARefusalSuggestsOnlyWhatWouldBeAccepted) {
+  // An 11 s gap in a record every second: a tolerance of 11 would be refused; the stretch
+  // before it, or interpolation, is accepted.
+  std::vector<double> t, x;
+  for (int k = 0; k < 3000; ++k) t.push_back(k + (k >= 1700 ? 11 : 0)), x.push_back(1e-6 * t.back());
+  std::string message = follow_the_advice(t, x, {});
+  EXPECT_EQ(message.find("--time-tolerance"), std::string::npos) << message;
+  EXPECT_NE(message.find("--window 0:1699"), std::string::npos) << message;
+  // Intervals of 0.4..1.6 s: a tolerance of 0.61 would be refused.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> interval(0.4, 1.6);
+  t = {0};
+  for (int k = 1; k < 3000; ++k) t.push_back(t.back() + interval(rng));
+  message = follow_the_advice(t, x, {});
+  EXPECT_EQ(message.find("--time-tolerance"), std::string::npos) << message;
+  // Intervals of 0.8..1.2 s, refused with --resample off: a tolerance of 0.21 is accepted.
+  std::uniform_real_distribution<double> small(0.8, 1.2);
+  t = {0};
+  for (int k = 1; k < 3000; ++k) t.push_back(t.back() + small(rng));
+  RecordFormat off;
+  off.resample = Resampling::off;
+  message = follow_the_advice(t, x, off);
+  EXPECT_NE(message.find("--time-tolerance 0.2"), std::string::npos) << message;
+  // A tolerance the reader cannot take is refused naming the option.
+  RecordFormat wide;
+  wide.time_tolerance = 0.61;
+  try {
+    record_from_samples(t, x, wide);
+    ADD_FAILURE() << "a time tolerance of 0.61 was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("--time-tolerance:", 0), 0u) << e.what();
+  }
+}
+
 /// A record at 0.1 s (`coarse` samples at 3 um/s), then at 0.01 s (`fine` samples at 10 um/s),
 /// as the basalt record; plus a random walk of `walk` [m] a sample.
 std::pair<std::vector<double>, std::vector<double>> two_rates(int coarse = 600, int fine = 3000, double walk = 0) {

@@ -215,6 +215,15 @@ expect_refused friction-column "not a displacement" analyze "$basalt" --column F
 grep -q "^# observable = displacement.*of column Displ(microns)$" "$work/col.tsv" || fail "--column Displ: $(grep observable "$work/col.tsv")"
 expect_refused dt-with-time "has a time column" analyze "$basalt" --dt 0.1 $out
 expect_refused resample-word "median" analyze "$basalt" --resample mean $out
+# An 11 s gap in a record every second: the refusal suggests what analyze accepts (the
+# stretch before the gap, or interpolation), never a tolerance beyond its limit.
+/usr/bin/python3 -c "
+print('t,x')
+for k in range(3000): print(f'{k + (11 if k >= 1500 else 0)},{1e-6 * k}')" > "$work/gap.csv"
+expect_refused gap-advice "give --window 0:1499 to analyze the longest stretch without a gap" analyze "$work/gap.csv" $out
+grep -q "time-tolerance" "$work/stderr" && fail "gap: a --time-tolerance suggested: $(cat "$work/stderr")"
+"$bin" analyze "$work/gap.csv" --window 0:1499 --quiet --no-plot --out "$work/gap" || fail "gap: the suggested --window is refused"
+expect_refused tolerance-too-wide "^slidespec: error: --time-tolerance: must lie between 0 and 0.5" analyze "$work/gap.csv" --time-tolerance 10.01 $out
 expect_refused omega-min-too-low "reaches down to" analyze "$basalt" --window 11608:11674 --omega-min 0.01 $out
 
 # The friction channel as a force (mu x normal stress x area) and the slip x - F/K, on both
