@@ -261,6 +261,11 @@ struct AnalysisRequest {
   double sensor_noise = 0;  ///< rms white noise of the sensor before quantization [m]
 };
 
+/// Refuses a band no spectrum can have (a negative or non-finite omega_min or omega_max,
+/// omega_min >= omega_max) or points per decade outside 1..100, naming the option; before any
+/// record is read. analyze_record checks the same.
+void check_band(const AnalysisRequest& request);
+
 /// What `analyze` (and Python's ss.analyze) warns about, from a result's own fields: below
 /// this share of the white q^2/12 floor at the top of the band the floor line misleads
 /// (RecordSpectrum::top_to_floor), and a mean speed above this [m/s] is faster than any

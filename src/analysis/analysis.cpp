@@ -210,15 +210,25 @@ std::string observable_channel(const Record& r) {
 
 }  // namespace
 
+void check_band(const AnalysisRequest& request) {
+  for (const auto& [option, omega] :
+       {std::pair{"--omega-min", request.omega_min}, std::pair{"--omega-max", request.omega_max}})
+    if (!(omega >= 0) || !std::isfinite(omega))
+      throw InputError(std::string(option) + ": " + io::format_number(omega) +
+                       " is not a frequency > 0 in rad/s (leave it out for what the record allows)");
+  if (request.omega_min > 0 && request.omega_max > 0 && request.omega_min >= request.omega_max)
+    throw InputError("--omega-min " + io::format_number(request.omega_min) + " must be below --omega-max " +
+                     io::format_number(request.omega_max));
+  if (request.points_per_decade < 1 || request.points_per_decade > 100)
+    throw InputError("--points: must be between 1 and 100 per decade");
+}
+
 RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& request) {
   if (request.resolution < 0 || !std::isfinite(request.resolution))
     throw InputError("--resolution: must be a length >= 0 in metres");
   if (request.sensor_noise < 0 || !std::isfinite(request.sensor_noise))
     throw InputError("--sensor-noise: must be a length >= 0 in metres");
-  if (request.points_per_decade < 1 || request.points_per_decade > 100)
-    throw InputError("--points: must be between 1 and 100 per decade");
-  if (request.omega_min > 0 && request.omega_max > 0 && request.omega_min >= request.omega_max)
-    throw InputError("--omega-min must be below --omega-max");
+  check_band(request);
   if (record.observable == Observable::force && request.resolution + request.sensor_noise > 0)
     throw InputError(std::string(request.resolution > 0 ? "--resolution" : "--sensor-noise") +
                      ": a displacement sensor's floor, and the observable is the force; leave it out");

@@ -351,6 +351,7 @@ int command_analyze(Options o) {
   if (!o.stiffness.empty())
     o.format.machine_stiffness = parse_stiffness(o.stiffness, o.format.contact_area, "--machine-stiffness");
   o.request.estimator = parse_estimator(o.estimator);
+  check_band(o.request);
   Findings f;
   if (o.normal_mass > 0 || o.driving_mass > 0) f.mu = friction_coefficient(o.normal_mass, o.driving_mass);
   std::vector<std::string> fit_names;  // model parameters fitted jointly

@@ -224,6 +224,11 @@ expect_refused gap-advice "give --window 0:1499 to analyze the longest stretch w
 grep -q "time-tolerance" "$work/stderr" && fail "gap: a --time-tolerance suggested: $(cat "$work/stderr")"
 "$bin" analyze "$work/gap.csv" --window 0:1499 --quiet --no-plot --out "$work/gap" || fail "gap: the suggested --window is refused"
 expect_refused tolerance-too-wide "^slidespec: error: --time-tolerance: must lie between 0 and 0.5" analyze "$work/gap.csv" --time-tolerance 10.01 $out
+# A band no spectrum has is refused before the record is read, naming the option.
+expect_refused omega-max-negative "^slidespec: error: --omega-max: -1 is not a frequency > 0" analyze "$basalt" --omega-max -1 $out
+expect_refused omega-min-negative "^slidespec: error: --omega-min: -2 is not a frequency > 0" analyze "$basalt" --omega-min -2 $out
+expect_refused omega-min-above-max "^slidespec: error: --omega-min 5 must be below --omega-max 3" analyze "$basalt" --omega-min 5 --omega-max 3 $out
+expect_refused omega-min-is-max "must be below --omega-max" analyze "$basalt" --omega-min 3 --omega-max 3 $out
 expect_refused omega-min-too-low "reaches down to" analyze "$basalt" --window 11608:11674 --omega-min 0.01 $out
 
 # The friction channel as a force (mu x normal stress x area) and the slip x - F/K, on both
