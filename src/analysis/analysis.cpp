@@ -9,6 +9,7 @@
 
 #include "analysis/line_fit.hpp"
 #include "analysis/names.hpp"
+#include "analysis/report.hpp"
 #include "util/suggest.hpp"
 #include "io/tables.hpp"
 #include "slidespec/analysis.hpp"
@@ -442,10 +443,7 @@ std::pair<double, double> default_alpha_band(const RecordSpectrum& s, const Para
   const Landmarks l = landmarks(p);
   const double low = std::max(s.usable_low, 5 * l.renewal_rate);
   const double high = std::min(s.usable_high, l.omega_c / 3);
-  if (!(s.usable_high > s.usable_low))
-    throw InputError(
-        "--fit alpha: no usable band (the sensor floor exceeds 10% of the spectrum from the lowest "
-        "point on); give --fit-band LO HI");
+  if (!(s.usable_high > s.usable_low)) throw InputError(detail::no_usable_band_for_fit("alpha"));
   if (!(high > low))
     throw InputError("--fit alpha: the usable band " + io::format_number(s.usable_low) + " .. " +
                      io::format_number(s.usable_high) +

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "analysis/names.hpp"
+#include "analysis/report.hpp"
 #include "io/tables.hpp"
 #include "slidespec/analysis.hpp"
 #include "slidespec/input_error.hpp"
@@ -101,7 +102,16 @@ std::vector<std::string> parse_fit_parameters(const std::string& list) {
 
 ModelFit fit_model(const RecordSpectrum& spectrum, const Parameters& start, const std::vector<std::string>& names,
                    double omega_low, double omega_high, ModelOrder order) {
-  if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("--fit-band: need 0 < LO < HI in rad/s");
+  if (!(omega_low > 0 && omega_high > omega_low)) {
+    // The default band, the usable one, is empty: say why, not that a band given is malformed.
+    const bool usable_band = omega_low == spectrum.usable_low && omega_high == spectrum.usable_high;
+    if (usable_band && !(spectrum.usable_high > spectrum.usable_low)) {
+      std::string fitted;
+      for (const std::string& name : names) fitted += (fitted.empty() ? "" : ",") + name;
+      throw InputError(detail::no_usable_band_for_fit(fitted));
+    }
+    throw InputError("--fit-band: need 0 < LO < HI in rad/s");
+  }
   for (const std::string& name : names)
     if (!(value_of(start, name) > 0))
       throw InputError("--fit " + name + ": the compared case's " + name + " must be > 0 to start from");

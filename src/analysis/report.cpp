@@ -11,8 +11,14 @@
 namespace slidespec::detail {
 
 namespace {
-constexpr const char* kNoUsableBand = "none: the sensor floor exceeds 10% of the spectrum from the lowest point on";
+constexpr const char* kFloorFromTheLowestPoint =
+    "the sensor floor exceeds 10% of the spectrum from the lowest point on";
+const std::string kNoUsableBand = std::string("none: ") + kFloorFromTheLowestPoint;
 }  // namespace
+
+std::string no_usable_band_for_fit(const std::string& fit) {
+  return "--fit " + fit + ": no usable band (" + kFloorFromTheLowestPoint + "); give --fit-band LO HI";
+}
 
 std::string top_set_by(const RecordSpectrum& s) {
   if (!(s.usable_high > s.usable_low)) return kNoUsableBand;

@@ -14,6 +14,10 @@ namespace slidespec::detail {
 /// filter of a resampled record, the estimator's top or the omega_max asked for.
 std::string top_set_by(const RecordSpectrum& spectrum);
 
+/// The refusal of a fit over the default band, the usable one, when there is none: "--fit
+/// `fit`: no usable band (why); give --fit-band LO HI".
+std::string no_usable_band_for_fit(const std::string& fit);
+
 /// The usable band as the table's `# usable_band =` line gives it: "LO .. HI  # [rad/s], top set
 /// by ...", or "none  # ..." when the floor leaves no band.
 std::string usable_band_line(const RecordSpectrum& spectrum);

@@ -133,6 +133,38 @@ TEST(ModelFit, RecordModelDrivesTheCaseAsTheMachineDoes) {
   EXPECT_EQ(parse_fit_parameters("alpha,a"), (std::vector<std::string>{"alpha", "a"}));
 }
 
+// Over the default band, the usable one, a record with none is refused saying so, as the
+// alpha fit is, not as a malformed --fit-band.
+TEST(ModelFit, NoUsableBandIsSaidAsSuch) {
+  SensorRequest sensor;
+  sensor.sample_interval = kDt;
+  sensor.duration = 200;
+  sensor.resolution = 0;
+  sensor.sensor_noise = sensor_noise();
+  AnalysisRequest request;
+  request.sensor_noise = 1e4 * sensor_noise();  // a floor far above the spectrum
+  const RecordSpectrum s = analyze_record(synthesize_record(machine(), sensor), request);
+  ASSERT_FALSE(s.usable_high > s.usable_low);
+  for (const auto& names : {std::vector<std::string>{"alpha"}, std::vector<std::string>{"alpha", "a"}}) {
+    try {
+      fit_model(s, machine(), names, s.usable_low, s.usable_high);
+      ADD_FAILURE() << "a fit over no usable band was made";
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("no usable band (the sensor floor exceeds 10% of the spectrum"), std::string::npos)
+          << message;
+      EXPECT_EQ(message.find("need 0 < LO < HI"), std::string::npos) << message;
+    }
+  }
+  try {
+    default_alpha_band(s, machine());
+    ADD_FAILURE() << "an alpha band over no usable band";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("--fit alpha: no usable band (", 0), 0u) << e.what();
+  }
+  EXPECT_THROW(fit_model(s, machine(), {"alpha"}, 5, 3), InputError);  // a band given wrongly
+}
+
 // A force channel is compared with the spring's force k_drive^2 C_x; a constant force has none.
 TEST(ModelFit, AForceIsComparedWithTheSpringsForce) {
   RecordSpectrum s = record_spectrum(200, 5);

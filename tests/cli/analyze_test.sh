@@ -229,6 +229,8 @@ expect_refused omega-max-negative "^slidespec: error: --omega-max: -1 is not a f
 expect_refused omega-min-negative "^slidespec: error: --omega-min: -2 is not a frequency > 0" analyze "$basalt" --omega-min -2 $out
 expect_refused omega-min-above-max "^slidespec: error: --omega-min 5 must be below --omega-max 3" analyze "$basalt" --omega-min 5 --omega-max 3 $out
 expect_refused omega-min-is-max "must be below --omega-max" analyze "$basalt" --omega-min 3 --omega-max 3 $out
+# A model fit over the default band, the usable one, when there is none says so.
+expect_refused model-fit-no-band "^slidespec: error: --fit alpha,a: no usable band (the sensor floor exceeds 10%" analyze "$basalt" --window 11608:11674 --resolution 100 --compare-case reference --fit alpha,a $out
 expect_refused omega-min-too-low "reaches down to" analyze "$basalt" --window 11608:11674 --omega-min 0.01 $out
 
 # The friction channel as a force (mu x normal stress x area) and the slip x - F/K, on both
