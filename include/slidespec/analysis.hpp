@@ -315,6 +315,12 @@ struct RecordSpectrum {
   bool top_set_by_omega_max = false;      ///< the omega_max asked for, below the estimator's own top
   bool usable_high_set_by_floor = false;  ///< else by the estimator's top (the bin below Nyquist for
                                           ///< welch, half of Nyquist for streaming)
+  /// The floor at or above C_x at every point (a resolution in the wrong unit, most often); a
+  /// band can also be missing with the floor below C_x, when it exceeds a tenth of it.
+  bool floor_above_spectrum = false;
+  /// A resolution q was given, yet the displacement's steps are not whole multiples of it: the
+  /// sensor reads finer than q, and the q^2/12 floor lies too high.
+  bool readings_off_grid = false;
 };
 
 /// Fits and removes v t, then estimates C_x(omega) with the SpectrumEstimator (one lane,

@@ -849,9 +849,10 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
     Returns an Analysis (ok False when a fit does not describe the data; each fit's ok and
     failure say why, and a ModelWarning repeats it; without a fit ok is True, as in the
     command's JSON, even with no usable band). Warns RecordWarning where the command line
-    warns: no usable band (resolution or sensor_noise in the wrong unit: both are in metres),
-    a mean speed implausible for friction (x in the wrong units), points biased by the
-    window's leakage, a quantization floor that is not white. Raises ValueError for a
+    warns: no usable band (resolution or sensor_noise in the wrong unit, both in metres, when
+    the floor lies above the spectrum everywhere), a mean speed implausible for friction (x
+    in the wrong units), points biased by the window's leakage, a spectrum below the floor
+    (the sensor finer than resolution says, or a quantization floor that is not white). Raises ValueError for a
     malformed record or request.
     """
     if x is None and force is None:
@@ -946,16 +947,28 @@ def _warn_as_analyze_does(data, units):
         warn(f"mean speed {speed:.6g} m/s is implausible for friction; likely cause: x read in units={units!r}; "
              "give units='mm', 'um', ...")
     band = data["usable_band"]
-    if not band["omega_high"] > band["omega_low"]:
+    if not band["omega_high"] > band["omega_low"] and band["floor_above_spectrum"]:
         warn("no usable band: the sensor floor lies above the spectrum everywhere; likely cause: resolution or "
              f"sensor_noise in the wrong unit (both in metres whatever units={units!r}: 0.5 um is 0.5e-6)")
+    elif not band["omega_high"] > band["omega_low"]:
+        lowest = data["points"][0]
+        warn("no usable band: at the lowest point, where the band starts, the spectrum does not clear the sensor "
+             f"floor by the factor the usable band needs (the floor at most 10% of {data['observable']['spectrum']}; "
+             f"it is {100 * lowest['floor'] / lowest[data['observable']['spectrum']]:.3g}% there)")
     if leaky := data["estimator"].get("leaky_points", 0):
         warn(f"{leaky} points may be biased high by the window's leakage (the spectrum is steeper than a "
              "prewhitened Hann window allows there; column leaky)")
     if 0 < data["top_to_floor"] < _WHITE_FLOOR_SHORTFALL:
-        warn(f"the highest point lies at {data['top_to_floor']:.6g} of the white q^2/12 floor: the quantization "
-             "error is not white (a steady ramp read without noise to dither it; docs/analysis.md), so the floor "
-             "line is only a guide")
+        top = f"the highest point lies at {data['top_to_floor']:.6g}"
+        if data["readings_off_grid"]:
+            warn(f"{top} of the white floor: the record's steps are not whole multiples of the resolution given, "
+                 "its sensor reads finer, so the floor line lies too high")
+        elif data["quantization_variance"] == 0:
+            warn(f"{top} of the white sigma^2 floor: the record holds less noise there than the sensor_noise given, "
+                 "so the floor line lies too high")
+        else:
+            warn(f"{top} of the white q^2/12 floor: the quantization error is not white (a steady ramp read "
+                 "without noise to dither it; docs/analysis.md), so the floor line is only a guide")
     if data.get("slope_fit", {}).get("reaches_floor"):
         warn("the slope band reaches beyond the usable band, where the sensor floor bends the spectrum")
     for name, key in (("slope", "slope_fit"), ("alpha", "alpha_fit"), ("power-law", "power_law_fit"),

@@ -113,14 +113,29 @@ def test_a_resolution_in_the_wrong_unit_warns_as_the_command_line_does(tmp_path)
         a = ss.analyze(t, x, units="um", window=(11608, 11674), resolution=0.1)
     messages = [str(w.message) for w in caught]
     assert any("no usable band" in m and "resolution or sensor_noise" in m and "metres" in m for m in messages)
-    assert any("not white" in m for m in messages), messages
+    assert any("reads finer" in m for m in messages), messages  # its readings are not on a 0.1 m grid
     done = subprocess.run([CLI, "analyze", str(BASALT), "--window", "11608:11674", "--resolution", "0.1m",
                            "--out", str(tmp_path / "basalt"), "--no-plot"], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
-    assert "no usable band" in done.stderr and "not white" in done.stderr
+    assert "no usable band" in done.stderr and "reads finer" in done.stderr
     expected = json.loads((tmp_path / "basalt.json").read_text())
     assert a.usable_band == expected["usable_band"] and a.usable_band["omega_high"] == 0
     assert a.ok == expected["ok"]  # no fit failed: the files hold what they claim
+
+
+def test_a_band_lost_to_the_tenth_of_the_floor_is_not_blamed_on_the_unit(tmp_path):
+    # 0.6 um: the floor is below C_x at the lowest point but above a tenth of it; the warnings
+    # are the command line's, word for word.
+    t, x, _, _ = basalt()
+    with pytest.warns(ss.RecordWarning) as caught:
+        ss.analyze(t, x, units="um", window=(11608, 11674), resolution=0.6e-6)
+    messages = [str(w.message) for w in caught]
+    done = subprocess.run([CLI, "analyze", str(BASALT), "--window", "11608:11674", "--resolution", "0.6um",
+                           "--quiet", "--no-plot", "--out", str(tmp_path / "basalt")], capture_output=True, text=True)
+    printed = [line.removeprefix("slidespec: warning: ") for line in done.stderr.splitlines() if "warning" in line]
+    assert any(m.startswith("no usable band: at the lowest point") and "by the factor" in m for m in messages)
+    assert not any("wrong unit" in m or "not white" in m for m in messages), messages
+    assert [m.replace("resolution given", "--resolution given") for m in messages] == printed, (messages, printed)
 
 
 def test_a_well_read_record_does_not_warn():

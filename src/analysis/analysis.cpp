@@ -209,6 +209,19 @@ std::string observable_channel(const Record& r) {
   }
 }
 
+/// Whether most steps between readings are whole multiples of q, as a sensor of resolution q
+/// reads: a step of no multiple is none at all (the same reading twice).
+bool readings_on_grid(const std::vector<double>& x, double q) {
+  constexpr double kOffGrid = 0.01;  // of q: beyond it a step is not a multiple of q
+  constexpr double kOnGridShare = 0.9;
+  std::size_t on = 0;
+  for (std::size_t i = 1; i < x.size(); ++i) {
+    const double steps = (x[i] - x[i - 1]) / q, whole = std::round(steps);
+    on += (whole == 0 ? steps == 0 : std::fabs(steps - whole) < kOffGrid) ? 1 : 0;
+  }
+  return double(on) >= kOnGridShare * double(x.size() - 1);
+}
+
 }  // namespace
 
 void check_band(const AnalysisRequest& request) {
@@ -292,6 +305,10 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
     }
   }
   result.top_to_floor = white > 0 ? result.points.back().C_x / floor.back() : 0;
+  result.floor_above_spectrum = white > 0 && std::all_of(result.points.begin(), result.points.end(),
+                                                         [](const AnalysisPoint& p) { return p.noise_floor >= p.C_x; });
+  result.readings_off_grid = request.resolution > 0 && record.observable == Observable::displacement &&
+                             !readings_on_grid(record.displacement, request.resolution);
   return result;
 }
 

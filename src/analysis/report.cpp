@@ -55,9 +55,11 @@ nlohmann::ordered_json spectrum_json(const RecordSpectrum& s, const std::vector<
   }
   doc["quantization_variance"] = s.quantization_variance;
   doc["top_to_floor"] = s.top_to_floor;
+  doc["readings_off_grid"] = s.readings_off_grid;
   doc["usable_band"] = {{"omega_low", s.usable_low},
                         {"omega_high", s.usable_high},
                         {"empty", !(s.usable_high > s.usable_low)},
+                        {"floor_above_spectrum", s.floor_above_spectrum},
                         {"top_set_by", top_set_by(s)}};
   doc["estimator"] = {{"name", to_string(s.estimator)}, {"reason", s.estimator_reason}};
   if (s.estimator == Estimator::welch) {

@@ -445,10 +445,27 @@ int command_analyze(Options o) {
   if (!force && std::abs(s.sliding.v) > kImplausibleSpeed)
     std::cerr << "slidespec: warning: mean speed " << s.sliding.v << " m/s is implausible for friction; likely cause: "
               << "the record was " << unit_note << "; give --units or name the unit in the header, e.g. x (mm)\n";
-  if (!(s.usable_high > s.usable_low))
+  if (!(s.usable_high > s.usable_low) && s.floor_above_spectrum)
     std::cerr << "slidespec: warning: no usable band: the sensor floor lies above the spectrum everywhere; likely "
                  "cause: --resolution or --sensor-noise in the wrong unit (a bare number is in "
               << to_string(record.unit) << ", the record's unit; write e.g. 0.5um)\n";
+  else if (!(s.usable_high > s.usable_low))
+    std::cerr << "slidespec: warning: no usable band: at the lowest point, where the band starts, the spectrum does "
+                 "not clear the sensor floor by the factor the usable band needs (the floor at most 10% of "
+              << (force ? "C_F" : "C_x") << "; it is "
+              << short_number(100 * s.points.front().noise_floor / s.points.front().C_x) << "% there)\n";
+  if (s.top_to_floor > 0 && s.top_to_floor < kWhiteFloorShortfall) {
+    std::cerr << "slidespec: warning: the highest point lies at " << s.top_to_floor;
+    if (s.readings_off_grid)
+      std::cerr << " of the white floor: the record's steps are not whole multiples of the --resolution given, "
+                   "its sensor reads finer, so the floor line lies too high\n";
+    else if (s.quantization_variance == 0)
+      std::cerr << " of the white sigma^2 floor: the record holds less noise there than the --sensor-noise "
+                   "given, so the floor line lies too high\n";
+    else
+      std::cerr << " of the white q^2/12 floor: the quantization error is not white (a steady ramp read "
+                   "without noise to dither it; docs/analysis.md), so the floor line is only a guide\n";
+  }
   if (s.leaky_points > 0)
     std::cerr << "slidespec: warning: " << s.leaky_points << " points may be biased high by the window's leakage "
               << "(the spectrum is steeper than a prewhitened Hann window allows there; column leaky)\n";
@@ -469,17 +486,13 @@ int command_analyze(Options o) {
     std::cerr << "\nslidespec: usable band " << s.usable_low << " .. " << s.usable_high << " rad/s (top set by "
               << detail::top_set_by(s) << ")";
   else
-    std::cerr << "\nslidespec: usable band: none (the sensor floor lies above the spectrum everywhere)";
+    std::cerr << "\nslidespec: usable band: " << detail::top_set_by(s);
   std::cerr << "\nslidespec: estimator " << to_string(s.estimator) << " (" << s.estimator_reason << ")";
   if (s.estimator == Estimator::welch)
     std::cerr << ": " << s.welch.segments << " segments of " << s.welch.segment_samples << " samples, dof "
               << short_number(s.points.front().dof) << " at the lowest point, " << short_number(s.points.back().dof)
               << " at the highest";
   std::cerr << "\n";
-  if (s.top_to_floor > 0 && s.top_to_floor < kWhiteFloorShortfall)
-    std::cerr << "slidespec: warning: the highest point lies at " << s.top_to_floor
-              << " of the white q^2/12 floor: the quantization error is not white (a steady ramp read "
-                 "without noise to dither it; docs/analysis.md), so the floor line is only a guide\n";
   if (f.slope && f.slope_verdict.ok) {
     std::cerr << "slidespec: C_x ~ omega^(" << f.slope->slope << " +- " << f.slope->slope_error << ") over "
               << f.slope->omega_low << " .. " << f.slope->omega_high << " rad/s (" << f.slope->points

@@ -93,6 +93,20 @@ TEST(SensorRecord, FloorIsWhereQuantizationAndSensorNoisePutIt) {
   EXPECT_NEAR(sum / weight, 1.0, kTolerance / std::sqrt(weight)) << points << " floor points";
   EXPECT_TRUE(s.usable_high_set_by_floor);
   EXPECT_GT(s.top_to_floor, 0.5);
+  EXPECT_FALSE(s.floor_above_spectrum);
+  EXPECT_FALSE(s.readings_off_grid);  // read through CSV in um, still whole steps of q
+}
+
+// A resolution coarser than the sensor's: its steps are not whole multiples of it, and a
+// floor far above the spectrum is said to be so.
+TEST(SensorRecord, AResolutionTheReadingsDoNotFollowIsSaid) {
+  AnalysisRequest request;
+  request.resolution = 1.3 * kResolution;
+  EXPECT_TRUE(analyze_record(sensor_record(), request).readings_off_grid);
+  request.resolution = 1e6 * kResolution;
+  const RecordSpectrum s = analyze_record(sensor_record(), request);
+  EXPECT_TRUE(s.floor_above_spectrum);
+  EXPECT_FALSE(s.usable_high > s.usable_low);
 }
 
 TEST(SensorRecord, SlopeIsMinusFourInTheOmega4Band) {

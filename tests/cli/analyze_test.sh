@@ -92,9 +92,11 @@ done
 [ "$(speed "$work/bom.json")" = "$v_mm" ] || fail "stdin with a BOM: another speed"
 "$bin" analyze "$work/rec.csv" --units m --no-plot --out "$work/over" 2> "$work/over.err"
 grep -q "implausible.*read in m (from --units)" "$work/over.err" || fail "no implausible-speed warning naming the unit: $(cat "$work/over.err")"
-# An empty usable band (a resolution given in the wrong unit) is warned about with its cause.
-"$bin" analyze "$work/mm.csv" --resolution 1 --quiet --no-plot --out "$work/floor" 2> "$work/floor.err"
-grep -q "no usable band.*wrong unit" "$work/floor.err" || fail "empty usable band not explained: $(cat "$work/floor.err")"
+# An empty usable band (a resolution given in the wrong unit: 10 mm for 10 um) is warned about
+# with its cause when the floor lies above the spectrum everywhere.
+"$bin" analyze "$work/mm.csv" --resolution 10 --quiet --no-plot --out "$work/floor" 2> "$work/floor.err"
+grep -q "no usable band: the sensor floor lies above the spectrum everywhere.*wrong unit" "$work/floor.err" || fail "empty usable band not explained: $(cat "$work/floor.err")"
+grep -q '"floor_above_spectrum": true' "$work/floor.json" || fail "floor above the spectrum: not in the JSON"
 grep -q "^# usable_band = none  # " "$work/floor.tsv" || fail "empty usable band: the table says $(grep usable_band "$work/floor.tsv")"
 /usr/bin/python3 -c "
 import json; b = json.load(open('$work/floor.json'))['usable_band']
@@ -231,6 +233,12 @@ expect_refused omega-min-above-max "^slidespec: error: --omega-min 5 must be bel
 expect_refused omega-min-is-max "must be below --omega-max" analyze "$basalt" --omega-min 3 --omega-max 3 $out
 # A model fit over the default band, the usable one, when there is none says so.
 expect_refused model-fit-no-band "^slidespec: error: --fit alpha,a: no usable band (the sensor floor exceeds 10%" analyze "$basalt" --window 11608:11674 --resolution 100 --compare-case reference --fit alpha,a $out
+# A plausible resolution whose floor lies below the spectrum at the lowest point, but above a
+# tenth of it: the rule is said, not a unit blamed; the basalt readings are finer than 0.6 um.
+"$bin" analyze "$basalt" --resolution 0.6 --quiet --no-plot --out "$work/floor6" 2> "$work/floor6.err"
+grep -q "no usable band: at the lowest point, where the band starts, the spectrum does not clear the sensor floor by the factor the usable band needs (the floor at most 10% of C_x; it is 15.9% there)" "$work/floor6.err" || fail "0.6 um: the usable band's rule not said: $(cat "$work/floor6.err")"
+grep -q "wrong unit\|not white" "$work/floor6.err" && fail "0.6 um: a wrong unit or a non-white quantization blamed: $(cat "$work/floor6.err")"
+grep -q "steps are not whole multiples of the --resolution given" "$work/floor6.err" || fail "0.6 um: the finer readings not said: $(cat "$work/floor6.err")"
 expect_refused omega-min-too-low "reaches down to" analyze "$basalt" --window 11608:11674 --omega-min 0.01 $out
 
 # The friction channel as a force (mu x normal stress x area) and the slip x - F/K, on both
