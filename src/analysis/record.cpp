@@ -357,6 +357,10 @@ std::string force_like(const std::string& name) {
   return "";
 }
 
+/// A column naming a normal load (Normal_stress(MPa), normal force): what presses the
+/// surfaces together, never the friction along them.
+bool names_normal_load(const std::string& name) { return lower(name).find("normal") != std::string::npos; }
+
 /// "0,001;2,5" or "0,001<TAB>2,5": numbers written with a decimal comma.
 bool looks_like_decimal_commas(const std::string& line) {
   if (line.find(';') == std::string::npos && line.find('\t') == std::string::npos) return false;
@@ -570,7 +574,12 @@ class RecordReader {
     const auto taken = [&](int k) { return k == time_index_ || k == force_index_ || k == normal_index_; };
     if (!format_.column.empty()) {
       x_index_ = find_column(format_.column, "--column", line_number);
-      const std::string holds = force_like(names_[static_cast<std::size_t>(x_index_)]);
+      const std::string& named = names_[static_cast<std::size_t>(x_index_)];
+      const std::string holds = force_like(named);
+      if (names_normal_load(named))
+        fail(line_number, "--column " + format_.column +
+                              ": the header names a normal load, not a displacement; it enters only as mu's normal "
+                              "load (--normal-stress-column), and --column is the displacement");
       if (!holds.empty())
         fail(line_number, "--column " + format_.column + ": the header names " + holds +
                               ", not a displacement; give it as --force-column (--column is the displacement)");
@@ -612,12 +621,16 @@ class RecordReader {
   /// stress, a normal force or a normal-stress column (and the area) for mu.
   void choose_force_column(int line_number) {
     const int count = static_cast<int>(names_.size());
-    const auto normal = [](const std::string& name) { return lower(name).find("normal") != std::string::npos; };
     if (!format_.force_column.empty()) {
       force_index_ = find_column(format_.force_column, "--force-column", line_number);
+      if (names_normal_load(names_[static_cast<std::size_t>(force_index_)]))
+        fail(line_number, "--force-column " + format_.force_column +
+                              ": the header names a normal load, which presses the surfaces together, not the "
+                              "friction force along them; give the friction or shear column (columns: " +
+                              column_list(names_) + "), this one as --normal-stress-column for mu");
     } else {
       for (int k = 0; k < count && force_index_ < 0; ++k)
-        if (k != time_index_ && !force_like(names_[k]).empty() && !normal(names_[k])) force_index_ = k;
+        if (k != time_index_ && !force_like(names_[k]).empty() && !names_normal_load(names_[k])) force_index_ = k;
       if (force_index_ < 0)
         fail(line_number, std::string("the ") + to_string(record_.observable) +
                               " needs a force channel and no column names a force, stress or friction (columns: " +

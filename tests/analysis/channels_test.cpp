@@ -60,6 +60,20 @@ TEST(Channels, HeaderUnitsAsWrittenAndForceColumnsNeverAsDisplacement) {
   EXPECT_NE(refusal(lab, friction).find("not a displacement"), std::string::npos) << refusal(lab, friction);
   EXPECT_NE(refusal("t,shear_MPa\n0,1\n1,2\n").find("not a displacement"), std::string::npos);
   EXPECT_NE(refusal("t,mu\n0,0.6\n1,0.61\n").find("friction coefficient"), std::string::npos);
+  // The normal stress presses the surfaces together: neither a displacement nor the friction
+  // force, and never advised as --force-column.
+  RecordFormat normal;
+  normal.column = "Normal_stress";
+  EXPECT_NE(refusal(lab, normal).find("names a normal load, not a displacement"), std::string::npos)
+      << refusal(lab, normal);
+  EXPECT_EQ(refusal(lab, normal).find("give it as --force-column"), std::string::npos) << refusal(lab, normal);
+  RecordFormat normal_force;
+  normal_force.observable = Observable::force;
+  normal_force.force_column = "Normal_stress";
+  normal_force.contact_area = 0.0025;
+  EXPECT_NE(refusal(lab, normal_force).find("--force-column Normal_stress: the header names a normal load"),
+            std::string::npos)
+      << refusal(lab, normal_force);
   RecordFormat dt;
   dt.dt = 0.1;
   EXPECT_NE(refusal(lab, dt).find("--dt: the record has a time column"), std::string::npos);

@@ -212,6 +212,10 @@ expect_refused window-across-rates "sampling rate changes inside --window" analy
 expect_refused window-outside "record runs from" analyze "$basalt" --window 0:100 $out
 expect_refused window-syntax "T0:T1" analyze "$basalt" --window 100 $out
 expect_refused friction-column "not a displacement" analyze "$basalt" --column Friction $out
+# The normal stress is mu's normal load: not a displacement, nor a friction force.
+expect_refused normal-stress-column "names a normal load, not a displacement" analyze "$basalt" --column Normal_stress $out
+grep -q "give it as --force-column" "$work/stderr" && fail "--column Normal_stress: advised as --force-column"
+expect_refused normal-stress-force "^slidespec: error: .*--force-column Normal_stress: the header names a normal load" analyze "$basalt" --force-column Normal_stress --contact-area 25cm2 $out
 # A column named by its header without the unit in brackets: Displ for Displ(microns).
 "$bin" analyze "$basalt" --window 11608:11674 --column Displ --no-plot --out "$work/col" 2> "$work/col.err" || fail "--column Displ for Displ(microns): $(cat "$work/col.err")"
 grep -q "^# observable = displacement.*of column Displ(microns)$" "$work/col.tsv" || fail "--column Displ: $(grep observable "$work/col.tsv")"
