@@ -231,3 +231,10 @@ def test_an_alpha_fit_into_the_stall_is_a_failed_fit_not_an_error():
     with pytest.warns(ss.ModelWarning, match="FAILED"):
         a = ss.analyze(t, x, units="um", window=(11608, 11674), compare="reference", fit="alpha")
     assert not a.ok
+
+
+def test_a_band_that_is_not_one_is_refused():
+    t, x, _, _ = basalt()
+    for band in ({"omega_max": -1}, {"omega_min": -5}, {"omega_min": 10, "omega_max": 1}):
+        with pytest.raises(ValueError, match="omega_m"):
+            ss.analyze(t, x, units="um", window=(11608, 11674), **band)
