@@ -84,7 +84,8 @@ TEST(RunFigure, NamesASpringsStiffnessWithItsUnit) {
 TEST(RunFigure, MarksASpringsResonanceAndLeavesOutEq1) {
   const Parameters p = ParameterBuilder("reference").set("drive", "spring").set("k_drive", "1e5").build();
   const std::string path = write_run_table("spring_resonance", "reference + drive=spring, k_drive=1e5", "", p);
-  const figure::Spectrum& s = cli::run_figure(path, {}).figure.spectra[0];
+  const cli::RunFigure drawing = cli::run_figure(path, {});
+  const figure::Spectrum& s = drawing.figure.spectra[0];
   const double resonance = std::sqrt((p.N * p.k0 + p.k_drive) / p.M);
   EXPECT_NEAR(s.resonance, resonance, 1e-9 * resonance);
   EXPECT_GT(s.resonance, 1.1 * landmarks(p).omega_c);
