@@ -509,19 +509,17 @@ for delay in 0.05 0.2 0.5 1 1.5 2; do
     fi
   done
 done
-# A SIGKILL while the figure is drawn (a slow plotter), then the resume.
-# The plotter starts with the run and reads its work when the run is done: it signals
-# "drawing" once its standard input has ended.
-printf '#!/bin/sh\ncat > /dev/null\necho $$ > plotting\nexec sleep 60\n' > slow.sh
-chmod +x slow.sh
+# A SIGKILL while the figure is drawn, then the resume. SLIDESPEC_FIGURE_STALL holds the
+# run there (the state saved, no output written): it writes the pid to the file and waits.
 for k in 1 2 3; do
   attacks=$((attacks + 1))
   rm -f cut.* plotting
-  SLIDESPEC_PYTHON=$work/slow.sh "$bin" run --omega-min 10 --omega-max 1000 --precision 0.1 --seed 5 --out cut --quiet &
+  SLIDESPEC_FIGURE_STALL=$work/plotting "$bin" run --omega-min 10 --omega-max 1000 --precision 0.1 --seed 5 \
+    --out cut --quiet &
   pid=$!
   for _ in $(seq 600); do [ -s plotting ] && break; sleep 0.05; done
+  [ -s plotting ] || { other=$((other + 1)); report OTHER "SIGKILL while drawing ($k): the figure never started"; }
   kill -9 $pid; wait $pid 2> /dev/null
-  kill "$(cat plotting)" 2> /dev/null
   "$bin" run --resume cut --no-plot --quiet 2> /dev/null
   cmp -s cut.tsv whole.tsv || { work_lost=$((work_lost + 1)); report LOST "SIGKILL while drawing ($k)"; }
 done
