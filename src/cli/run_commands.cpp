@@ -136,6 +136,12 @@ void share_progress(std::vector<RunOptions>& runs, const std::vector<double>& wo
   }
 }
 
+void warn_if_not_stationary(const RunResult& result, const std::string& out) {
+  if (!result.stationary)
+    std::cerr << "slidespec: warning: " << out << ": not stationary (" << result.stationarity
+              << "): no spectrum exists here; the table is marked stationary = false (exit status 3)\n";
+}
+
 /// What a run came to: its result, and whether its whole output set is on disk.
 struct RunOutcome {
   RunResult result;
@@ -253,9 +259,7 @@ RunOutcome run_and_write(const Context& context, RunSession& session, const RunO
                 << "; write its outputs with: slidespec run --resume " << out << (options.no_plot ? " --no-plot" : "")
                 << "\n";
   }
-  if (!outcome.result.stationary && writes)
-    std::cerr << "slidespec: warning: " << out << ": not stationary (" << outcome.result.stationarity
-              << "): no spectrum exists here; the table is marked stationary = false (exit status 3)\n";
+  if (writes) warn_if_not_stationary(outcome.result, out);
   return outcome;
 }
 
@@ -457,6 +461,7 @@ class MergeCommand final : public Command {
     RunOutcome outcome{whole.result(), true};
     mark_if_not_numbers(outcome.result);
     outcome.written = write_outputs(context_, whole, outcome.result, options_, options_.out);
+    if (context_.writes_outputs()) warn_if_not_stationary(outcome.result, options_.out);
     return exit_status(outcome);
   }
 

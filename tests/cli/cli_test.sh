@@ -199,6 +199,13 @@ grep -q "^# run_1 = .*NOT STATIONARY" "$work/spring-sweep.tsv" && fail "sweep ta
 import json; runs = json.load(open('$work/spring-sweep.json'))['runs']
 assert [r['stationary'] for r in runs] == [False, True] and 'stationarity' in runs[0], runs" \
   || fail "sweep JSON: stationary per run"
+# A part of two realizations is merge's to judge: alone it is written as it is, merged it is
+# a finished run short of points, which says why (exit 3), not that it was interrupted.
+"$bin" run --omega-min 10 --omega-max 100 --realizations-range 0:2 --save-state "$work/p2.state" \
+  --out "$work/p2" --no-plot --quiet || fail "a part of two realizations: exit $?"
+"$bin" merge "$work/p2.state" --out "$work/m2" --no-plot 2> "$work/m2.err"
+[ $? -eq 3 ] && grep -q "wrote .*m2.tsv" "$work/m2.err" && grep -q "not stationary (2 of the 9 points got too few segments" "$work/m2.err" \
+  || fail "a merge short of points: $(cat "$work/m2.err")"
 # Its advice, followed, gives a spectrum (k_drive 10 N/m, as the last refusal above named it).
 advised=$(grep -o -- "--omega-min [0-9.e+-]* rad/s or lower" "$work/spring-stall.tsv" | cut -d' ' -f2)
 "$bin" run --set N=7 --set F_drive=8 --set F_kin=6 --set k1=0 --set drive=spring --set k_drive=10 \
