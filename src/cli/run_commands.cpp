@@ -136,6 +136,13 @@ void share_progress(std::vector<RunOptions>& runs, const std::vector<double>& wo
   }
 }
 
+/// A sweep's grid point as its keys are typed: "alpha=0.5, N=10".
+std::string grid_point(const std::vector<std::pair<std::string, std::string>>& values) {
+  std::string shown;
+  for (const auto& [key, value] : values) shown += (shown.empty() ? "" : ", ") + key + "=" + value;
+  return shown;
+}
+
 void warn_if_not_stationary(const RunResult& result, const std::string& out) {
   if (!result.stationary)
     std::cerr << "slidespec: warning: " << out << ": not stationary (" << result.stationarity
@@ -517,12 +524,10 @@ class SweepCommand final : public Command {
       if (std::find(values.begin(), values.end(), std::pair<std::string, std::string>("drive", "force")) !=
           values.end())
         std::erase_if(one.overrides, [](const std::string& change) { return change.rfind("k_drive=", 0) == 0; });
-      std::string shown;
-      for (const auto& [key, value] : values) shown += (shown.empty() ? "" : ", ") + key + "=" + value;
       try {
         params.push_back(one.build());
       } catch (const InputError& e) {
-        throw InputError("sweep run " + shown + ": " + e.what());
+        throw InputError("sweep run " + grid_point(values) + ": " + e.what());
       }
       RunSession check(params.back(), options.request);  // validates the band for these values
       work.push_back(planned_work(params.back(), options.request));
@@ -538,8 +543,7 @@ class SweepCommand final : public Command {
     bool stationary = true, written = true;
     for (std::size_t k = 0; k < grid.size(); ++k) {
       const std::string name = run_prefix(grid[k]);
-      std::string shown;
-      for (const auto& [key, value] : grid[k]) shown += (shown.empty() ? "" : ", ") + key + " = " + value;
+      const std::string shown = grid_point(grid[k]);
       singles[k].no_plot = true;
       if (!options.quiet && writes && !isatty(STDERR_FILENO))
         std::cerr << "slidespec: sweep " << k + 1 << "/" << grid.size() << ": " << shown << "\n";

@@ -88,16 +88,14 @@ void check_plan(const Parameters& p, const std::vector<SubBand>& plan) {
 
 }  // namespace run_detail
 
-double planned_first_round_work(const Parameters& p, const RunRequest& r) {
-  const std::vector<SubBand> plan = plan_sub_bands(p, r);
-  check_plan(p, plan);
+namespace {
+
+double first_round_work(const Parameters& p, const RunRequest& r, const std::vector<SubBand>& plan) {
   const double realizations = static_cast<double>(r.realizations > 0 ? r.realizations : kInitialRealizations);
   double steps = 0;
   for (const SubBand& band : plan) steps += std::ceil(band.duration / band.dt);
   return steps * realizations * block_weight(p);
 }
-
-namespace {
 
 // A duration is rounded up to whole time steps: far below this.
 constexpr double kDurationRoundingSlack = 1.01;
@@ -143,16 +141,24 @@ void check_realizations_give_segments(const RunRequest& r, const std::vector<Sub
 
 }  // namespace
 
+double planned_first_round_work(const Parameters& p, const RunRequest& r) {
+  const std::vector<SubBand> plan = plan_sub_bands(p, r);
+  check_plan(p, plan);
+  return first_round_work(p, r, plan);
+}
+
 void validate_request(const Parameters& p, const RunRequest& r) {
   check_request_fields(r);
   if (!(expected_jump_energy(p, p.a) > 0))
     throw InputError(
         "alpha: 0 gives no random force, so C_x is zero at every omega and there is "
         "nothing to simulate");
+  // One plan for every check, its step counts known finite before any is counted.
   const std::vector<SubBand> plan = plan_sub_bands(p, r);
+  check_plan(p, plan);
   check_duration_not_raised(r, plan);
   check_realizations_give_segments(r, plan);
-  const double work = planned_first_round_work(p, r);
+  const double work = first_round_work(p, r, plan);
   const double budget = r.work_budget > 0 ? r.work_budget : kDefaultWorkBudget;
   if (work > budget) {
     // Name the option that drives the work: the realization count, else the band's bottom.

@@ -94,7 +94,7 @@ TEST(Channels, AColumnIsNamedByItsHeaderWithOrWithoutItsUnit) {
   EXPECT_DOUBLE_EQ(r.force[1], 11);
   named.force_column = "g";  // any case, a unit in square brackets too
   EXPECT_DOUBLE_EQ(read(lab, named).force[1], 1000);
-  named.force_column = "F (N)";  // the whole header, as before
+  named.force_column = "F (N)";  // the whole header with its unit
   EXPECT_DOUBLE_EQ(read(lab, named).force[1], 11);
   // Two headers without their units alike: the name is ambiguous, and said so.
   RecordFormat twice;
