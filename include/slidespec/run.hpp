@@ -45,8 +45,12 @@ struct SubBand {
   double omega_low = 0, omega_high = 0;  ///< output points it serves [rad/s]
   double dt = 0;                         ///< its time step [s]
   double duration = 0;                   ///< simulated time per realization [s]
-  std::uint64_t realizations = 0;        ///< realizations completed
-  int rounds = 0;                        ///< rounds of realizations run
+  /// Simulated before each realization at the coarse `warm_up_dt`, outside its outputs [s]:
+  /// long enough that the realization starts in the stationary state in time (docs/run.md).
+  double warm_up = 0;
+  double warm_up_dt = 0;           ///< [s]
+  std::uint64_t realizations = 0;  ///< realizations completed
+  int rounds = 0;                  ///< rounds of realizations run
 };
 
 /// The FFT bins a point averages: `count` frequencies from `first` to `last` [rad/s],

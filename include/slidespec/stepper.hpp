@@ -20,15 +20,22 @@ struct StepperConfig {
   std::uint64_t seed = 1;    ///< keys the random numbers
   std::uint64_t stream = 0;  ///< independent sub-run index (e.g. one per frequency band)
   SimdPath simd = SimdPath::automatic;
+  /// Simulated before the first step, outside every output [s]: a realization starts with
+  /// its forces' stationary law in sliding distance, and reaches the law in time, which a
+  /// spectrum assumes, only after the block has slid a few renewal distances (docs/run.md).
+  double warm_up = 0;
+  /// The warm-up's own time step [s] (0: dt). Exact at any step, so a coarse one costs
+  /// about the warm-up's renewals, not its duration over dt.
+  double warm_up_dt = 0;
 };
 
 /// What one realization did, for diagnostics and tests.
 struct RealizationSummary {
   std::uint64_t realization = 0;
-  double duration = 0;         ///< simulated time [s]
-  double xi_end = 0;           ///< xi at the end [m]; mean speed = v + xi_end / duration
+  double duration = 0;         ///< simulated time after the warm-up [s]
+  double xi_end = 0;           ///< xi's change since the warm-up [m]; mean speed = v + xi_end / duration
   double mean_offset = 0;      ///< time average of the miniblocks' mean offset from u_bar [m]
-  std::uint64_t renewals = 0;  ///< renewals of all miniblocks together
+  std::uint64_t renewals = 0;  ///< renewals of all miniblocks together (after the warm-up)
   double jump_energy = 0;      ///< sum over renewals of (f_new - f_old)^2 [N^2]
   /// Renewal passes of the realization's lane group: renewals / (passes x the path's
   /// width), summed over realizations, is the renewal passes' lane utilization.

@@ -605,7 +605,7 @@ _PARAMETER_KEY = _re.compile(r"^(%s)(_\d+)?$" % "|".join(_re.escape(k.removesuff
 # A key is one word; prose with " = " in it (the "# columns:" line) is not a KEY = VALUE line.
 _KEY = _re.compile(r"^\w+\s*$")
 _SUB_BAND = _re.compile(r"^sub_band (\d+): omega (\S+) \.\. (\S+), dt = (\S+) s, duration = (\S+) s, "
-                        r"realizations = (\d+)")
+                        r"warm_up = (\S+) s at dt (\S+) s, realizations = (\d+)")
 # A run's TSV lines that repeat what PREFIX.json holds elsewhere: the realizations summed over
 # the sub-bands, a spring's mean_speed (its v), and the columns derived from C_x (omega^2 C_x,
 # M^2 omega^4 C_x) and from the parameters (Eq. (1), eq1()).
@@ -640,10 +640,11 @@ def _read_table(text, path):
             if body.startswith("slidespec ") and "=" not in body:
                 data["slidespec_version"] = body.split()[1]
             elif match := _SUB_BAND.match(body):
-                b, low, high, dt, duration, count = match.groups()
+                b, low, high, dt, duration, warm_up, warm_up_dt, count = match.groups()
                 data.setdefault("sub_bands", []).append(
                     {"omega_low": float(low), "omega_high": float(high), "dt": float(dt),
-                     "duration": float(duration), "realizations": int(count)})
+                     "duration": float(duration), "warm_up": float(warm_up), "warm_up_dt": float(warm_up_dt),
+                     "realizations": int(count)})
             elif " = " in body and _KEY.match(body.split(" = ", 1)[0]):
                 key, value = body.split(" = ", 1)
                 value, _, note = value.partition("  #")

@@ -40,12 +40,13 @@ def test_the_namespace_holds_the_modules_names_only():
 
 
 def test_warnings_point_at_the_callers_line():
-    p = ss.Parameters("reference", N=12, chain="ring", alpha=0.5, drive="spring", k_drive=1e4)
+    # Forces that can stall the block, and realizations too short to tell.
+    p = ss.Parameters("reference", N=7, F_drive=8, F_kin=6, k1=0)
     # The warning says why, as the result's stationarity does.
-    with pytest.warns(ss.ModelWarning, match="not stationary: sub-band 0 slides at") as caught:
+    with pytest.warns(ss.ModelWarning, match="not stationary: the random forces can stall") as caught:
         r = ss.run(p, omega_min=10, omega_max=100, realizations=4, seed=2, threads=2)
-    assert r.stationarity in str(caught[0].message)
-    assert [w.filename for w in caught] == [__file__]
+    assert any(r.stationarity in str(w.message) for w in caught)
+    assert {w.filename for w in caught} == {__file__}
     t, x = ss.synth("reference", sample_interval=1e-3, duration=100, resolution=0, sensor_noise=0, seed=1)
     with pytest.warns(ss.RecordWarning, match="leakage") as caught:
         ss.analyze(t, x)

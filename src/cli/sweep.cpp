@@ -132,7 +132,8 @@ std::vector<double> sub_band_work(const Parameters& p, const RunRequest& request
   double blocks = 1;
   for (int l = 1; l <= p.levels; ++l) blocks += static_cast<double>(p.blocks(l));
   std::vector<double> work;
-  for (const SubBand& band : plan_sub_bands(p, request)) work.push_back(band.duration / band.dt * blocks);
+  for (const SubBand& band : plan_sub_bands(p, request))
+    work.push_back((band.duration / band.dt + band.warm_up / band.warm_up_dt) * blocks);
   return work;
 }
 

@@ -130,6 +130,7 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
     const SubBand& band = result.sub_bands[b];
     out << "# sub_band " << b << ": omega " << format_number(band.omega_low) << " .. " << format_number(band.omega_high)
         << ", dt = " << format_number(band.dt) << " s, duration = " << format_number(band.duration)
+        << " s, warm_up = " << format_number(band.warm_up) << " s at dt " << format_number(band.warm_up_dt)
         << " s, realizations = " << band.realizations << "\n";
   }
   out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, the mean of C_x over the bin's frequencies;"
@@ -209,6 +210,8 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                                 {"omega_high", band.omega_high},
                                 {"dt", band.dt},
                                 {"duration", band.duration},
+                                {"warm_up", band.warm_up},
+                                {"warm_up_dt", band.warm_up_dt},
                                 {"realizations", band.realizations},
                                 {"rounds", band.rounds}});
   for (const RunPoint& point : result.points) {

@@ -35,6 +35,17 @@ constexpr double kRenewalsPerStepMax = 16;
 // times the work, most of a run's time in its lowest sub-band), and every point still gets
 // whole segments from every realization.
 constexpr double kSegmentsPerRealization = 2;
+// A realization holds at least this many renewals (of all its contacts together), up to
+// kMostLengthening times its two segments. Where it holds a few, its periodogram at the
+// sub-band's points is the energy of those few jumps, weighted by where they fall in the
+// windows (a jump near an edge counts little); the spread of their number and places is
+// most of the scatter between realizations, and the scatter per unit of work falls as
+// realizations lengthen. Measured at the reference's top sub-band (1e4..1e5 rad/s, 1.5
+// renewals in two segments; equal work, 8 seeds): 1.23% with two segments, 0.72% with six,
+// 0.53% with twenty (15 renewals), 0.69% with sixty, whose fewer realizations leave the
+// regression on the forcing control variate less to work with.
+constexpr double kRenewalsPerRealization = 15;
+constexpr double kMostLengthening = 10;
 // Precision-driven runs stop growing at kMaxRealizationsPerBand (session.hpp) or 2e9
 // realization-steps per sub-band (about a minute on two cores), whichever comes first, and
 // report the precision they reached. Where the random forces stall the block the spectrum
@@ -273,6 +284,47 @@ double spring_stretch_range(const Parameters& p) {
   return (p.F_drive - p.F_kin + random_force_reach(p)) / p.k_drive;
 }
 
+/// The warm-up (docs/run.md, "Warm-up"). A realization starts with its forces in their
+/// stationary law in sliding distance; in time a resisting configuration lasts longer, so
+/// the block slides faster at first than in the stationary state, by about eps^2/2 of v, an
+/// excess that decays as exp(-t / tau) (tools/transient_decay.cpp, 2e5 realizations a case):
+/// tau = (1 + 2.5 eps^2) a/v for poisson marks (measured 1.05-1.11 a/v at eps 0.2-0.25, 1.21 at
+/// 0.33, 1.37 at 0.39 next to the stall), half that for periodic ones (0.58, 0.59, 0.66); under
+/// a spring the lag's relaxation, 1.5/omega_s + 2 a/v (measured 6.7 a/v at omega_s = 0.3 v/a,
+/// 13-15 at 0.1). The warm-up lasts tau ln(eps^2 / kWarmUpResidual): what is left of the
+/// excess is under kWarmUpResidual of v, ten times below the finest precision a run reaches.
+constexpr double kWarmUpResidual = 1e-4;
+
+struct WarmUp {
+  double duration = 0, dt = 0;  // [s]
+};
+
+/// The warm-up of every realization of a run whose lowest sub-band's realizations last
+/// `longest` [s]. Its step is the coarsest the run's lowest sub-band could take (at most 16
+/// renewals per step; under a spring 0.3/omega_s, so that a step still follows the spring),
+/// so that it costs about its renewals.
+WarmUp warm_up_for(const Parameters& p, double longest) {
+  const Landmarks l = landmarks(p);
+  double slowest_renewal = 0;
+  for (int level = 1; level <= p.levels; ++level)
+    if (p.touches(level)) slowest_renewal = std::max(slowest_renewal, p.level(level).a / p.v);
+  const double eps2 = l.coupling_eps * l.coupling_eps;
+  double decay = (1 + 2.5 * eps2) * slowest_renewal * (p.renewal == Renewal::periodic ? 0.5 : 1.0);
+  WarmUp warm;
+  warm.dt = kRenewalsPerStepMax / renewals_per_second(p);
+  if (p.drive == Drive::spring) {
+    // Where the forces can stall the block, the stretch wanders over its whole range, which
+    // the load point takes up in range / v. A spring slower than the run's longest
+    // realizations fails the relaxation check anyway (check_stationarity): no warm-up
+    // beyond those realizations' length.
+    const double lag = l.forces_can_stall ? spring_stretch_range(p) / p.v : 1.5 / l.omega_s + 2 * slowest_renewal;
+    decay = std::max(decay, std::min(lag, longest));
+    warm.dt = std::min(warm.dt, kOmegaDtMax / l.omega_s);
+  }
+  warm.duration = decay * std::max(1.0, std::log(eps2 / kWarmUpResidual));
+  return warm;
+}
+
 /// Why sub-band b is not stationary by its realizations' own speeds, or "".
 std::string stalled_realizations(const RunSession::Impl& s, std::size_t b) {
   const double v = s.params.v;
@@ -432,11 +484,18 @@ std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& reque
     band.dt = std::min(kOmegaDtMax / step_frequency(p, band), kRenewalsPerStepMax / renewals_per_second(p));
     const double segment =
         SpectrumEstimator(estimator_config(band, request.points_per_decade), 1).segment_duration(band.omega_low);
-    band.duration =
-        request.duration > 0 ? request.duration * omegas.front() / band.omega_low : kSegmentsPerRealization * segment;
+    band.duration = request.duration > 0 ? request.duration * omegas.front() / band.omega_low
+                                         : std::max(kSegmentsPerRealization * segment,
+                                                    std::min(kRenewalsPerRealization / renewals_per_second(p),
+                                                             kMostLengthening * kSegmentsPerRealization * segment));
     // At least the segments a point needs, whatever the user's fixed duration.
     band.duration = std::max(band.duration, 1.5 * segment);
     bands.push_back(band);
+  }
+  const WarmUp warm = warm_up_for(p, bands.empty() ? 0.0 : bands.front().duration);
+  for (SubBand& band : bands) {
+    band.warm_up = warm.duration;
+    band.warm_up_dt = std::max(band.dt, warm.dt);
   }
   return bands;
 }
@@ -503,6 +562,8 @@ BandWork band_work(const RunSession::Impl& s, std::size_t b, SimdPath simd) {
   const SubBand& band = s.plan[b];
   BandWork work;
   work.stepper.dt = band.dt;
+  work.stepper.warm_up = band.warm_up;
+  work.stepper.warm_up_dt = band.warm_up_dt;
   work.stepper.seed = s.request.seed;
   work.stepper.stream = b;  // sub-bands are independent simulations
   work.stepper.simd = simd;

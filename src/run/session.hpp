@@ -25,7 +25,7 @@ constexpr int kBatchRealizations = 8;
 constexpr std::uint64_t kInitialRealizations = 64;
 // Bump whenever a change alters any number a run produces (stepper, renewal, estimator):
 // saved states of other numerics are refused on resume and merge, which are bitwise.
-constexpr int kNumericsVersion = 5;
+constexpr int kNumericsVersion = 6;
 // A precision-driven sub-band stops growing here (see run.cpp).
 constexpr std::uint64_t kMaxRealizationsPerBand = std::uint64_t{1} << 16;
 

@@ -79,6 +79,11 @@ void check_plan(const Parameters& p, const std::vector<SubBand>& plan) {
                        text(kFinestStepOfRenewalTime) + " of the renewal time a/v = " + text(renewal_time) +
                        " s (the block's position would not resolve it)");
     const double steps = band.duration / band.dt;
+    const double warm_steps = band.warm_up > 0 ? band.warm_up / band.warm_up_dt : 0.0;
+    if (!std::isfinite(warm_steps) || warm_steps > kMostSteps)
+      throw InputError("parameters: " + where + " plans " + text(warm_steps) +
+                       " warm-up steps per realization (at most " + text(kMostSteps) +
+                       "): the renewals or the spring are too slow against the band");
     if (!std::isfinite(steps) || steps > kMostSteps)
       throw InputError((band.omega_low == plan.front().omega_low ? "--omega-min/--duration: " : "--omega-max: ") +
                        where + " plans " + text(steps) + " time steps per realization (at most " + text(kMostSteps) +
@@ -93,7 +98,8 @@ namespace {
 double first_round_work(const Parameters& p, const RunRequest& r, const std::vector<SubBand>& plan) {
   const double realizations = static_cast<double>(r.realizations > 0 ? r.realizations : kInitialRealizations);
   double steps = 0;
-  for (const SubBand& band : plan) steps += std::ceil(band.duration / band.dt);
+  for (const SubBand& band : plan)
+    steps += std::ceil(band.duration / band.dt) + (band.warm_up > 0 ? std::ceil(band.warm_up / band.warm_up_dt) : 0.0);
   return steps * realizations * block_weight(p);
 }
 

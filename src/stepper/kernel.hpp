@@ -22,9 +22,10 @@ inline constexpr double kRunawayAdvances = 1e4;
 /// One call advances the lanes [lane0, lane0 + lanes) of a batch by `steps`.
 struct KernelArgs {
   const ExactStep* step;
+  double steady_origin;      // v t at step 0 [m]: where a warm-up left the load
   double advance_per_step;   // v dt [m]: the steady sliding over one step
   double runaway_increment;  // [m]: a step's xi increment beyond this has run away
-  std::int64_t first_step;   // steps already taken, so x = v dt (first_step + s) + xi
+  std::int64_t first_step;   // steps already taken, so x = steady_origin + v dt (first_step + s) + xi
   std::int64_t steps;
   int lane0;
   int lanes;              // a multiple of the path's width

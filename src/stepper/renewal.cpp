@@ -197,6 +197,12 @@ void RenewalState::bind() {
   v.passes = passes_.data();
 }
 
+void RenewalState::reset_counters() {
+  std::fill(renewals_.begin(), renewals_.end(), 0.0);
+  std::fill(jump_energy_.begin(), jump_energy_.end(), 0.0);
+  std::fill(passes_.begin(), passes_.end(), 0.0);
+}
+
 double RenewalState::input_force(int k, int lane) const {
   return view_.force_unit[k] * force_sum_[static_cast<size_t>(k) * view_.lanes + lane];
 }

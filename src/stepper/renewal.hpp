@@ -97,6 +97,8 @@ class RenewalState {
   /// Renewal passes run by the lane's group while it stepped: renewals over passes times
   /// the width is the lanes' utilization (a diagnostic: no result depends on it).
   std::uint64_t passes(int lane) const { return static_cast<std::uint64_t>(passes_[lane]); }
+  /// Renewals, jump energy and passes start again from zero (after a warm-up).
+  void reset_counters();
 
  private:
   void bind();  // points view_ at the vectors

@@ -67,6 +67,58 @@ struct Stepper::Impl {
     chunk_steps = std::max<std::int64_t>(64, 32768 / padded);
     increments.assign(static_cast<size_t>(chunk_steps) * padded, 0.0);
     if (padded != count) compact.assign(static_cast<size_t>(chunk_steps) * count, 0.0);
+    if (c.warm_up > 0) warm_up();
+  }
+
+  /// Runs the kernel of `exact` for `total` steps after `done` of them, from the load's
+  /// position `origin`, handing each chunk's increments to `chunk_done`.
+  template <class ChunkDone>
+  void run_kernel(const stepper::ExactStep& exact, double origin, std::int64_t done, std::int64_t total,
+                  const ChunkDone& chunk_done) {
+    stepper::KernelArgs args{};
+    args.step = &exact;
+    args.steady_origin = origin;
+    args.advance_per_step = params.v * exact.dt;
+    args.runaway_increment = stepper::kRunawayAdvances * fastest_advance(params) * args.advance_per_step;
+    args.stride = padded;
+    args.z = z.data();
+    args.xi = xi.data();
+    args.offset_sum = offset_sum.data();
+    args.renewal = &renewal.lanes_view();
+    args.increments = increments.data();
+    while (total > 0) {
+      const std::int64_t chunk = std::min(total, chunk_steps);
+      args.first_step = done;
+      args.steps = chunk;
+      args.lane0 = 0;
+      args.lanes = padded;
+      kernel(args);
+      chunk_done(chunk);
+      done += chunk;
+      total -= chunk;
+    }
+  }
+
+  /// The warm-up at its own step; then the realization starts where it left the block, and
+  /// its summaries count from there. A lane that ran away in the warm-up (its xi NaN)
+  /// gets a NaN state, so that every increment it hands on says so.
+  void warm_up() {
+    const double warm_dt = config.warm_up_dt > 0 ? config.warm_up_dt : config.dt;
+    const stepper::ExactStep coarse =
+        warm_dt == config.dt
+            ? step
+            : stepper::exact_step(lumped, warm_dt, {params.drive == Drive::spring, params.renewal_rate()});
+    const auto warm_steps = static_cast<std::int64_t>(std::ceil(config.warm_up / warm_dt));
+    run_kernel(coarse, 0.0, 0, warm_steps, [](std::int64_t) {});
+    // The kernel's own expression for v t at the warm-up's end, so the load continues there.
+    steady_origin = params.v * warm_dt * static_cast<double>(warm_steps);
+    for (int lane = 0; lane < padded; ++lane) {
+      if (!std::isfinite(xi[lane]))
+        for (int r = 0; r < step.dimension; ++r) z[static_cast<size_t>(r) * padded + lane] = NAN;
+      xi_at_start.push_back(xi[lane]);
+    }
+    std::fill(offset_sum.begin(), offset_sum.end(), 0.0);
+    renewal.reset_counters();
   }
 
   Parameters params;
@@ -80,6 +132,8 @@ struct Stepper::Impl {
   stepper::GroupKernel kernel;
   stepper::RenewalState renewal;
   std::vector<double> z, xi, offset_sum, increments, compact;
+  std::vector<double> xi_at_start;  // [lane], after a warm-up
+  double steady_origin = 0;         // v t where the warm-up ended [m]
   std::int64_t chunk_steps = 0;
   std::int64_t steps_done = 0;
 };
@@ -96,23 +150,7 @@ std::int64_t Stepper::steps_done() const { return impl_->steps_done; }
 
 void Stepper::advance(std::int64_t steps, const IncrementSink& sink) {
   Impl& s = *impl_;
-  stepper::KernelArgs args{};
-  args.step = &s.step;
-  args.advance_per_step = s.params.v * s.config.dt;
-  args.runaway_increment = stepper::kRunawayAdvances * fastest_advance(s.params) * args.advance_per_step;
-  args.stride = s.padded;
-  args.z = s.z.data();
-  args.xi = s.xi.data();
-  args.offset_sum = s.offset_sum.data();
-  args.renewal = &s.renewal.lanes_view();
-  args.increments = s.increments.data();
-  while (steps > 0) {
-    const std::int64_t chunk = std::min(steps, s.chunk_steps);
-    args.first_step = s.steps_done;
-    args.steps = chunk;
-    args.lane0 = 0;
-    args.lanes = s.padded;
-    s.kernel(args);
+  s.run_kernel(s.step, s.steady_origin, s.steps_done, steps, [&](std::int64_t chunk) {
     if (sink) {
       if (s.padded == s.count) {
         sink(s.increments.data(), static_cast<std::size_t>(chunk));
@@ -123,8 +161,7 @@ void Stepper::advance(std::int64_t steps, const IncrementSink& sink) {
       }
     }
     s.steps_done += chunk;
-    steps -= chunk;
-  }
+  });
 }
 
 std::vector<RealizationSummary> Stepper::summaries() const {
@@ -133,7 +170,7 @@ std::vector<RealizationSummary> Stepper::summaries() const {
   for (int k = 0; k < s.count; ++k) {
     out[k].realization = s.first + static_cast<std::uint64_t>(k);
     out[k].duration = static_cast<double>(s.steps_done) * s.config.dt;
-    out[k].xi_end = s.xi[k];
+    out[k].xi_end = s.xi_at_start.empty() ? s.xi[k] : s.xi[k] - s.xi_at_start[k];
     out[k].mean_offset = s.steps_done > 0 ? s.offset_sum[k] / static_cast<double>(s.steps_done) : 0.0;
     out[k].renewals = s.renewal.renewals(k);
     out[k].jump_energy = s.renewal.jump_energy(k);

@@ -95,6 +95,49 @@ TEST(Stepper, EverySimdPathMatchesTheScalarPathBitwise) {
     }
 }
 
+// The warm-up runs the same kernel at its own step before the first: the SIMD lanes must
+// still be the scalar realizations, bit for bit, on both renewal kinds and drives.
+TEST(Stepper, AWarmedUpRealizationIsTheSameOnEverySimdPath) {
+  for (const char* renewal : {"renewal=poisson", "renewal=periodic"})
+    for (const char* drive : {"drive=force", "drive=spring"}) {
+      ParameterBuilder builder;
+      builder.set(renewal).set(drive).set("a=1e-5");
+      if (std::string(drive) == "drive=spring") builder.set("k_drive=1e4");
+      StepperConfig config;
+      config.seed = 7;
+      config.dt = 1e-4;
+      config.warm_up = 0.1;  // 5000 renewal times a/v
+      config.warm_up_dt = 3e-3;
+      stepper_test::expect_every_path_matches_scalar(builder.build(), config, 1500,
+                                                     std::string(renewal) + " " + drive + " warmed up");
+    }
+}
+
+// After a warm-up the realization continues where it left the block: the summaries count
+// from there (its renewals at v/a per contact over the measured time only), and the first
+// increments are the warmed state's, not the start's.
+TEST(Stepper, AWarmUpIsOutsideTheSummariesButMovesTheStart) {
+  const Parameters p = ParameterBuilder().set("a=1e-5").build();
+  StepperConfig config;
+  config.dt = 1e-4;
+  config.seed = 3;
+  const Trajectories cold = simulate(p, config, 0, 16, 1000);
+  config.warm_up = 0.5;
+  config.warm_up_dt = 1e-3;
+  const Trajectories warm = simulate(p, config, 0, 16, 1000);
+  double renewals = 0, expected = 0;
+  for (int k = 0; k < 16; ++k) {
+    renewals += static_cast<double>(warm.summaries[k].renewals);
+    expected += p.N * p.v * warm.summaries[k].duration / p.a;
+    EXPECT_DOUBLE_EQ(warm.summaries[k].duration, 1000 * config.dt);
+  }
+  // 30 contacts x 5 renewals in 0.1 s x 16: Poisson counts, 4 standard deviations.
+  EXPECT_NEAR(renewals, expected, 4 * std::sqrt(expected));
+  std::size_t same = 0;
+  for (std::size_t i = 0; i < cold.increments.size(); ++i) same += same_bits(cold.increments[i], warm.increments[i]);
+  EXPECT_EQ(same, 0u);
+}
+
 TEST(Stepper, ARealizationDoesNotDependOnItsBatch) {
   const Parameters p = ParameterBuilder().set("a=1e-5").build();
   StepperConfig config;
