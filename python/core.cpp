@@ -57,12 +57,35 @@ std::vector<double> to_vector(const Array& values) {
 std::string python_names(const std::string& message) {
   // Options named as their keyword with '_' for '-', and those named otherwise; the rest
   // (--out, --resume, ...) Python does not have, and they are left as they are.
-  static const std::vector<std::string> same = {
-      "omega-min",    "omega-max",         "points",         "precision",      "duration",    "realizations",
-      "seed",         "threads",           "simd",           "order",          "dt",          "units",
-      "window",       "resample",          "time-tolerance", "observable",     "force-units", "contact-area",
-      "normal-force", "machine-stiffness", "resolution",     "sensor-noise",   "estimator",   "fit",
-      "fit-band",     "fit-slope",         "theory-order",   "sample-interval"};
+  static const std::vector<std::string> same = {"omega-min",
+                                                "omega-max",
+                                                "points",
+                                                "precision",
+                                                "duration",
+                                                "realizations",
+                                                "seed",
+                                                "control-variate",
+                                                "threads",
+                                                "simd",
+                                                "order",
+                                                "dt",
+                                                "units",
+                                                "window",
+                                                "resample",
+                                                "time-tolerance",
+                                                "observable",
+                                                "force-units",
+                                                "contact-area",
+                                                "normal-force",
+                                                "machine-stiffness",
+                                                "resolution",
+                                                "sensor-noise",
+                                                "estimator",
+                                                "fit",
+                                                "fit-band",
+                                                "fit-slope",
+                                                "theory-order",
+                                                "sample-interval"};
   static const std::vector<std::pair<std::string, std::string>> renamed = {{"column", "x"},
                                                                            {"time-column", "t"},
                                                                            {"force-column", "force"},
@@ -234,6 +257,7 @@ std::unique_ptr<Run> new_run(const std::string& case_name, const Overrides& over
   r.duration = request["duration"].cast<double>();
   r.realizations = request["realizations"].cast<std::uint64_t>();
   r.seed = request["seed"].cast<std::uint64_t>();
+  r.control_variate = request["control_variate"].cast<bool>();
   const Parameters params = build(case_name, overrides);
   // Labelled as the command line labels it ("reference + N=12, alpha=0.4").
   return std::make_unique<Run>(RunSession(params, r, io::run_label(case_name, params)));

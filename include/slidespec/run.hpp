@@ -30,6 +30,9 @@ struct RunRequest {
   /// joins, so finishing it (a resume included) keeps PREFIX.state. Changes no number.
   bool part = false;
   std::uint64_t seed = 1;
+  /// Each realization's linear shadow as a control variate (docs/run.md, "The shadow"):
+  /// the same expectation, a smaller error for the same work; false gives the plain estimate.
+  bool control_variate = true;
   int threads = 0;  ///< 0 = all cores
   SimdPath simd = SimdPath::automatic;
   /// Most work the run may plan up front, in realization-steps (a step of a model with more
@@ -48,7 +51,10 @@ struct SubBand {
   /// Simulated before each realization at the coarse `warm_up_dt`, outside its outputs [s]:
   /// long enough that the realization starts in the stationary state in time (docs/run.md).
   double warm_up = 0;
-  double warm_up_dt = 0;           ///< [s]
+  double warm_up_dt = 0;  ///< [s]
+  /// Whether its realizations run their linear shadow as a control variate: where the
+  /// shadow's renewals stay close in time to the block's against the segments (docs/run.md).
+  bool shadow = false;
   std::uint64_t realizations = 0;  ///< realizations completed
   int rounds = 0;                  ///< rounds of realizations run
 };
@@ -78,6 +84,13 @@ struct RunPoint {
   /// The second-order theory (docs/model.md §7) averaged as `theory` is [m^2 s]; NaN where
   /// it does not apply (RunResult::theory2_note says why).
   double theory2 = std::numeric_limits<double>::quiet_NaN();
+  /// Which estimate this is: "shadow" (the regression on the shadow and the forcing),
+  /// "forcing" (on the forcing alone, where the shadow did not pay or was off), or "plain"
+  /// (too few realizations for a regression).
+  std::string estimator = "plain";
+  /// The estimate's variance over the plain mean's from the same realizations: the factor
+  /// on the realizations the point needs.
+  double variance_ratio = 1;
 };
 
 struct RunResult {

@@ -27,6 +27,10 @@ struct StepperConfig {
   /// The warm-up's own time step [s] (0: dt). Exact at any step, so a coarse one costs
   /// about the warm-up's renewals, not its duration over dt.
   double warm_up_dt = 0;
+  /// Also runs each realization's linear shadow (docs/run.md): the same draws and dynamics,
+  /// each force renewed when the nominal place v t, not the block, passes its mark. Its
+  /// spectrum is exactly the first-order theory's, and it follows the block closely.
+  bool shadow = false;
 };
 
 /// What one realization did, for diagnostics and tests.
@@ -40,6 +44,7 @@ struct RealizationSummary {
   /// Renewal passes of the realization's lane group: renewals / (passes x the path's
   /// width), summed over realizations, is the renewal passes' lane utilization.
   std::uint64_t renewal_passes = 0;
+  std::uint64_t shadow_renewals = 0;  ///< the shadow's renewals after the warm-up (with a shadow)
 };
 
 /// Receives the increments xi_{n+1} - xi_n of every realization of a batch, chunk by
@@ -60,8 +65,9 @@ class Stepper {
   /// Steps taken so far.
   std::int64_t steps_done() const;
 
-  /// Advances every realization by `steps`, handing the increments to `sink` (may be empty).
-  void advance(std::int64_t steps, const IncrementSink& sink = {});
+  /// Advances every realization by `steps`, handing the increments to `sink` (may be empty),
+  /// and with StepperConfig::shadow its shadow's to `shadow_sink`.
+  void advance(std::int64_t steps, const IncrementSink& sink = {}, const IncrementSink& shadow_sink = {});
 
   std::vector<RealizationSummary> summaries() const;
 
@@ -74,13 +80,20 @@ class Stepper {
 /// The threads a run uses when asked for `threads`: every core for 0 (the one default).
 int resolve_threads(int threads);
 
+/// A batch's sinks: the block's increments, and its shadow's (with StepperConfig::shadow).
+struct BatchSinks {
+  BatchSinks(IncrementSink block_sink = {}, IncrementSink shadow_sink = {})  // NOLINT: a plain sink converts
+      : block(std::move(block_sink)), shadow(std::move(shadow_sink)) {}
+  IncrementSink block, shadow;
+};
+
 /// Runs `realizations` realizations from `first` for `steps` steps each on `threads`
 /// threads (0 = all cores), in batches of `batch_size`. `make_sink(first, count)` gives
-/// each batch its sink; `done(batch_index, summaries)` is called as batches finish, in
+/// each batch its sinks; `done(batch_index, summaries)` is called as batches finish, in
 /// any order: combine their results by batch index to stay independent of scheduling.
 void run_batches(const Parameters& params, const StepperConfig& config, std::uint64_t first, std::uint64_t realizations,
                  std::int64_t steps, int threads, int batch_size,
-                 const std::function<IncrementSink(std::uint64_t first, int count)>& make_sink,
+                 const std::function<BatchSinks(std::uint64_t first, int count)>& make_sink,
                  const std::function<void(std::size_t batch, std::vector<RealizationSummary>)>& done);
 
 }  // namespace slidespec

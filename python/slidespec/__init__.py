@@ -542,8 +542,8 @@ def _real(name, value):
 
 
 def run(params, *, omega_min=_RUN["omega_min"], omega_max=_RUN["omega_max"], points=_RUN["points"],
-        precision=None, duration=None, realizations=None, seed=_RUN["seed"], threads=0, simd="auto",
-        progress=False):
+        precision=None, duration=None, realizations=None, seed=_RUN["seed"], control_variate="shadow", threads=0,
+        simd="auto", progress=False):
     """Simulates the spectrum C_x(omega) with error bars, beside the exact theory: `slidespec run`.
 
     params: Parameters or a case name.
@@ -552,6 +552,8 @@ def run(params, *, omega_min=_RUN["omega_min"], omega_max=_RUN["omega_max"], poi
       realizations are added until every point reaches it or a sub-band's work budget is spent.
     duration: instead (not with precision), a fixed simulated time per realization of the lowest sub-band [s].
     realizations: a fixed number of realizations per sub-band.
+    control_variate: "shadow" (each realization's linear shadow as a control variate, docs/run.md)
+      or "off" (the plain estimate; the same expectation, larger error bars for the same work).
     seed: the random seed; threads: worker threads (0 = all cores); simd:
       "auto"|"scalar"|"sse2"|"avx2"|"avx512". The same parameters, band, precision and seed
       give bitwise the numbers of the command line, whatever threads and simd.
@@ -573,12 +575,14 @@ def run(params, *, omega_min=_RUN["omega_min"], omega_max=_RUN["omega_max"], poi
         raise ValueError(f"duration: need a positive number of seconds (got {duration!r})")
     if realizations is not None and _whole("realizations", realizations, _MOST_U64) == 0:
         raise ValueError("realizations: need at least 1 (leave it out to run to a precision)")
+    if not isinstance(control_variate, str) or control_variate not in ("shadow", "off"):
+        raise ValueError(f"control_variate: need 'shadow' or 'off' (got {control_variate!r})")
     p = _as_parameters(params)
     request = {"omega_min": _real("omega_min", omega_min), "omega_max": _real("omega_max", omega_max),
                "points_per_decade": _whole("points", points, _MOST_INT),
                "precision": _real("precision", _RUN["precision"] if precision is None else precision),
                "duration": float(duration or 0), "realizations": int(realizations or 0),
-               "seed": _whole("seed", seed, _MOST_U64)}
+               "seed": _whole("seed", seed, _MOST_U64), "control_variate": control_variate == "shadow"}
     _whole("threads", threads, _MOST_INT)
     handle = _core.new_run(*p._args(), request)
     _warn_if_no_theory_holds(p)
@@ -605,12 +609,14 @@ _PARAMETER_KEY = _re.compile(r"^(%s)(_\d+)?$" % "|".join(_re.escape(k.removesuff
 # A key is one word; prose with " = " in it (the "# columns:" line) is not a KEY = VALUE line.
 _KEY = _re.compile(r"^\w+\s*$")
 _SUB_BAND = _re.compile(r"^sub_band (\d+): omega (\S+) \.\. (\S+), dt = (\S+) s, duration = (\S+) s, "
-                        r"warm_up = (\S+) s at dt (\S+) s, realizations = (\d+)")
+                        r"warm_up = (\S+) s at dt (\S+) s, shadow = (true|false), realizations = (\d+)")
 # A run's TSV lines that repeat what PREFIX.json holds elsewhere: the realizations summed over
 # the sub-bands, a spring's mean_speed (its v), and the columns derived from C_x (omega^2 C_x,
 # M^2 omega^4 C_x) and from the parameters (Eq. (1), eq1()).
 _RUN_TABLE_ONLY = ("realizations", "mean_speed")
 _RUN_DERIVED_COLUMNS = ("C_v", "C_F", "C_eq1")
+# A run's per-point estimator: the TSV's code, the JSON's word.
+_ESTIMATORS = {0.0: "plain", 1.0: "forcing", 2.0: "shadow"}
 
 
 def _number(text):
@@ -640,11 +646,11 @@ def _read_table(text, path):
             if body.startswith("slidespec ") and "=" not in body:
                 data["slidespec_version"] = body.split()[1]
             elif match := _SUB_BAND.match(body):
-                b, low, high, dt, duration, warm_up, warm_up_dt, count = match.groups()
+                b, low, high, dt, duration, warm_up, warm_up_dt, shadow, count = match.groups()
                 data.setdefault("sub_bands", []).append(
                     {"omega_low": float(low), "omega_high": float(high), "dt": float(dt),
                      "duration": float(duration), "warm_up": float(warm_up), "warm_up_dt": float(warm_up_dt),
-                     "realizations": int(count)})
+                     "shadow": shadow == "true", "realizations": int(count)})
             elif " = " in body and _KEY.match(body.split(" = ", 1)[0]):
                 key, value = body.split(" = ", 1)
                 value, _, note = value.partition("  #")
@@ -659,6 +665,8 @@ def _read_table(text, path):
                                  "standard_error": float(error.group(1)) if error else None}
                 elif key == "seed":
                     data.setdefault("request", {})["seed"] = int(value)
+                elif key == "control_variate":
+                    data.setdefault("request", {})["control_variate"] = value
                 elif key == "reached_precision":
                     data[key] = _number(value)
                     if target := _re.search(r"\(target (\S+)\)", note):
@@ -697,8 +705,9 @@ def _read_table(text, path):
         data.setdefault("label", data.get("case"))  # printed only when it differs from the case
         for key in _RUN_TABLE_ONLY:
             data.pop(key, None)
-        rows = [{name: (value if _math.isfinite(value) else None) for name, value in row.items()
-                 if name not in _RUN_DERIVED_COLUMNS} for row in rows]
+        rows = [{name: (_ESTIMATORS.get(value, value) if name == "estimator" else
+                        value if _math.isfinite(value) else None)
+                 for name, value in row.items() if name not in _RUN_DERIVED_COLUMNS} for row in rows]
     data["points"] = rows
     return data
 

@@ -61,6 +61,17 @@ struct RequestOptions {
     command.add_option("--precision", request.precision,
                        with_default("target relative standard error at every point", defaults.precision));
     command.add_option("--seed", request.seed, with_default("random seed", static_cast<double>(defaults.seed)));
+    command
+        .add_option_function<std::string>(
+            "--control-variate",
+            [this](const std::string& word) {
+              if (word != "shadow" && word != "off")
+                throw CLI::ValidationError("--control-variate", "need shadow or off (got " + word + ")");
+              request.control_variate = word == "shadow";
+            },
+            "shadow: each realization's linear shadow as a control variate (docs/run.md); off: the plain "
+            "estimate (default shadow)")
+        ->type_name("shadow|off");
     command.add_option("--threads", request.threads, "threads (default, or 0: all cores)");
     command
         .add_option("--work-budget", request.work_budget,
@@ -418,6 +429,7 @@ class RunCommand final : public Command {
       request.part = options.request.part;
     }
     if (given("--seed")) request.seed = options.request.seed;
+    if (given("--control-variate")) request.control_variate = options.request.control_variate;
     const std::string differs = session.difference(model_given ? model_.build() : session.parameters(), request);
     if (!differs.empty()) throw InputError("--resume: " + options.resume + ".state is another run (" + differs + ")");
     session.set_execution(options.request.threads, options.request.simd);
@@ -695,8 +707,8 @@ class PaperCommand final : public Command {
     if (!record_.empty() && figure_ != "fig6") throw InputError("paper: --record is for fig6 only");
     // fig6 analyzes a record: the options of the simulating figures would be ignored.
     if (figure_ == "fig6")
-      for (const char* name :
-           {"--omega-min", "--omega-max", "--precision", "--seed", "--threads", "--work-budget", "--simd"})
+      for (const char* name : {"--omega-min", "--omega-max", "--precision", "--seed", "--control-variate", "--threads",
+                               "--work-budget", "--simd"})
         if (subcommand().count(name) > 0)
           throw InputError(std::string("paper fig6: ") + name +
                            " does not apply (fig6 analyzes a record, synthetic or --record; it simulates nothing)");

@@ -107,6 +107,9 @@ std::string metadata_lines(const Parameters& p, const std::string& case_name) {
   return out.str();
 }
 
+/// The TSV's numeric code for a point's estimator, so that its columns stay numbers.
+int estimator_code(const std::string& estimator) { return estimator == "shadow" ? 2 : estimator == "forcing" ? 1 : 0; }
+
 std::string run_table(const Parameters& p, const std::string& case_name, const RunRequest& request,
                       const RunResult& result) {
   std::ostringstream out;
@@ -114,6 +117,8 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
   std::uint64_t realizations = 0;
   for (const SubBand& band : result.sub_bands) realizations += band.realizations;
   out << "# seed = " << request.seed << "\n"
+      << "# control_variate = " << (request.control_variate ? "shadow" : "off")
+      << "  # shadow: each realization's linear shadow as a control variate (docs/run.md)\n"
       << "# realizations = " << realizations << "  # over all sub-bands\n"
       << "# simulated_time = " << format_number(result.simulated_time) << "  # [s], all realizations\n"
       << "# measured_mean_speed = " << format_number(result.mean_speed) << "  # [m/s] +- "
@@ -131,7 +136,7 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
     out << "# sub_band " << b << ": omega " << format_number(band.omega_low) << " .. " << format_number(band.omega_high)
         << ", dt = " << format_number(band.dt) << " s, duration = " << format_number(band.duration)
         << " s, warm_up = " << format_number(band.warm_up) << " s at dt " << format_number(band.warm_up_dt)
-        << " s, realizations = " << band.realizations << "\n";
+        << " s, shadow = " << (band.shadow ? "true" : "false") << ", realizations = " << band.realizations << "\n";
   }
   out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, the mean of C_x over the bin's frequencies;"
          " stderr [m^2 s]; theory [m^2 s] continuous exact first-order theory, its mean over the same bins;"
@@ -139,21 +144,25 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
          " C_F = M^2 omega^4 C_x [N^2 s]; theory_at_omega [m^2 s]; C_eq1 [m^2 s] the paper's Eq. (1);"
          " theory2 [m^2 s] the theory beyond first order that theory_kind names (second order or quasi-static,"
          " docs/model.md §7), its mean over the same bins,"
-         " nan where it does not apply\n";
+         " nan where it does not apply; variance_ratio the estimate's variance over the plain mean's of the same"
+         " realizations; estimator 2 shadow (regression on the linear shadow and the forcing), 1 forcing (on"
+         " the forcing alone), 0 plain (PREFIX.json names them)\n";
   if (!result.theory2_note.empty()) out << "# theory2_note = " << result.theory2_note << "\n";
   const bool spring = p.drive == Drive::spring;
   if (spring)
     out << "# columns (drive=spring): C_F_spring [N^2 s] the spring's force spectrum k_drive^2 C_x (what a machine's"
            " force sensor records; C_F above is the block's inertial force); C_F_spring_stderr [N^2 s];"
            " C_F_spring_theory [N^2 s] k_drive^2 theory\n";
-  out << "# omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\ttheory2"
+  out << "# omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\ttheory2\tvariance_ratio"
+         "\testimator"
       << (spring ? "\tC_F_spring\tC_F_spring_stderr\tC_F_spring_theory" : "") << "\n";
   for (const RunPoint& point : result.points) {
     out << format_number(point.omega) << "\t" << format_number(point.C_x) << "\t" << format_number(point.standard_error)
         << "\t" << format_number(point.theory) << "\t" << format_number(point.n_avg) << "\t"
         << format_number(point.bandwidth) << "\t" << format_number(velocity_spectrum(point.omega, point.C_x)) << "\t"
         << format_number(force_spectrum(point.omega, point.C_x, p.M)) << "\t" << format_number(point.theory_at_omega)
-        << "\t" << format_number(eq1_asymptote(p, point.omega)) << "\t" << format_number(point.theory2);
+        << "\t" << format_number(eq1_asymptote(p, point.omega)) << "\t" << format_number(point.theory2) << "\t"
+        << format_number(point.variance_ratio) << "\t" << estimator_code(point.estimator);
     if (spring)
       out << "\t" << format_number(spring_force_spectrum(p, point.C_x)) << "\t"
           << format_number(spring_force_spectrum(p, point.standard_error)) << "\t"
@@ -188,7 +197,8 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                     {"precision", request.precision},
                     {"duration", request.duration},
                     {"realizations", request.realizations},
-                    {"seed", request.seed}};
+                    {"seed", request.seed},
+                    {"control_variate", request.control_variate ? "shadow" : "off"}};
   doc["complete"] = result.complete;
   doc["stationary"] = result.stationary;
   if (!result.stationary) doc["stationarity"] = result.stationarity;
@@ -212,6 +222,7 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                                 {"duration", band.duration},
                                 {"warm_up", band.warm_up},
                                 {"warm_up_dt", band.warm_up_dt},
+                                {"shadow", band.shadow},
                                 {"realizations", band.realizations},
                                 {"rounds", band.rounds}});
   for (const RunPoint& point : result.points) {
@@ -225,6 +236,8 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                    {"count", point.bins.count}};
     row["theory2"] =
         std::isfinite(point.theory2) ? nlohmann::ordered_json(point.theory2) : nlohmann::ordered_json(nullptr);
+    row["variance_ratio"] = point.variance_ratio;
+    row["estimator"] = point.estimator;
     if (spring) {
       row["C_F_spring"] = spring_force_spectrum(p, point.C_x);
       row["C_F_spring_stderr"] = spring_force_spectrum(p, point.standard_error);

@@ -25,7 +25,7 @@ constexpr int kBatchRealizations = 8;
 constexpr std::uint64_t kInitialRealizations = 64;
 // Bump whenever a change alters any number a run produces (stepper, renewal, estimator):
 // saved states of other numerics are refused on resume and merge, which are bitwise.
-constexpr int kNumericsVersion = 6;
+constexpr int kNumericsVersion = 7;
 // A precision-driven sub-band stops growing here (see run.cpp).
 constexpr std::uint64_t kMaxRealizationsPerBand = std::uint64_t{1} << 16;
 
@@ -38,10 +38,11 @@ EstimatorConfig estimator_config(const SubBand& band, int points_per_decade);
 
 /// One batch of realizations, as the stepper and estimator leave it.
 struct BatchRecord {
-  SpectrumAccumulator spectrum;               // its lanes merged in lane order
-  std::vector<std::vector<double>> own_mean;  // per realization: its mean periodogram per output point
-  std::vector<double> control;                // per realization: forcing_control
-  std::vector<double> speed;                  // per realization: its mean sliding speed [m/s]
+  SpectrumAccumulator spectrum;                  // its lanes merged in lane order
+  std::vector<std::vector<double>> own_mean;     // per realization: its mean periodogram per output point
+  std::vector<double> control;                   // per realization: forcing_control
+  std::vector<double> speed;                     // per realization: its mean sliding speed [m/s]
+  std::vector<std::vector<double>> shadow_mean;  // per realization: its shadow's own_mean (empty without)
 };
 
 /// What one sub-band has accumulated: its batches in realization order, from its first.

@@ -18,7 +18,7 @@ constexpr char kStateMagic[8] = {'S', 'L', 'S', 'P', 'R', 'U', 'N', 'S'};
 // version 1 holds realizations of the time-stepped process and cannot be continued.
 // 3: a checksummed envelope (below) and the numerics version in the fingerprint.
 // 4: whether the run is a part of a larger one (kept for merge when finished).
-constexpr std::uint32_t kStateVersion = 4;
+constexpr std::uint32_t kStateVersion = 5;
 // A batch record's fixed fields: the accumulator's length, the realization and point counts.
 constexpr std::uint64_t kSmallestBatchBytes = 24;
 // The envelope: magic, version, body length, a checksum of those 20 bytes (so the length
@@ -90,6 +90,7 @@ std::vector<std::pair<std::string, std::string>> fingerprint(const Parameters& p
   fields.emplace_back("first_realization", std::to_string(r.first_realization));
   fields.emplace_back("part", r.part ? "1" : "0");
   fields.emplace_back("seed", std::to_string(r.seed));
+  fields.emplace_back("control_variate", r.control_variate ? "shadow" : "off");
   fields.emplace_back("numerics", std::to_string(kNumericsVersion));
   fields.emplace_back("version", SLIDESPEC_VERSION);
   return fields;
@@ -144,6 +145,9 @@ void put_batch(std::string& bytes, const BatchRecord& batch) {
     for (double x : mean) util::put<double>(bytes, x);
   for (double x : batch.control) util::put<double>(bytes, x);
   for (double x : batch.speed) util::put<double>(bytes, x);
+  util::put<std::uint8_t>(bytes, batch.shadow_mean.empty() ? 0 : 1);
+  for (const auto& mean : batch.shadow_mean)
+    for (double x : mean) util::put<double>(bytes, x);
 }
 
 BatchRecord get_batch(util::Reader& in) {
@@ -160,6 +164,12 @@ BatchRecord get_batch(util::Reader& in) {
   for (double& x : batch.control) x = in.get<double>();
   batch.speed.resize(count);
   for (double& x : batch.speed) x = in.get<double>();
+  if (in.get<std::uint8_t>() != 0) {
+    if (count * points * sizeof(double) > in.remaining()) throw InputError("run state: corrupt batch record");
+    batch.shadow_mean.assign(count, std::vector<double>(points));
+    for (auto& mean : batch.shadow_mean)
+      for (double& x : mean) x = in.get<double>();
+  }
   return batch;
 }
 
@@ -235,9 +245,10 @@ RunSession RunSession::load_checked(const std::string& file) {
   request.first_realization = std::stoull(field("first_realization"));
   request.part = field("part") == "1";
   request.seed = std::stoull(field("seed"));
+  request.control_variate = field("control_variate") == "shadow";
   request.threads = in.get<std::int32_t>();
   request.simd = static_cast<SimdPath>(in.get<std::int32_t>());
-  const std::vector<std::pair<std::string, std::string>> described(fields.begin(), fields.end() - 11);
+  const std::vector<std::pair<std::string, std::string>> described(fields.begin(), fields.end() - 12);
   const Parameters params = rebuild_parameters(described);
   auto impl = std::make_unique<Impl>(params, request, in.get_bytes());
   if (fingerprint(params, request) != fields) throw InputError("run state: its request does not rebuild exactly");

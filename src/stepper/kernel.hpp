@@ -25,6 +25,7 @@ struct KernelArgs {
   double steady_origin;      // v t at step 0 [m]: where a warm-up left the load
   double advance_per_step;   // v dt [m]: the steady sliding over one step
   double runaway_increment;  // [m]: a step's xi increment beyond this has run away
+  double crossing_weight;    // 1: the block's x = v t + xi crosses the marks; 0: v t does (the shadow)
   std::int64_t first_step;   // steps already taken, so x = steady_origin + v dt (first_step + s) + xi
   std::int64_t steps;
   int lane0;

@@ -34,6 +34,16 @@ double fastest_advance(const Parameters& p) {
 }
 }  // namespace
 
+/// One path through the marks: the block's own (crossing_weight 1), or its linear shadow,
+/// which renews each force when the nominal place v t passes the mark (weight 0) but
+/// otherwise draws the same renewals and follows the same dynamics.
+struct PathState {
+  PathState(stepper::RenewalState r, double weight) : renewal(std::move(r)), crossing_weight(weight) {}
+  stepper::RenewalState renewal;
+  double crossing_weight;
+  std::vector<double> z, xi, offset_sum, increments, compact;
+};
+
 struct Stepper::Impl {
   Impl(const Parameters& p, const StepperConfig& c, std::uint64_t first_realization, int n)
       : params(p),
@@ -45,63 +55,80 @@ struct Stepper::Impl {
         padded((n + width - 1) / width * width),
         lumped(model::lumped_tree_structure(p)),
         step(stepper::exact_step(lumped, c.dt, {p.drive == Drive::spring, p.renewal_rate()})),
-        kernel(compiled_kernel(path, step, p)),
-        renewal(model::tree_structure(p).contacts, lumped.class_of_contact, p.renewal, c.seed, c.stream,
-                first_realization, padded) {
+        kernel(compiled_kernel(path, step, p)) {
     if (!(c.dt > 0) || !std::isfinite(c.dt)) throw InputError("time step dt must be > 0");
     if (n < 1) throw InputError("a batch needs at least one realization");
-    z.assign(static_cast<size_t>(step.dimension) * padded, 0.0);
-    xi.assign(padded, 0.0);
-    offset_sum.assign(padded, 0.0);
-    // Start in equilibrium with the initial forces (docs/model.md §1: steady sliding),
-    // computed in plain scalar code so that every path starts from the same bits.
+    // A chunk of increments of about 256 KiB: big enough to amortize the kernel call,
+    // small enough to stay in L2 while the sink reads it.
+    chunk_steps = std::max<std::int64_t>(64, 32768 / padded);
+    paths.push_back(start_path(1.0));
+    if (c.shadow) paths.push_back(start_path(0.0));
+    if (c.warm_up > 0) warm_up();
+  }
+
+  /// A path at the start: fresh forces, marks ahead, and z in equilibrium with the forces
+  /// (docs/model.md §1: steady sliding), computed in plain scalar code so that every SIMD
+  /// path starts from the same bits.
+  PathState start_path(double crossing_weight) const {
+    PathState s(stepper::RenewalState(model::tree_structure(params).contacts, lumped.class_of_contact, params.renewal,
+                                      config.seed, config.stream, first, padded),
+                crossing_weight);
+    s.z.assign(static_cast<size_t>(step.dimension) * padded, 0.0);
+    s.xi.assign(padded, 0.0);
+    s.offset_sum.assign(padded, 0.0);
     for (int lane = 0; lane < padded; ++lane)
       for (int r = 0; r < step.dimension; ++r) {
         double value = 0.0;
         for (int k = 0; k < step.inputs; ++k)
-          value += step.initial_response[r * step.inputs + k] * renewal.input_force(k, lane);
-        z[static_cast<size_t>(r) * padded + lane] = value;
+          value += step.initial_response[r * step.inputs + k] * s.renewal.input_force(k, lane);
+        s.z[static_cast<size_t>(r) * padded + lane] = value;
       }
-    // A chunk of increments of about 256 KiB: big enough to amortize the kernel call,
-    // small enough to stay in L2 while the sink reads it.
-    chunk_steps = std::max<std::int64_t>(64, 32768 / padded);
-    increments.assign(static_cast<size_t>(chunk_steps) * padded, 0.0);
-    if (padded != count) compact.assign(static_cast<size_t>(chunk_steps) * count, 0.0);
-    if (c.warm_up > 0) warm_up();
+    s.increments.assign(static_cast<size_t>(chunk_steps) * padded, 0.0);
+    if (padded != count) s.compact.assign(static_cast<size_t>(chunk_steps) * count, 0.0);
+    return s;
   }
 
-  /// Runs the kernel of `exact` for `total` steps after `done` of them, from the load's
-  /// position `origin`, handing each chunk's increments to `chunk_done`.
-  template <class ChunkDone>
-  void run_kernel(const stepper::ExactStep& exact, double origin, std::int64_t done, std::int64_t total,
-                  const ChunkDone& chunk_done) {
+  /// Runs the kernel of `exact` on `s` for `steps` (at most a chunk) after `done` of them,
+  /// from the load's position `origin`.
+  void run_kernel(PathState& s, const stepper::ExactStep& exact, double origin, std::int64_t done, std::int64_t steps) {
     stepper::KernelArgs args{};
     args.step = &exact;
     args.steady_origin = origin;
     args.advance_per_step = params.v * exact.dt;
     args.runaway_increment = stepper::kRunawayAdvances * fastest_advance(params) * args.advance_per_step;
+    args.crossing_weight = s.crossing_weight;
     args.stride = padded;
-    args.z = z.data();
-    args.xi = xi.data();
-    args.offset_sum = offset_sum.data();
-    args.renewal = &renewal.lanes_view();
-    args.increments = increments.data();
-    while (total > 0) {
-      const std::int64_t chunk = std::min(total, chunk_steps);
-      args.first_step = done;
-      args.steps = chunk;
-      args.lane0 = 0;
-      args.lanes = padded;
-      kernel(args);
+    args.z = s.z.data();
+    args.xi = s.xi.data();
+    args.offset_sum = s.offset_sum.data();
+    args.renewal = &s.renewal.lanes_view();
+    args.increments = s.increments.data();
+    args.first_step = done;
+    args.steps = steps;
+    args.lane0 = 0;
+    args.lanes = padded;
+    kernel(args);
+  }
+
+  /// Every path's chunks of `steps` steps of `exact` after `done`, in turn, so that each
+  /// path's increments of a chunk are ready together.
+  template <class ChunkDone>
+  void run_paths(const stepper::ExactStep& exact, double origin, std::int64_t done, std::int64_t steps,
+                 const ChunkDone& chunk_done) {
+    while (steps > 0) {
+      const std::int64_t chunk = std::min(steps, chunk_steps);
+      for (PathState& s : paths) run_kernel(s, exact, origin, done, chunk);
       chunk_done(chunk);
       done += chunk;
-      total -= chunk;
+      steps -= chunk;
     }
   }
 
   /// The warm-up at its own step; then the realization starts where it left the block, and
-  /// its summaries count from there. A lane that ran away in the warm-up (its xi NaN)
-  /// gets a NaN state, so that every increment it hands on says so.
+  /// its summaries count from there. A lane that ran away in the warm-up (its xi NaN) gets
+  /// a NaN state, so that every increment it hands on says so. The shadow warms up beside
+  /// the block from the same start, which is its own stationary law (fresh forces, marks
+  /// ahead of v t), so it stays exactly the stationary linear process.
   void warm_up() {
     const double warm_dt = config.warm_up_dt > 0 ? config.warm_up_dt : config.dt;
     const stepper::ExactStep coarse =
@@ -109,16 +136,26 @@ struct Stepper::Impl {
             ? step
             : stepper::exact_step(lumped, warm_dt, {params.drive == Drive::spring, params.renewal_rate()});
     const auto warm_steps = static_cast<std::int64_t>(std::ceil(config.warm_up / warm_dt));
-    run_kernel(coarse, 0.0, 0, warm_steps, [](std::int64_t) {});
+    run_paths(coarse, 0.0, 0, warm_steps, [](std::int64_t) {});
     // The kernel's own expression for v t at the warm-up's end, so the load continues there.
     steady_origin = params.v * warm_dt * static_cast<double>(warm_steps);
-    for (int lane = 0; lane < padded; ++lane) {
-      if (!std::isfinite(xi[lane]))
-        for (int r = 0; r < step.dimension; ++r) z[static_cast<size_t>(r) * padded + lane] = NAN;
-      xi_at_start.push_back(xi[lane]);
+    for (PathState& s : paths) {
+      for (int lane = 0; lane < padded; ++lane)
+        if (!std::isfinite(s.xi[lane]))
+          for (int r = 0; r < step.dimension; ++r) s.z[static_cast<size_t>(r) * padded + lane] = NAN;
+      std::fill(s.offset_sum.begin(), s.offset_sum.end(), 0.0);
+      s.renewal.reset_counters();
     }
-    std::fill(offset_sum.begin(), offset_sum.end(), 0.0);
-    renewal.reset_counters();
+    xi_at_start = paths.front().xi;
+  }
+
+  /// Hands a path's chunk to its sink, without the padding lanes.
+  void hand_on(PathState& s, std::int64_t chunk, const IncrementSink& sink) const {
+    if (!sink) return;
+    if (padded == count) return sink(s.increments.data(), static_cast<std::size_t>(chunk));
+    for (std::int64_t t = 0; t < chunk; ++t)
+      std::copy_n(s.increments.data() + t * padded, count, s.compact.data() + t * count);
+    sink(s.compact.data(), static_cast<std::size_t>(chunk));
   }
 
   Parameters params;
@@ -130,11 +167,10 @@ struct Stepper::Impl {
   model::LumpedStructure lumped;
   stepper::ExactStep step;
   stepper::GroupKernel kernel;
-  stepper::RenewalState renewal;
-  std::vector<double> z, xi, offset_sum, increments, compact;
+  std::int64_t chunk_steps = 0;
+  std::vector<PathState> paths;     // the block's, then its shadow's if asked for
   std::vector<double> xi_at_start;  // [lane], after a warm-up
   double steady_origin = 0;         // v t where the warm-up ended [m]
-  std::int64_t chunk_steps = 0;
   std::int64_t steps_done = 0;
 };
 
@@ -148,33 +184,28 @@ int Stepper::count() const { return impl_->count; }
 SimdPath Stepper::simd_path() const { return impl_->path; }
 std::int64_t Stepper::steps_done() const { return impl_->steps_done; }
 
-void Stepper::advance(std::int64_t steps, const IncrementSink& sink) {
+void Stepper::advance(std::int64_t steps, const IncrementSink& sink, const IncrementSink& shadow_sink) {
   Impl& s = *impl_;
-  s.run_kernel(s.step, s.steady_origin, s.steps_done, steps, [&](std::int64_t chunk) {
-    if (sink) {
-      if (s.padded == s.count) {
-        sink(s.increments.data(), static_cast<std::size_t>(chunk));
-      } else {
-        for (std::int64_t t = 0; t < chunk; ++t)
-          std::copy_n(s.increments.data() + t * s.padded, s.count, s.compact.data() + t * s.count);
-        sink(s.compact.data(), static_cast<std::size_t>(chunk));
-      }
-    }
+  s.run_paths(s.step, s.steady_origin, s.steps_done, steps, [&](std::int64_t chunk) {
+    s.hand_on(s.paths.front(), chunk, sink);
+    if (s.paths.size() > 1) s.hand_on(s.paths.back(), chunk, shadow_sink);
     s.steps_done += chunk;
   });
 }
 
 std::vector<RealizationSummary> Stepper::summaries() const {
   const Impl& s = *impl_;
+  const PathState& block = s.paths.front();
   std::vector<RealizationSummary> out(s.count);
   for (int k = 0; k < s.count; ++k) {
     out[k].realization = s.first + static_cast<std::uint64_t>(k);
     out[k].duration = static_cast<double>(s.steps_done) * s.config.dt;
-    out[k].xi_end = s.xi_at_start.empty() ? s.xi[k] : s.xi[k] - s.xi_at_start[k];
-    out[k].mean_offset = s.steps_done > 0 ? s.offset_sum[k] / static_cast<double>(s.steps_done) : 0.0;
-    out[k].renewals = s.renewal.renewals(k);
-    out[k].jump_energy = s.renewal.jump_energy(k);
-    out[k].renewal_passes = s.renewal.passes(k);
+    out[k].xi_end = s.xi_at_start.empty() ? block.xi[k] : block.xi[k] - s.xi_at_start[k];
+    out[k].mean_offset = s.steps_done > 0 ? block.offset_sum[k] / static_cast<double>(s.steps_done) : 0.0;
+    out[k].renewals = block.renewal.renewals(k);
+    out[k].jump_energy = block.renewal.jump_energy(k);
+    out[k].renewal_passes = block.renewal.passes(k);
+    if (s.paths.size() > 1) out[k].shadow_renewals = s.paths.back().renewal.renewals(k);
   }
   return out;
 }
@@ -185,7 +216,7 @@ int resolve_threads(int threads) {
 
 void run_batches(const Parameters& params, const StepperConfig& config, std::uint64_t first, std::uint64_t realizations,
                  std::int64_t steps, int threads, int batch_size,
-                 const std::function<IncrementSink(std::uint64_t first, int count)>& make_sink,
+                 const std::function<BatchSinks(std::uint64_t first, int count)>& make_sink,
                  const std::function<void(std::size_t, std::vector<RealizationSummary>)>& done) {
   if (batch_size < 1) throw InputError("batch size must be at least 1");
   const std::size_t batches = (realizations + batch_size - 1) / batch_size;
@@ -200,12 +231,12 @@ void run_batches(const Parameters& params, const StepperConfig& config, std::uin
         const std::uint64_t batch_first = first + b * batch_size;
         const int count = static_cast<int>(std::min<std::uint64_t>(batch_size, first + realizations - batch_first));
         Stepper stepper(params, config, batch_first, count);
-        IncrementSink sink;
+        BatchSinks sinks;
         {
           std::lock_guard<std::mutex> lock(callbacks);
-          if (make_sink) sink = make_sink(batch_first, count);
+          if (make_sink) sinks = make_sink(batch_first, count);
         }
-        stepper.advance(steps, sink);
+        stepper.advance(steps, sinks.block, sinks.shadow);
         std::lock_guard<std::mutex> lock(callbacks);
         if (done) done(b, stepper.summaries());
       }
