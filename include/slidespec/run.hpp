@@ -91,6 +91,9 @@ struct RunPoint {
   /// The estimate's variance over the plain mean's from the same realizations: the factor
   /// on the realizations the point needs.
   double variance_ratio = 1;
+  /// The best theory that holds at this point (best_theory_at; RunResult::theory_kind is
+  /// the band's): `theory2` where second_order or quasi_static, `theory` where first_order.
+  TheoryKind theory_kind = TheoryKind::none;
 };
 
 struct RunResult {

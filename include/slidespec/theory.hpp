@@ -215,6 +215,16 @@ struct TheoryChoice {
 };
 TheoryChoice best_theory(const Parameters& p);
 
+/// Above this many renewal rates v/a (the resonance and the top sub-runs) the theories were
+/// measured apart (tools/validity_map_high.tsv: 2% a point to 1e5 rad/s, N = 3, 6, 30): there
+/// the second order holds for periodic renewal to this eps, beyond its limit over the band.
+inline constexpr double kHighRenewalRates = 200;
+inline constexpr double kSecondOrderPeriodicHighEpsMax = 0.2;
+/// The best theory at one frequency [rad/s]: best_theory(p), and above kHighRenewalRates
+/// v/a the second order where the high map supports it (periodic renewal, one touching
+/// level, a constant force, eps up to kSecondOrderPeriodicHighEpsMax).
+TheoryChoice best_theory_at(const Parameters& p, double omega);
+
 /// "second_order", "quasi_static", "first_order" or "none", as outputs name it (theory_kind).
 const char* theory_kind_name(TheoryKind kind);
 

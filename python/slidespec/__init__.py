@@ -316,7 +316,10 @@ class _Table:
     def __init__(self, data, state=None):
         self._data = data
         self._state = state
-        self._columns = _columns(data.get("points", []))
+        # A per-point column named as a field of the whole result (theory_kind: the band's
+        # word, and each point's) is the attribute point_NAME; the field keeps its name.
+        self._columns = {("point_" + name if name in data and name != "points" else name): values
+                         for name, values in _columns(data.get("points", [])).items()}
 
     def to_dict(self):
         """The result as the command line's PREFIX.json holds it: a JSON-serialisable dict."""
@@ -324,7 +327,8 @@ class _Table:
 
     @property
     def columns(self):
-        """Names of the per-point columns (each an attribute holding a numpy array)."""
+        """Names of the per-point columns (each an attribute holding a numpy array; one named
+        as a field of the result, as theory_kind, is point_theory_kind)."""
         return list(self._columns)
 
     def __getattr__(self, name):
@@ -617,6 +621,8 @@ _RUN_TABLE_ONLY = ("realizations", "mean_speed")
 _RUN_DERIVED_COLUMNS = ("C_v", "C_F", "C_eq1")
 # A run's per-point estimator: the TSV's code, the JSON's word.
 _ESTIMATORS = {0.0: "plain", 1.0: "forcing", 2.0: "shadow"}
+# A run's per-point theory kind: the TSV's code, the JSON's word.
+_THEORY_KINDS = {0.0: "none", 1.0: "first_order", 2.0: "second_order", 3.0: "quasi_static"}
 
 
 def _number(text):
@@ -706,6 +712,7 @@ def _read_table(text, path):
         for key in _RUN_TABLE_ONLY:
             data.pop(key, None)
         rows = [{name: (_ESTIMATORS.get(value, value) if name == "estimator" else
+                        _THEORY_KINDS.get(value, value) if name == "theory_kind" else
                         value if _math.isfinite(value) else None)
                  for name, value in row.items() if name not in _RUN_DERIVED_COLUMNS} for row in rows]
     data["points"] = rows

@@ -297,13 +297,13 @@ def test_ctrl_c_raises_promptly_with_the_partial_result(tmp_path):
 
 
 def test_an_interrupted_run_resumes_to_the_unbroken_numbers(tmp_path):
-    # At 2% (~2 s on two cores) the interrupt lands well before the end.
-    partial, _ = interrupted_child(0.02, True, tmp_path / "resumed.pickle")
+    # At 0.5% (~1.5 s on two cores) the interrupt lands well before the end.
+    partial, _ = interrupted_child(0.005, True, tmp_path / "resumed.pickle")
     assert not partial.complete
     with open(tmp_path / "resumed.pickle", "rb") as f:
         resumed = pickle.load(f)
     out = tmp_path / "whole"
-    cli("run", "--case", "reference", "--precision", "0.02", "--seed", "7", "--out", str(out), "--no-plot",
+    cli("run", "--case", "reference", "--precision", "0.005", "--seed", "7", "--out", str(out), "--no-plot",
         "--quiet")
     whole = ss.read(f"{out}.json")
     assert resumed.complete and len(resumed) == len(whole) == 49

@@ -292,6 +292,32 @@ constexpr double kPeakNoteOmega = 1e4;
 const char* const kPeakNote =
     "No peak near 4e4 rad/s: the model's equations overdamp the miniblocks (docs/model.md §4)";
 
+/// A run's table says per point which theory holds (its theory_kind column: 2 second order,
+/// 3 quasi-static, both its theory2; 1 the first order; 0 none). The residuals are taken
+/// against that theory and left out where none holds; the line follows it, scaled from the
+/// first order by theory2/theory at the nearest point, and breaks where none holds.
+bool show_only_where_a_theory_holds(const Table& table, figure::Spectrum& spectrum) {
+  const std::vector<double>& kind = table.column("theory_kind");
+  const std::vector<double>& theory2 = table.column("theory2");
+  if (kind.size() != spectrum.omega.size() || theory2.size() != spectrum.omega.size()) return false;
+  std::vector<double> scale(kind.size(), NAN);
+  for (std::size_t i = 0; i < kind.size(); ++i) {
+    const bool beyond_first = kind[i] == 2 || kind[i] == 3;
+    if (beyond_first && std::isfinite(theory2[i]) && spectrum.theory[i] > 0) scale[i] = theory2[i] / spectrum.theory[i];
+    if (kind[i] == 1) scale[i] = 1;
+    spectrum.theory[i] *= scale[i];
+  }
+  for (std::size_t j = 0; j < spectrum.line_omega.size(); ++j) {
+    std::size_t nearest = 0;
+    for (std::size_t i = 1; i < spectrum.omega.size(); ++i)
+      if (std::fabs(std::log(spectrum.line_omega[j] / spectrum.omega[i])) <
+          std::fabs(std::log(spectrum.line_omega[j] / spectrum.omega[nearest])))
+        nearest = i;
+    spectrum.line_C_x[j] *= scale[nearest];
+  }
+  return std::any_of(kind.begin(), kind.end(), [](double k) { return k != 1; });
+}
+
 }  // namespace
 
 RunFigure run_figure(const std::string& path, const FigureStyle& style) {
@@ -307,6 +333,7 @@ RunFigure run_figure(const std::string& path, const FigureStyle& style) {
     spectrum.line_omega = spectrum.omega;
     spectrum.line_C_x = spectrum.theory;
   }
+  const bool beyond_first_order = show_only_where_a_theory_holds(table, spectrum);
   // Under a spring the block resonates at omega_resonance, stiffened by k_drive, and the
   // paper's Eq. (1), the constant force's asymptote, lies above its spectrum.
   const std::optional<double> spring_resonance = table.number("omega_resonance");
@@ -324,6 +351,7 @@ RunFigure run_figure(const std::string& path, const FigureStyle& style) {
       }
 
   figure::SpectrumFigure drawing;
+  if (beyond_first_order) drawing.line_label = "the theory that holds (docs/model.md §7.4)";
   drawing.residuals = !spectrum.theory.empty() && !spectrum.standard_error.empty();
   const double highest = *std::max_element(spectrum.omega.begin(), spectrum.omega.end());
   if (highest > kPeakNoteOmega) drawing.footnote = kPeakNote;

@@ -177,7 +177,7 @@ std::vector<LegendEntry> legend_entries(const SpectrumFigure& figure) {
     any_line |= !s.line_omega.empty();
   }
   entries.push_back({"simulation, ±1 stderr", true, false, false, kHandleGrey});
-  if (any_line) entries.push_back({"exact first-order theory", false, true, false, kHandleGrey});
+  if (any_line) entries.push_back({figure.line_label, false, true, false, kHandleGrey});
   if (any_eq1) entries.push_back({"Eq. (1)", false, true, true, kBlack});
   return entries;
 }

@@ -49,7 +49,8 @@ struct SpectrumFigure {
   std::vector<Spectrum> spectra;
   bool residuals = true;  ///< C_x/theory - 1 in a panel under the spectrum
   std::string y_label = "*C*_{*x*} (m² s)";
-  std::string footnote;  ///< a line of text under the axes; empty for none
+  std::string line_label = "exact first-order theory";  ///< the theory lines' legend entry
+  std::string footnote;                                 ///< a line of text under the axes; empty for none
 };
 
 /// Where the drawing went, in points from the page's top left: the panels and their scales.

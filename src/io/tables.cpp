@@ -107,8 +107,22 @@ std::string metadata_lines(const Parameters& p, const std::string& case_name) {
   return out.str();
 }
 
-/// The TSV's numeric code for a point's estimator, so that its columns stay numbers.
+/// The TSV's numeric codes for a point's estimator and theory kind, so that its columns
+/// stay numbers.
 int estimator_code(const std::string& estimator) { return estimator == "shadow" ? 2 : estimator == "forcing" ? 1 : 0; }
+int theory_kind_code(TheoryKind kind) {
+  switch (kind) {
+    case TheoryKind::first_order:
+      return 1;
+    case TheoryKind::second_order:
+      return 2;
+    case TheoryKind::quasi_static:
+      return 3;
+    case TheoryKind::none:
+      break;
+  }
+  return 0;
+}
 
 std::string run_table(const Parameters& p, const std::string& case_name, const RunRequest& request,
                       const RunResult& result) {
@@ -146,7 +160,8 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
          " docs/model.md §7), its mean over the same bins,"
          " nan where it does not apply; variance_ratio the estimate's variance over the plain mean's of the same"
          " realizations; estimator 2 shadow (regression on the linear shadow and the forcing), 1 forcing (on"
-         " the forcing alone), 0 plain (PREFIX.json names them)\n";
+         " the forcing alone), 0 plain (PREFIX.json names them); theory_kind the best theory that holds at"
+         " the point, 2 second_order or 3 quasi_static (theory2), 1 first_order (theory), 0 none\n";
   if (!result.theory2_note.empty()) out << "# theory2_note = " << result.theory2_note << "\n";
   const bool spring = p.drive == Drive::spring;
   if (spring)
@@ -154,7 +169,7 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
            " force sensor records; C_F above is the block's inertial force); C_F_spring_stderr [N^2 s];"
            " C_F_spring_theory [N^2 s] k_drive^2 theory\n";
   out << "# omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\ttheory2\tvariance_ratio"
-         "\testimator"
+         "\testimator\ttheory_kind"
       << (spring ? "\tC_F_spring\tC_F_spring_stderr\tC_F_spring_theory" : "") << "\n";
   for (const RunPoint& point : result.points) {
     out << format_number(point.omega) << "\t" << format_number(point.C_x) << "\t" << format_number(point.standard_error)
@@ -162,7 +177,8 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
         << format_number(point.bandwidth) << "\t" << format_number(velocity_spectrum(point.omega, point.C_x)) << "\t"
         << format_number(force_spectrum(point.omega, point.C_x, p.M)) << "\t" << format_number(point.theory_at_omega)
         << "\t" << format_number(eq1_asymptote(p, point.omega)) << "\t" << format_number(point.theory2) << "\t"
-        << format_number(point.variance_ratio) << "\t" << estimator_code(point.estimator);
+        << format_number(point.variance_ratio) << "\t" << estimator_code(point.estimator) << "\t"
+        << theory_kind_code(point.theory_kind);
     if (spring)
       out << "\t" << format_number(spring_force_spectrum(p, point.C_x)) << "\t"
           << format_number(spring_force_spectrum(p, point.standard_error)) << "\t"
@@ -238,6 +254,7 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
         std::isfinite(point.theory2) ? nlohmann::ordered_json(point.theory2) : nlohmann::ordered_json(nullptr);
     row["variance_ratio"] = point.variance_ratio;
     row["estimator"] = point.estimator;
+    row["theory_kind"] = theory_kind_name(point.theory_kind);
     if (spring) {
       row["C_F_spring"] = spring_force_spectrum(p, point.C_x);
       row["C_F_spring_stderr"] = spring_force_spectrum(p, point.standard_error);

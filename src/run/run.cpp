@@ -627,8 +627,8 @@ std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& reque
     // still lets 64 of them undershoot the target), up to kMostLengthening times two segments.
     if (request.duration == 0 && request.realizations == 0 && !band.shadow &&
         request.precision < kPlainFirstRoundPrecision) {
-      const double wanted = 0.25 * (kPlainFirstRoundPrecision / request.precision) *
-                            (kPlainFirstRoundPrecision / request.precision);
+      const double wanted =
+          0.25 * (kPlainFirstRoundPrecision / request.precision) * (kPlainFirstRoundPrecision / request.precision);
       const double longest = kMostLengthening * kSegmentsPerRealization * segment;
       band.duration = std::max(band.duration, std::min(wanted * kSegmentsPerRealization * segment, longest));
     }
@@ -909,6 +909,7 @@ RunResult RunSession::result() const {
           {e.omega, e.C, e.standard_error, expected[k].C, theory(e.omega), e.n_avg, e.bandwidth, bins});
       if (second) result.points.back().theory2 = expected2[k].C;
       result.points.back().estimator = band_estimate.estimator[k];
+      result.points.back().theory_kind = best_theory_at(s.params, e.omega).kind;
       result.points.back().variance_ratio = band_estimate.variance_ratio[k];
     }
     result.simulated_time += static_cast<double>(totals.realizations) * band.duration;

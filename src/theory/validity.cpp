@@ -128,4 +128,19 @@ TheoryChoice best_theory(const Parameters& p) {
                                 eps_text(first_limit) + " (docs/model.md §7.4)"};
 }
 
+TheoryChoice best_theory_at(const Parameters& p, double omega) {
+  TheoryChoice band = best_theory(p);
+  if (band.kind == TheoryKind::second_order || band.kind == TheoryKind::quasi_static) return band;
+  const Landmarks l = landmarks(p);
+  if (omega < kHighRenewalRates * l.renewal_rate || p.renewal != Renewal::periodic || p.drive != Drive::force ||
+      l.forces_can_stall || !inside(l.coupling_eps, kSecondOrderPeriodicHighEpsMax))
+    return band;
+  try {
+    SecondOrderTheory{p};
+  } catch (const InputError&) {
+    return band;
+  }
+  return {TheoryKind::second_order, ""};
+}
+
 }  // namespace slidespec

@@ -40,8 +40,8 @@ struct Pooled {
 
 using Key = std::tuple<std::string, int, double, double>;  // renewal, N, eps, k_drive (0: a constant force)
 
-std::map<Key, Pooled> read_map() {
-  std::ifstream in(std::string(SLIDESPEC_SOURCE_DIR) + "/tools/validity_map.tsv");
+std::map<Key, Pooled> read_map(const std::string& file = "validity_map.tsv", const std::string& range = "all") {
+  std::ifstream in(std::string(SLIDESPEC_SOURCE_DIR) + "/tools/" + file);
   std::string line;
   std::getline(in, line);
   std::map<Key, Pooled> map;
@@ -49,7 +49,7 @@ std::map<Key, Pooled> read_map() {
     std::istringstream fields(line);
     std::vector<std::string> f;
     for (std::string x; std::getline(fields, x, '\t');) f.push_back(x);
-    if (f.size() < 22 || f[5] != "all") continue;
+    if (f.size() < 22 || f[5] != range) continue;
     Pooled& p = map[{f[0], std::stoi(f[2]), std::stod(f[3]), std::stod(f[21])}];
     const int points = std::stoi(f[6]);
     p.points += points;
@@ -126,6 +126,49 @@ TEST(TheoryValidity, QuasiStaticLimitsAreTheMeasuredOnes) {
   }
   for (const auto& [limit, fails] : fails_next)
     EXPECT_TRUE(fails) << "the quasi-static spectrum holds beyond " << limit << " of the stall for every N with it";
+}
+
+// Point by point above 200 v/a (the map to 1e5 rad/s, tools/validity_map_high.tsv): at every
+// grid point of the map the theory best_theory_at names there meets the simulation (>= 85%
+// within 2 standard errors, none beyond 4), and the periodic second order's limit there is a
+// grid eps beyond which it fails (or is not computed) for some N.
+TEST(TheoryValidity, PointClaimsAboveTheResonanceAreTheMeasuredOnes) {
+  const std::map<Key, Pooled> map = read_map("validity_map_high.tsv", "high");
+  ASSERT_GT(map.size(), 40u) << "tools/validity_map_high.tsv is missing or short";
+  const double high = 1e3 * kHighRenewalRates * 0.5;  // the map's v/a is 0.5 rad/s
+  int claimed = 0, periodic_second = 0;
+  double next = INFINITY;
+  for (const auto& [key, pooled] : map) {
+    const auto& [renewal, N, eps, k_drive] = key;
+    if (k_drive != 0) continue;
+    const Parameters p = flat(N, eps, renewal == "periodic" ? Renewal::periodic : Renewal::poisson);
+    const TheoryKind kind = best_theory_at(p, high).kind;
+    const int order = kind == TheoryKind::first_order    ? 0
+                      : kind == TheoryKind::second_order ? 1
+                      : kind == TheoryKind::quasi_static ? 2
+                                                         : -1;
+    if (order >= 0) {
+      ++claimed;
+      EXPECT_TRUE(pooled.holds(order)) << renewal << " N = " << N << " eps = " << eps << ": " << theory_kind_name(kind)
+                                       << " claimed above 200 v/a";
+    }
+    if (renewal == "periodic" && eps <= kSecondOrderPeriodicHighEpsMax + 1e-9) {
+      periodic_second += kind == TheoryKind::second_order;
+      EXPECT_EQ(kind, TheoryKind::second_order) << N << " " << eps;
+    }
+    if (renewal == "periodic" && eps > kSecondOrderPeriodicHighEpsMax + 1e-9) next = std::fmin(next, eps);
+  }
+  EXPECT_GT(claimed, 30);
+  EXPECT_GT(periodic_second, 10);
+  bool fails_next = false;
+  for (const auto& [key, pooled] : map)
+    if (std::get<0>(key) == "periodic" && std::get<2>(key) == next && std::get<3>(key) == 0)
+      fails_next |= !pooled.holds(1);
+  EXPECT_TRUE(fails_next) << "the periodic second order holds above 200 v/a for every N at eps " << next;
+  // Below 200 v/a the band's claim stands.
+  const Parameters periodic = flat(6, 0.15, Renewal::periodic);
+  EXPECT_EQ(best_theory_at(periodic, 10 * 0.5).kind, best_theory(periodic).kind);
+  EXPECT_EQ(best_theory(periodic).kind, TheoryKind::none);
 }
 
 TEST(TheoryValidity, TheSecondOrderInsideItsLimitsNothingOutside) {
