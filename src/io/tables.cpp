@@ -161,7 +161,9 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
          " nan where it does not apply; variance_ratio the estimate's variance over the plain mean's of the same"
          " realizations; estimator 2 shadow (regression on the linear shadow and the forcing), 1 forcing (on"
          " the forcing alone), 0 plain (PREFIX.json names them); theory_kind the best theory that holds at"
-         " the point, 2 second_order or 3 quasi_static (theory2), 1 first_order (theory), 0 none\n";
+         " the point, 2 second_order or 3 quasi_static (theory2), 1 first_order (theory), 0 none;"
+         " correction = C_x/theory - 1, the measured departure from the first order, and correction_stderr"
+         " = stderr/theory its standard error\n";
   if (!result.theory2_note.empty()) out << "# theory2_note = " << result.theory2_note << "\n";
   const bool spring = p.drive == Drive::spring;
   if (spring)
@@ -169,7 +171,7 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
            " force sensor records; C_F above is the block's inertial force); C_F_spring_stderr [N^2 s];"
            " C_F_spring_theory [N^2 s] k_drive^2 theory\n";
   out << "# omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\ttheory2\tvariance_ratio"
-         "\testimator\ttheory_kind"
+         "\testimator\ttheory_kind\tcorrection\tcorrection_stderr"
       << (spring ? "\tC_F_spring\tC_F_spring_stderr\tC_F_spring_theory" : "") << "\n";
   for (const RunPoint& point : result.points) {
     out << format_number(point.omega) << "\t" << format_number(point.C_x) << "\t" << format_number(point.standard_error)
@@ -178,7 +180,8 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
         << format_number(force_spectrum(point.omega, point.C_x, p.M)) << "\t" << format_number(point.theory_at_omega)
         << "\t" << format_number(eq1_asymptote(p, point.omega)) << "\t" << format_number(point.theory2) << "\t"
         << format_number(point.variance_ratio) << "\t" << estimator_code(point.estimator) << "\t"
-        << theory_kind_code(point.theory_kind);
+        << theory_kind_code(point.theory_kind) << "\t" << format_number(point.C_x / point.theory - 1) << "\t"
+        << format_number(point.standard_error / point.theory);
     if (spring)
       out << "\t" << format_number(spring_force_spectrum(p, point.C_x)) << "\t"
           << format_number(spring_force_spectrum(p, point.standard_error)) << "\t"
@@ -255,6 +258,8 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
     row["variance_ratio"] = point.variance_ratio;
     row["estimator"] = point.estimator;
     row["theory_kind"] = theory_kind_name(point.theory_kind);
+    row["correction"] = point.C_x / point.theory - 1;
+    row["correction_stderr"] = point.standard_error / point.theory;
     if (spring) {
       row["C_F_spring"] = spring_force_spectrum(p, point.C_x);
       row["C_F_spring_stderr"] = spring_force_spectrum(p, point.standard_error);
