@@ -214,3 +214,29 @@ INSTANTIATE_TEST_SUITE_P(
 #endif
 
 }  // namespace
+
+namespace {
+
+// With the shadow a run is still the same numbers whatever the threads and SIMD path.
+TEST(Shadow, ARunWithTheShadowIsTheSameOnAnyThreadsAndPath) {
+  const Parameters p = ParameterBuilder("reference").build();
+  RunRequest request;
+  request.omega_min = 0.1;
+  request.omega_max = 75;
+  request.realizations = 24;
+  request.seed = 13;
+  request.threads = 1;
+  request.simd = SimdPath::scalar;
+  const RunResult scalar = run_spectrum(p, request);
+  request.threads = 2;
+  request.simd = SimdPath::automatic;
+  const RunResult simd = run_spectrum(p, request);
+  ASSERT_EQ(scalar.points.size(), simd.points.size());
+  ASSERT_TRUE(scalar.sub_bands.front().shadow);
+  for (std::size_t k = 0; k < scalar.points.size(); ++k) {
+    EXPECT_EQ(scalar.points[k].C_x, simd.points[k].C_x) << scalar.points[k].omega;
+    EXPECT_EQ(scalar.points[k].standard_error, simd.points[k].standard_error) << scalar.points[k].omega;
+  }
+}
+
+}  // namespace

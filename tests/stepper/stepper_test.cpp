@@ -95,8 +95,9 @@ TEST(Stepper, EverySimdPathMatchesTheScalarPathBitwise) {
     }
 }
 
-// The warm-up runs the same kernel at its own step before the first: the SIMD lanes must
-// still be the scalar realizations, bit for bit, on both renewal kinds and drives.
+// The warm-up runs the same kernel at its own step before the first, and the shadow the same
+// kernel crossing at v t: the SIMD lanes of both must still be the scalar realizations' and
+// shadows', bit for bit, on both renewal kinds and drives.
 TEST(Stepper, AWarmedUpRealizationIsTheSameOnEverySimdPath) {
   for (const char* renewal : {"renewal=poisson", "renewal=periodic"})
     for (const char* drive : {"drive=force", "drive=spring"}) {
@@ -108,6 +109,7 @@ TEST(Stepper, AWarmedUpRealizationIsTheSameOnEverySimdPath) {
       config.dt = 1e-4;
       config.warm_up = 0.1;  // 5000 renewal times a/v
       config.warm_up_dt = 3e-3;
+      config.shadow = true;
       stepper_test::expect_every_path_matches_scalar(builder.build(), config, 1500,
                                                      std::string(renewal) + " " + drive + " warmed up");
     }

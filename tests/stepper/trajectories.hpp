@@ -12,7 +12,8 @@
 namespace slidespec::stepper_test {
 
 struct Trajectories {
-  std::vector<double> increments;  // [step][realization]
+  std::vector<double> increments;         // [step][realization]
+  std::vector<double> shadow_increments;  // the same for the shadow (StepperConfig::shadow)
   std::vector<RealizationSummary> summaries;
 };
 
@@ -20,9 +21,12 @@ inline Trajectories simulate(const Parameters& p, StepperConfig config, std::uin
                              std::int64_t steps) {
   Stepper stepper(p, config, first, count);
   Trajectories t;
-  stepper.advance(steps, [&](const double* data, std::size_t n) {
-    t.increments.insert(t.increments.end(), data, data + n * count);
-  });
+  stepper.advance(
+      steps,
+      [&](const double* data, std::size_t n) { t.increments.insert(t.increments.end(), data, data + n * count); },
+      [&](const double* data, std::size_t n) {
+        t.shadow_increments.insert(t.shadow_increments.end(), data, data + n * count);
+      });
   t.summaries = stepper.summaries();
   return t;
 }
@@ -45,6 +49,9 @@ inline void expect_every_path_matches_scalar(const Parameters& p, StepperConfig 
       size_t differing = 0;
       for (size_t i = 0; i < scalar.increments.size(); ++i)
         differing += !same_bits(scalar.increments[i], simd.increments[i]);
+      EXPECT_EQ(scalar.shadow_increments.size(), config.shadow ? scalar.increments.size() : 0u);
+      for (size_t i = 0; i < scalar.shadow_increments.size(); ++i)
+        differing += !same_bits(scalar.shadow_increments[i], simd.shadow_increments[i]);
       EXPECT_EQ(differing, 0u) << to_string(path) << " count " << count << " " << label;
       for (int k = 0; k < count; ++k) {
         EXPECT_TRUE(same_bits(scalar.summaries[k].xi_end, simd.summaries[k].xi_end));
