@@ -51,3 +51,15 @@ def test_warnings_point_at_the_callers_line():
     with pytest.warns(ss.RecordWarning, match="leakage") as caught:
         ss.analyze(t, x)
     assert [w.filename for w in caught] == [__file__]
+
+
+def test_the_control_variate_switch_is_the_command_lines():
+    p = ss.Parameters("reference")
+    shadow = ss.run(p, omega_min=1, omega_max=7.5, realizations=16, seed=3, threads=2)
+    plain = ss.run(p, omega_min=1, omega_max=7.5, realizations=16, seed=3, threads=2, control_variate="off")
+    assert set(shadow.estimator) == {"shadow"} and set(plain.estimator) == {"forcing"}
+    assert (shadow.stderr < plain.stderr).all()
+    assert shadow.request["control_variate"] == "shadow" and plain.request["control_variate"] == "off"
+    assert [band["shadow"] for band in shadow.sub_bands] == [True]
+    with pytest.raises(ValueError, match="control_variate"):
+        ss.run(p, omega_min=1, omega_max=7.5, realizations=16, control_variate=False)
