@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -44,6 +45,33 @@ void write_all(int fd, const std::string& temp, const std::string& content) {
     ::unlink(temp.c_str());
     throw WriteError("cannot flush " + temp);
   }
+}
+
+// A name the writer gives a temporary of `path`: PATH.tmp.XXXXXX (mkstemp's six letters
+// or digits), PATH.tmp.XXXXXX.EXT (one another program writes), PATH.tmp.old.PID (a backup).
+bool is_temporary_of(const std::string& name, const std::string& path_name) {
+  const std::string stem = path_name + ".tmp.";
+  if (name.size() <= stem.size() || name.compare(0, stem.size(), stem) != 0) return false;
+  const std::string rest = name.substr(stem.size());
+  auto all_of = [](const std::string& text, int (*kind)(int)) {
+    for (const char c : text)
+      if (!kind(static_cast<unsigned char>(c))) return false;
+    return !text.empty();
+  };
+  if (rest.compare(0, 4, "old.") == 0) return all_of(rest.substr(4), isdigit);
+  if (rest.size() < 6 || !all_of(rest.substr(0, 6), isalnum)) return false;
+  return rest.size() == 6 || (rest[6] == '.' && all_of(rest.substr(7), isalnum));
+}
+
+// Removes the temporaries of `path` left by a process that died before its rename (a
+// SIGKILL, a power loss). Called once `path` is committed: the prefix lock keeps any other
+// writer of it away, so every temporary of it but this process's own is stale.
+void remove_stale_temporaries(const std::string& path) {
+  namespace fs = std::filesystem;
+  const std::string name = fs::path(path).filename().string();
+  std::error_code error;
+  for (fs::directory_iterator entry(directory_of(path), error), end; !error && entry != end; entry.increment(error))
+    if (is_temporary_of(entry->path().filename().string(), name)) ::unlink(entry->path().c_str());
 }
 
 void sync_directory(const std::string& path) {
@@ -150,7 +178,10 @@ void OutputSet::commit() {
     throw WriteError("cannot write " + failed + ": " + why + " (no output of the set was changed)");
   }
   remove_backups();
-  for (const Pending& p : pending_) sync_directory(p.path);
+  for (const Pending& p : pending_) {
+    remove_stale_temporaries(p.path);
+    sync_directory(p.path);
+  }
   pending_.clear();
 }
 
