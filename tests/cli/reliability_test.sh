@@ -124,6 +124,15 @@ expect_refused "resume with a work budget" "--work-budget" run --resume pa --wor
 expect_refused "a sweep's failing run" "sweep run N=30000: --omega-min" sweep N=1,30000 --omega-min 0.1 \
   --omega-max 1e5 --out out --no-plot
 
+# --- Messages that name what is wrong.
+expect_refused "a subnormal parameter" "below the smallest normal double" theory --set alpha=1e-310 --omega 1
+expect_refused "a window short of samples" "fewer than the 64 a spectrum needs" analyze rec.csv --window 0:0.5 \
+  --out out --no-plot
+for interval in 1e-300 1e-9 100; do
+  expect_refused "--resample $interval" "--resample .*: a grid every" analyze rec.csv --resample $interval \
+    --out out --no-plot
+done
+
 [ $failures -eq 0 ] && echo "reliability: failed writes, file-size limits, state files, interrupted sweeps," \
   "spectra of nothing, file formats and ignored options as issue 37 asks"
 exit $((failures > 0))
