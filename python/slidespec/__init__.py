@@ -98,6 +98,8 @@ def _text(key, value):
         raise ValueError(f"parameter {key}: {value!r} is not a number")
     if isinstance(value, str):
         return value
+    if not isinstance(value, (list, tuple, _np.ndarray, int, float, _np.integer, _np.floating)):
+        raise ValueError(f"parameter {key}: {value!r} ({type(value).__name__}) is neither a number nor a word (str)")
     if isinstance(value, (list, tuple, _np.ndarray)):
         # Only a list of levels (touching) is a list; a parameter's number in one is a mistake.
         if _kind(key) != "levels":
@@ -916,6 +918,11 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
     theory_order = _whole("theory_order", theory_order, 2)
     if not isinstance(resample, str):
         resample = _real("resample", resample)
+    if window is not None:
+        # The command line's "T0:T1" is a pair here; a string would be read letter by letter.
+        if isinstance(window, (str, bytes)) or _np.ndim(window) != 1 or len(window) != 2:
+            raise TypeError(f"window: expected a pair (t0, t1) [s], got {type(window).__name__} {window!r}")
+        window = (_real("window t0", window[0]), _real("window t1", window[1]))
     time = _np.empty(0) if t is None else _np.asarray(t, dtype=float).ravel()
     samples = _np.empty(0) if x is None else _np.asarray(x, dtype=float).ravel()
     channel = None if force is None else _np.asarray(force, dtype=float).ravel()

@@ -74,3 +74,15 @@ def test_a_list_for_a_parameter_of_one_value_is_refused(make):
 
 def test_touching_still_takes_a_list_of_levels():
     assert ss.Parameters("reference", levels=2, touching=[1, 2])
+
+
+def test_too_many_threads_are_refused_as_on_the_command_line():
+    with pytest.raises(ValueError, match="threads: must be 0 .* to 4096"):
+        ss.run("reference", omega_min=100, omega_max=1000, precision=0.2, threads=10**9)
+
+
+def test_messages_name_the_argument():
+    with pytest.raises(TypeError, match="window: expected a pair"):
+        ss.analyze(None, [0.0, 1.0, 2.0] * 100, dt=0.01, window="1:35")
+    with pytest.raises(ValueError, match="parameter drive: b'spring'"):
+        ss.Parameters("reference", drive=b"spring")
