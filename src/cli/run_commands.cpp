@@ -237,13 +237,24 @@ RunOutcome run_and_write(const Context& context, RunSession& session, const RunO
   control.stop = &stop_requested;
   control.communicator = context.communicator;
   control.checkpoint_every = options.checkpoint_every;
-  control.checkpoint = [&](const RunSession& s) {
-    if (writes) io::write_atomically(state_path, s.save());
+  const auto save = [&](const RunSession& s) {
+    if (!writes) return;
+    try {
+      io::write_atomically(state_path, s.save());
+    } catch (const io::WriteError& e) {
+      // The atomic write left the previous checkpoint as it was: say so, and how to go on.
+      std::error_code ignored;
+      if (!std::filesystem::exists(state_path, ignored)) throw;
+      throw io::WriteError(std::string(e.what()) + "; " + state_path +
+                           " still holds the previous checkpoint, intact: continue it with slidespec run --resume " +
+                           out);
+    }
   };
+  control.checkpoint = save;
   const bool finished = session.advance(control);
   if (!options.shared_progress) progress.finish();
   if (writes) {
-    io::write_atomically(state_path, session.save());
+    save(session);
     if (!finished && !options.quiet)
       std::cerr << "slidespec: saved the run to " << state_path << "; continue it with: slidespec run --resume " << out
                 << (options.save_state.empty() ? "" : " --save-state " + options.save_state) << "\n";

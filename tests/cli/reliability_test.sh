@@ -124,7 +124,21 @@ expect_refused "resume with a work budget" "--work-budget" run --resume pa --wor
 expect_refused "a sweep's failing run" "sweep run N=30000: --omega-min" sweep N=1,30000 --omega-min 0.1 \
   --omega-max 1e5 --out out --no-plot
 
+# A checkpoint that cannot be written (its state grows past the file-size limit) says the
+# previous one is intact, and it is: the resume finishes the run.
+(ulimit -f 100 && exec "$bin" run --omega-min 10 --omega-max 1e4 --precision 0.01 --out ck --no-plot --quiet \
+  --checkpoint-every 0.05) 2> err
+expect_failed "a checkpoint beyond the file-size limit" "ck.state still holds the previous checkpoint, intact" $?
+if [ -s ck.state ]; then
+  "$bin" run --resume ck --no-plot --quiet || fail "the intact checkpoint does not resume"
+fi
+
 # --- Messages that name what is wrong.
+# A record too short for 16 blocks of 8 samples takes fewer blocks for the speed's error.
+awk 'BEGIN { print "t,x (um)"; srand(3); x = 0; for (k = 0; k < 100; ++k) { x += 0.5 + rand() - 0.5; printf "%g,%g\n", k * 0.01, x } }' > short.csv
+"$bin" analyze short.csv --out short --no-plot --quiet 2> err || fail "a 100-sample record: $(cat err)"
+grep -q "^# measured_mean_speed = .*+- [1-9].* (from 12 blocks)" short.tsv \
+  || fail "a 100-sample record's speed has no error: $(grep measured_mean_speed short.tsv)"
 expect_refused "a subnormal parameter" "below the smallest normal double" theory --set alpha=1e-310 --omega 1
 expect_refused "a window short of samples" "fewer than the 64 a spectrum needs" analyze rec.csv --window 0:0.5 \
   --out out --no-plot
