@@ -114,6 +114,8 @@ nlohmann::ordered_json with_verdict(nlohmann::ordered_json doc, const Verdict& v
 }  // namespace
 
 Verdict judge_chi2(double chi2_per_dof, int dof) {
+  if (std::isnan(chi2_per_dof))
+    return {false, "chi2/dof is not a number: the band holds nothing to fit (a spectrum of 0, or no spread)"};
   const double allowed = std::max(3.0, 1 + 5 * std::sqrt(2.0 / std::max(dof, 1)));
   if (chi2_per_dof <= allowed) return {};
   return {false, "chi2/dof " + short_number(chi2_per_dof) + " > " + short_number(allowed) +

@@ -364,7 +364,10 @@ int command_analyze(Options o) {
     throw InputError("--fit " + o.fit + " needs --compare-case NAME");
   if (o.fit == "power-law" && !o.slope_band.empty())
     throw InputError("--fit power-law and --fit-slope both fit a power law; give one (--fit-band sets the band)");
-  if (!o.compare_case.empty()) build_parameters(o.compare_case, o.overrides);  // refused before any reading
+  if (!o.compare_case.empty()) {  // refused before any reading, with the terms the record will add
+    std::vector<std::string> ignored;
+    build_parameters(o.compare_case, record_terms(o.overrides, 0, o.format.machine_stiffness, ignored));
+  }
 
   if (!o.window.empty()) o.format.window = parse_window(o.window);
   parse_resample(o.resample, o.format);

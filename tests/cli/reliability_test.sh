@@ -4,6 +4,7 @@
 # temporaries go, --save-state is locked and kept like PREFIX.state, an interrupted sweep
 # says so, a spectrum of nothing is marked, and files read as a spreadsheet writes them.
 source "$(dirname "$0")/common.sh"
+data=$(cd "$(dirname "$0")/../data/realdata" && pwd)
 cd "$work" || exit 1
 
 band="--omega-min 100 --omega-max 1000"
@@ -146,6 +147,17 @@ for interval in 1e-300 1e-9 100; do
   expect_refused "--resample $interval" "--resample .*: a grid every" analyze rec.csv --resample $interval \
     --out out --no-plot
 done
+
+# A fit on a spectrum of nothing says why, not "chi2/dof -nan".
+"$bin" analyze flat.csv --fit-slope 1 10 --out flat --no-plot --quiet 2> err
+grep -q "slope fit FAILED: chi2/dof is not a number" err && ! grep -q "nan" err \
+  || fail "a slope fit on a constant record: $(cat err)"
+# --set k_drive beside --machine-stiffness is kept, as docs/analysis.md says.
+sepiolite="$data/velstep3_TR2_exp013_sepiolite.txt"
+"$bin" analyze "$sepiolite" --window 21350:22319 --machine-stiffness 0.01MPa/um --contact-area 25cm2 \
+  --compare-case reference --set k_drive=1e4 --no-plot --out kept --quiet 2> err
+grep -q "^# k_drive = 10000" kept.tsv && grep -q "^# drive = spring" kept.tsv \
+  || fail "--set k_drive beside --machine-stiffness: $(cat err)"
 
 [ $failures -eq 0 ] && echo "reliability: failed writes, file-size limits, state files, interrupted sweeps," \
   "spectra of nothing, file formats and ignored options as issue 37 asks"
