@@ -140,6 +140,7 @@ awk 'BEGIN { print "t,x (um)"; srand(3); x = 0; for (k = 0; k < 100; ++k) { x +=
 "$bin" analyze short.csv --out short --no-plot --quiet 2> err || fail "a 100-sample record: $(cat err)"
 grep -q "^# measured_mean_speed = .*+- [1-9].* (from 12 blocks)" short.tsv \
   || fail "a 100-sample record's speed has no error: $(grep measured_mean_speed short.tsv)"
+expect_refused "theory of no random force" "alpha: 0 gives no random force" theory --set alpha=0 --omega 1
 expect_refused "a subnormal parameter" "below the smallest normal double" theory --set alpha=1e-310 --omega 1
 expect_refused "a window short of samples" "fewer than the 64 a spectrum needs" analyze rec.csv --window 0:0.5 \
   --out out --no-plot
