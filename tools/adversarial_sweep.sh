@@ -580,6 +580,12 @@ if in_part refusals; then
   attack refuse "analyze --segments --fit" analyze $R --segments --fit power-law
   printf 't (s),x (um),x (mm)\n0,1,0.001\n0.01,2,0.002\n0.02,3,0.003\n' > twox.csv
   attack refuse "two columns that could be x" analyze ../twox.csv --out a --no-plot
+  # Messages naming the wrong thing (or exit 1 "out of memory" for bad input).
+  for interval in 1e-300 1e-9 1e3; do
+    attack refuse "analyze --resample $interval" analyze $R --resample $interval --out a --no-plot
+  done
+  attack refuse "theory alpha=0" theory --set alpha=0 --omega 1
+  attack refuse "theory alpha=1e-310" theory --set alpha=1e-310 --omega 1
 fi
 if in_part results; then
   # A write the system refuses is a failure (1): standard output, a file-size limit, a figure.
