@@ -10,6 +10,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -63,15 +66,27 @@ bool is_temporary_of(const std::string& name, const std::string& path_name) {
   return rest.size() == 6 || (rest[6] == '.' && all_of(rest.substr(7), isalnum));
 }
 
-// Removes the temporaries of `path` left by a process that died before its rename (a
-// SIGKILL, a power loss). Called once `path` is committed: the prefix lock keeps any other
-// writer of it away, so every temporary of it but this process's own is stale.
-void remove_stale_temporaries(const std::string& path) {
+// Removes the temporaries of `paths` left by a process that died before its rename (a
+// SIGKILL, a power loss). Called once they are committed: the prefix lock keeps any other
+// writer of them away, so every temporary of them but this process's own is stale. Each
+// path once per process (a run's checkpoints rewrite one state), each directory read once.
+void remove_stale_temporaries(const std::vector<std::string>& paths) {
   namespace fs = std::filesystem;
-  const std::string name = fs::path(path).filename().string();
-  std::error_code error;
-  for (fs::directory_iterator entry(directory_of(path), error), end; !error && entry != end; entry.increment(error))
-    if (is_temporary_of(entry->path().filename().string(), name)) ::unlink(entry->path().c_str());
+  static std::mutex mutex;
+  static std::set<std::string> cleaned;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::map<std::string, std::vector<std::string>> names_by_directory;
+  for (const std::string& path : paths)
+    if (cleaned.insert(path).second)
+      names_by_directory[directory_of(path)].push_back(fs::path(path).filename().string());
+  for (const auto& [directory, names] : names_by_directory) {
+    std::error_code error;
+    for (fs::directory_iterator entry(directory, error), end; !error && entry != end; entry.increment(error)) {
+      const std::string found = entry->path().filename().string();
+      for (const std::string& name : names)
+        if (is_temporary_of(found, name)) ::unlink(entry->path().c_str());
+    }
+  }
 }
 
 void sync_directory(const std::string& path) {
@@ -178,10 +193,12 @@ void OutputSet::commit() {
     throw WriteError("cannot write " + failed + ": " + why + " (no output of the set was changed)");
   }
   remove_backups();
+  std::vector<std::string> committed;
   for (const Pending& p : pending_) {
-    remove_stale_temporaries(p.path);
+    committed.push_back(p.path);
     sync_directory(p.path);
   }
+  remove_stale_temporaries(committed);
   pending_.clear();
 }
 
