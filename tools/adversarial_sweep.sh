@@ -6,9 +6,10 @@
 # changed), finished work lost (a run that finished or was interrupted and cannot be
 # brought back bitwise) and nonsense accepted (a refusal expected, exit 0 seen).
 # Usage: SLIDESPEC=build/slidespec [PYTHONPATH=build/python] tools/adversarial_sweep.sh [PART]
-# PART: refusals (files, numbers, options, figures, JSON, units: 813 attacks, 5 min),
-# results (stalls, theory, streams, memory, Python: 60, 1 min), signals (interrupts and
-# resumes: 37, 1 min), or all (the default; times on 2 busy cores). Not part of ctest.
+# PART: refusals (files, numbers, options, figures, JSON, units: 826 attacks, 5 min),
+# results (stalls, theory, streams, memory, failed writes, Python: 74, 1 min), signals
+# (interrupts and resumes: 40, 1 min), or all (the default; times on 2 busy cores). Not
+# part of ctest.
 set -u
 part=${1:-all}
 case "$part" in all | refusals | results | signals) ;; *) echo "unknown part '$part'" >&2; exit 2 ;; esac
