@@ -105,6 +105,7 @@ awk 'BEGIN { print "\"t (s)\",\"x (um)\""; srand(3); x = 0
 grep -q '^# units = um' quoted.tsv || fail "a quoted header's unit was not read: $(grep '^# units' quoted.tsv)"
 "$bin" analyze quoted.csv --column '"x (um)"' --out quoted2 --no-plot --quiet 2> err \
   || fail "--column given as quoted: $(cat err)"
+grep -q '^# units = um' quoted2.tsv || fail "--column given as quoted: its unit was not read"
 tr '\n' '\r' < quoted.csv > cr.csv
 "$bin" analyze cr.csv --out cr --no-plot --quiet 2> err || fail "a record with CR line ends: $(cat err)"
 cmp -s <(grep -v '^# record\|^# label' quoted.tsv) <(grep -v '^# record\|^# label' cr.tsv) \
