@@ -747,6 +747,23 @@ class RecordReader {
     } else {
       detail::make_uniform(record_, times_, where_, source_, place_, format_);
     }
+    check_slip();
+  }
+
+  /// The slip x - F/K within the values a record may hold: a stiffness far too small (in
+  /// the wrong unit, most often) would make F/K inf or too large to square and sum.
+  void check_slip() const {
+    if (record_.observable != Observable::slip || record_.force.empty()) return;
+    double largest = 0;
+    for (const double force : record_.force) largest = std::max(largest, std::fabs(force));
+    const double reach = largest / record_.machine_stiffness;
+    if (reach <= kLargestRecordValue) return;
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "--machine-stiffness %.3g N/m: the slip's F/K reaches %.3g m, beyond the %.0e m a "
+                  "record may hold (the stiffness in the wrong unit?)",
+                  record_.machine_stiffness, reach, kLargestRecordValue);
+    throw InputError(source_ + ": " + text);
   }
 
   void take_time(double t, int line_number) {

@@ -160,6 +160,9 @@ sepiolite="$data/velstep3_TR2_exp013_sepiolite.txt"
   --compare-case reference --set k_drive=1e4 --no-plot --out kept --quiet 2> err
 grep -q "^# k_drive = 10000" kept.tsv && grep -q "^# drive = spring" kept.tsv \
   || fail "--set k_drive beside --machine-stiffness: $(cat err)"
+# A stiffness that makes the slip F/K unrepresentable is refused naming it, not blamed on the unit.
+expect_refused "a machine stiffness far too small" "--machine-stiffness 1e-300 N/m: the slip's F/K reaches" \
+  analyze "$sepiolite" --window 21350:22319 --machine-stiffness 1e-300 --contact-area 25cm2 --out out --no-plot
 
 [ $failures -eq 0 ] && echo "reliability: failed writes, file-size limits, state files, interrupted sweeps," \
   "spectra of nothing, file formats and ignored options as issue 37 asks"
