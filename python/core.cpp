@@ -156,6 +156,9 @@ class Run {
 
   void start(int threads, const std::string& simd) {
     if (thread_.joinable()) throw std::logic_error("the run was started already");
+    RunRequest execution = session_.request();  // the thread count checked as the command line checks it
+    execution.threads = threads;
+    validate_request(session_.parameters(), execution);
     const SimdPath path = parse_simd_path(simd);
     resolve_simd_path(path);
     session_.set_execution(threads, path);

@@ -6,9 +6,10 @@
 # changed), finished work lost (a run that finished or was interrupted and cannot be
 # brought back bitwise) and nonsense accepted (a refusal expected, exit 0 seen).
 # Usage: SLIDESPEC=build/slidespec [PYTHONPATH=build/python] tools/adversarial_sweep.sh [PART]
-# PART: refusals (files, numbers, options, figures, JSON, units: 813 attacks, 5 min),
-# results (stalls, theory, streams, memory, Python: 60, 1 min), signals (interrupts and
-# resumes: 37, 1 min), or all (the default; times on 2 busy cores). Not part of ctest.
+# PART: refusals (files, numbers, options, figures, JSON, units: 826 attacks, 5 min),
+# results (stalls, theory, streams, memory, failed writes, Python: 74, 1 min), signals
+# (interrupts and resumes: 40, 1 min), or all (the default; times on 2 busy cores). Not
+# part of ctest.
 set -u
 part=${1:-all}
 case "$part" in all | refusals | results | signals) ;; *) echo "unknown part '$part'" >&2; exit 2 ;; esac
@@ -46,7 +47,8 @@ head -c 1876 /dev/urandom > random.state
 printf '1\n10\n' > om.tsv
 printf '1\n-1\n' > om_bad.tsv
 printf '# nothing\n' > om_empty.tsv
-snapshot() { find . -path ./scratch -prune -o -print0 | sort -z | xargs -0 sha256sum 2> /dev/null; }
+# A fifo (the results part makes one) is left out: reading it would wait for a writer.
+snapshot() { find . -path ./scratch -prune -o ! -type p -print0 | sort -z | xargs -0 sha256sum 2> /dev/null; }
 
 classify() {  # KIND NAME STATUS STDERR-FILE BEFORE
   local kind=$1 name=$2 status=$3 err=$4 before=$5
@@ -565,6 +567,103 @@ for delay in 0.3 0.8; do
     fi
   done
 done
+fi
+
+# 10. Issue 37: state files are outputs too, every failure is a failure, no limit or exit loses work.
+if in_part refusals; then
+  # A state already there is another run's: a part's --save-state never replaces it.
+  attack refuse "second part onto a part's --save-state" run $band --realizations-range 8:8 --save-state ../part.state \
+    --out p2 --no-plot
+  attack refuse "resume with --save-state of another part" run --resume $S --save-state ../part8.state --no-plot
+  attack refuse "resume with --work-budget" run --resume $S --work-budget 1 --no-plot
+  attack refuse "sweep value twice (0.5, 0.50)" sweep alpha=0.5,0.50 $band --no-plot
+  attack refuse "sweep value twice (0.5, 0.5)" sweep alpha=0.5,0.5 $band --no-plot
+  attack refuse "analyze --segments --out" analyze $R --segments --out a
+  attack refuse "analyze --segments --fit" analyze $R --segments --fit power-law
+  printf 't (s),x (um),x (mm)\n0,1,0.001\n0.01,2,0.002\n0.02,3,0.003\n' > twox.csv
+  attack refuse "two columns that could be x" analyze ../twox.csv --out a --no-plot
+  # Messages naming the wrong thing (or exit 1 "out of memory" for bad input).
+  for interval in 1e-300 1e-9 1e3; do
+    attack refuse "analyze --resample $interval" analyze $R --resample $interval --out a --no-plot
+  done
+  attack refuse "theory alpha=0" theory --set alpha=0 --omega 1
+  attack refuse "theory alpha=1e-310" theory --set alpha=1e-310 --omega 1
+fi
+if in_part results; then
+  # A write the system refuses is a failure (1): standard output, a file-size limit, a figure.
+  failed_write() {  # NAME ARGS-FOR-BASH: must exit 1, never 0 nor a signal
+    local name=$1; shift
+    attacks=$((attacks + 1))
+    (mkdir -p scratch && cd scratch && timeout 60 bash -c "$1" > /dev/null 2> "$logs/stderr")
+    local status=$?
+    if [ $status -eq 124 ]; then hangs=$((hangs + 1)); report HANG "$name";
+    elif [ $status -ge 128 ]; then crashes=$((crashes + 1)); report CRASH "$name: $status";
+    elif [ $status -eq 0 ]; then nonsense=$((nonsense + 1)); report NONSENSE "$name exited 0";
+    elif [ -n "$(ls scratch 2> /dev/null | grep 'tmp\|lock')" ]; then
+      work_lost=$((work_lost + 1)); report LEFT "$name left $(ls scratch | tr '\n' ' ')"
+    fi
+    rm -rf scratch
+  }
+  failed_write "theory > /dev/full" "'$bin' theory --omega 1,2 > /dev/full"
+  failed_write "cases > /dev/full" "'$bin' cases > /dev/full"
+  failed_write "analyze --segments > /dev/full" "'$bin' analyze $R --segments > /dev/full"
+  failed_write "analyze, its plotter broken" "SLIDESPEC_PYTHON=/bin/false '$bin' analyze $R --out a"
+  failed_write "run under ulimit -f 8" "ulimit -f 8; exec '$bin' run $band --precision 0.2 --out u --no-plot"
+  failed_write "analyze under ulimit -f 1" "ulimit -f 1; exec '$bin' analyze $R --out u --no-plot"
+  # Spectra of nothing: exit 3 (marked), never 0.
+  awk 'BEGIN { print "t,x"; for (k = 0; k < 4000; ++k) print k * 0.01 ",0.002" }' > flat.csv
+  awk 'BEGIN { print "t,x"; for (k = 0; k < 4000; ++k) print k * 0.01 ",0" }' > zero.csv
+  not_claimed "analyze a constant record" analyze ../flat.csv --out a --no-plot
+  not_claimed "analyze an all-zero record" analyze ../zero.csv --out a --no-plot
+  not_claimed "analyze --dt 1e-170" analyze $R --dt 1e-170 --out a --no-plot
+  # Python: arguments that would be ignored; the interpreter exiting while a daemon thread
+  # runs ss.run ends cleanly (3 times).
+  if [ -n "${PYTHONPATH:-}" ]; then
+    for call in 'ss.run("reference", progress="yes")' \
+        'ss.run(ss.Parameters("reference", drive="spring", k_drive=[1e4]))'; do
+      python_refused "$call"
+    done
+    for k in 1 2 3; do
+      attacks=$((attacks + 1))
+      timeout 60 /usr/bin/python3 -c 'import threading, time, slidespec as ss
+threading.Thread(target=lambda: ss.run("reference", precision=0.005, threads=1), daemon=True).start()
+time.sleep(0.5)' > /dev/null 2> "$logs/stderr"
+      status=$?
+      if [ $status -ne 0 ] || grep -q "terminate called" "$logs/stderr"; then
+        crashes=$((crashes + 1)); report CRASH "python exit during a daemon run ($k): $status $(tail -c 200 "$logs/stderr")"
+      fi
+    done
+  fi
+fi
+if in_part signals; then
+  # An interrupt in a sweep's last run is an interrupt (130/143), as in an earlier run.
+  for sig in INT TERM; do
+    attacks=$((attacks + 1))
+    rm -f lsw*
+    "$bin" sweep alpha=1,0.9 --omega-min 0.1 --omega-max 1e4 --precision 0.01 --out lsw --no-plot 2> "$logs/stderr" &
+    pid=$!
+    for _ in $(seq 400); do grep -q "sweep 2/2" "$logs/stderr" && break; sleep 0.05; done
+    sleep 0.3
+    kill -s $sig $pid 2> /dev/null
+    wait $pid 2> /dev/null
+    status=$?
+    [ $status -ge 128 ] || { nonsense=$((nonsense + 1)); report NONSENSE "sweep, $sig in its last run: exit $status"; }
+  done
+  # Two parts at once onto one --save-state: one is refused, the other's state stays whole.
+  attacks=$((attacks + 1))
+  rm -f same.state
+  "$bin" run --omega-min 10 --omega-max 1000 --realizations-range 0:64 --save-state same.state --out sa \
+    --no-plot --quiet 2> /dev/null &
+  pid=$!
+  sleep 0.2
+  "$bin" run --omega-min 10 --omega-max 1000 --realizations-range 64:64 --save-state same.state --out sb \
+    --no-plot --quiet 2> /dev/null
+  second=$?
+  wait $pid
+  first=$?
+  if [ $first -eq 0 ] && [ $second -eq 0 ]; then
+    work_lost=$((work_lost + 1)); report LOST "two parts onto one --save-state both exited 0"
+  fi
 fi
 
 echo "adversarial sweep: $attacks attacks: crashes $crashes, hangs $hangs, inputs lost $inputs_lost," \

@@ -52,16 +52,12 @@ cmake --build "$build" -j"$(nproc)" "${targets[@]}" >&2
 
 # import slidespec for /usr/bin/python3 from any directory: a slidespec.pth naming
 # build/python in its site directory (the system's as root, else the user's), so a rebuild
-# needs no reinstall (docs/python.md).
+# needs no reinstall; one naming another checkout that still exists stays (docs/python.md).
 if [ "$mpi" != "ON" ] && [ -d "$build/python/slidespec" ]; then
   if [ "$(id -u)" -eq 0 ]; then
     site=$(/usr/bin/python3 -c 'import site; print(site.getsitepackages()[0])')
   else
     site=$(/usr/bin/python3 -m site --user-site)
   fi
-  line="$PWD/$build/python"
-  if [ "$(cat "$site/slidespec.pth" 2>/dev/null)" != "$line" ]; then
-    mkdir -p "$site" && echo "$line" > "$site/slidespec.pth"
-    echo "setup: /usr/bin/python3 imports slidespec from $line (via $site/slidespec.pth)" >&2
-  fi
+  tools/python_path.sh "$PWD/$build/python" "$site"
 fi

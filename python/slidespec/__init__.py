@@ -19,12 +19,15 @@ naming the key; files that cannot be read raise OSError. Ctrl-C during run() rai
 KeyboardInterrupt carrying what the run accumulated as `error.result`; resume() continues it.
 """
 
+import atexit as _atexit
 import errno as _errno
 import json as _json
 import math as _math
 import os as _os
 import re as _re
 import stat as _stat
+import threading as _threading
+import time as _time
 import warnings as _warnings
 from collections.abc import Mapping as _Mapping
 
@@ -95,7 +98,12 @@ def _text(key, value):
         raise ValueError(f"parameter {key}: {value!r} is not a number")
     if isinstance(value, str):
         return value
-    if isinstance(value, (list, tuple)):
+    if not isinstance(value, (list, tuple, _np.ndarray, int, float, _np.integer, _np.floating)):
+        raise ValueError(f"parameter {key}: {value!r} ({type(value).__name__}) is neither a number nor a word (str)")
+    if isinstance(value, (list, tuple, _np.ndarray)):
+        # Only a list of levels (touching) is a list; a parameter's number in one is a mistake.
+        if _kind(key) != "levels":
+            raise ValueError(f"parameter {key}: {value!r} is a list; give one value")
         return ",".join(_text(key, v) for v in value)
     if isinstance(value, (int, _np.integer)):
         return str(int(value))
@@ -455,6 +463,9 @@ class _Progress:
     """A progress bar (tqdm: text in a terminal, a widget in a notebook) or a callback."""
 
     def __init__(self, progress):
+        if not (isinstance(progress, bool) or callable(progress)):
+            raise TypeError(f"progress: expected True, False or a callable(fraction, message), "
+                            f"got {type(progress).__name__} {progress!r}")
         self._callback = progress if callable(progress) else None
         self._bar = None
         if progress is True:
@@ -497,25 +508,55 @@ def _finish(handle):
     return result
 
 
+# The runs being driven, on any thread, and whether the interpreter has begun to exit.
+_driven = set()
+_driven_lock = _threading.Lock()
+_exiting = False
+
+
+@_atexit.register
+def _stop_runs_at_exit():
+    """At interpreter exit, stops the runs still driven on other (daemon) threads and waits
+    until those threads have left slidespec's C++ code: a thread that takes the GIL back
+    after the interpreter is gone is ended inside that code, which aborts the process."""
+    global _exiting
+    _exiting = True
+    with _driven_lock:
+        handles = list(_driven)
+    for handle in handles:
+        handle.stop()
+    deadline = _time.monotonic() + 60
+    while _driven and _time.monotonic() < deadline:
+        _time.sleep(0.01)
+
+
 def _drive(handle, threads, simd, progress):
     """Runs `handle` on its own thread while this one waits, draws progress and listens
     for Ctrl-C (the interpreter raises KeyboardInterrupt between waits of 0.1 s)."""
-    bar = _Progress(progress)
-    handle.start(int(threads), str(simd))
+    with _driven_lock:
+        if _exiting:
+            raise RuntimeError("the interpreter is exiting: no run starts now")
+        _driven.add(handle)
     try:
-        while not handle.wait(0.1):
-            bar.update(*handle.progress())
-    except BaseException as error:
-        handle.stop()
+        bar = _Progress(progress)
+        handle.start(int(threads), str(simd))
+        try:
+            while not handle.wait(0.1):
+                bar.update(*handle.progress())
+        except BaseException as error:
+            handle.stop()
+            handle.join()
+            bar.close()
+            if isinstance(error, KeyboardInterrupt):
+                error.result = _finish(handle)
+            raise
         handle.join()
+        bar.update(1.0, "done")
         bar.close()
-        if isinstance(error, KeyboardInterrupt):
-            error.result = _finish(handle)
-        raise
-    handle.join()
-    bar.update(1.0, "done")
-    bar.close()
-    return _finish(handle)
+        return _finish(handle)
+    finally:
+        with _driven_lock:
+            _driven.discard(handle)
 
 
 def _warn_if_no_theory_holds(p):
@@ -894,6 +935,11 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
     theory_order = _whole("theory_order", theory_order, 2)
     if not isinstance(resample, str):
         resample = _real("resample", resample)
+    if window is not None:
+        # The command line's "T0:T1" is a pair here; a string would be read letter by letter.
+        if isinstance(window, (str, bytes)) or _np.ndim(window) != 1 or len(window) != 2:
+            raise TypeError(f"window: expected a pair (t0, t1) [s], got {type(window).__name__} {window!r}")
+        window = (_real("window t0", window[0]), _real("window t1", window[1]))
     time = _np.empty(0) if t is None else _np.asarray(t, dtype=float).ravel()
     samples = _np.empty(0) if x is None else _np.asarray(x, dtype=float).ravel()
     channel = None if force is None else _np.asarray(force, dtype=float).ravel()
@@ -942,7 +988,7 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
     for result in fits:
         for point, value, residual in zip(data["points"], result.pop("fit", []), result.pop("residual", [])):
             point["fit"], point["residual"] = float(value), float(residual)
-    data["ok"] = all(result["ok"] for result in fits)
+    data["ok"] = data["spectrum_ok"] and all(result["ok"] for result in fits)
     _warn_as_analyze_does(data, units)
     return Analysis(data)
 
@@ -992,6 +1038,8 @@ def _warn_as_analyze_does(data, units):
                       ("model", "model_fit")):
         if key in data and not data[key]["ok"]:
             warn(f"{name} fit FAILED: {data[key]['failure']}", ModelWarning)
+    if not data.get("spectrum_ok", True):
+        warn(f"not a spectrum (ok False): {data['spectrum_failure']}", ModelWarning)
 
 
 def synth(params="reference", *, sample_interval=_SENSOR["sample_interval"], duration=_SENSOR["duration"],

@@ -229,7 +229,8 @@ def test_results_and_parameters_pickle_and_serialise(py_run):
 
 def test_progress_reaches_the_callers_thread_only():
     calls = []
-    ss.run("reference", omega_min=0.1, omega_max=1e3, precision=0.1, threads=2,
+    # Over a second on two cores, so that several waits of 0.1 s report progress on any machine.
+    ss.run("reference", omega_min=0.01, omega_max=1e3, precision=0.1, threads=2,
            progress=lambda fraction, what: calls.append((threading.get_ident(), fraction, what)))
     assert len(calls) >= 2
     assert {ident for ident, _, _ in calls} == {threading.get_ident()}

@@ -84,17 +84,20 @@ SlidingFit fit_sliding(const Record& record) {
   for (std::size_t i = 0; i < x.size(); ++i) sum2 += std::pow(x[i] - fit.x0 - fit.v * i * record.dt, 2);
   fit.xi_rms = std::sqrt(sum2 / static_cast<double>(x.size()));
 
-  const std::size_t block = x.size() / kSpeedBlocks;
-  if (block >= kMinBlockSamples) {
+  // A short record (under kSpeedBlocks blocks of kMinBlockSamples) takes fewer blocks,
+  // rather than no error at all.
+  const int blocks = static_cast<int>(std::min<std::size_t>(kSpeedBlocks, x.size() / kMinBlockSamples));
+  if (blocks >= 2) {
+    const std::size_t block = x.size() / static_cast<std::size_t>(blocks);
     double mean = 0, mean2 = 0;
-    for (int b = 0; b < kSpeedBlocks; ++b) {
+    for (int b = 0; b < blocks; ++b) {
       const double speed = detail::fit_line(x, b * block, (b + 1) * block, record.dt).slope;
-      mean += speed / kSpeedBlocks;
-      mean2 += speed * speed / kSpeedBlocks;
+      mean += speed / blocks;
+      mean2 += speed * speed / blocks;
     }
-    const double variance = std::max(0.0, mean2 - mean * mean) * kSpeedBlocks / (kSpeedBlocks - 1);
-    fit.v_error = std::sqrt(variance / kSpeedBlocks);
-    fit.blocks = kSpeedBlocks;
+    const double variance = std::max(0.0, mean2 - mean * mean) * blocks / (blocks - 1);
+    fit.v_error = std::sqrt(variance / blocks);
+    fit.blocks = blocks;
   }
   return fit;
 }

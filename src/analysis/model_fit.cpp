@@ -55,13 +55,13 @@ std::vector<std::string> record_terms(const std::vector<std::string>& overrides,
     notes.push_back("the model's v is the record's measured mean speed, " + short_number(measured_speed) +
                     " m/s (--set v=... to change it)");
   }
-  if (machine_stiffness > 0 && !sets(overrides, "drive") && !sets(overrides, "k_drive")) {
-    terms.push_back("drive=spring");
-    terms.push_back("k_drive=" + io::format_number(machine_stiffness));
-    notes.push_back(
-        "the model is driven as the machine drives the record: drive = spring, k_drive = the machine "
-        "stiffness " +
-        short_number(machine_stiffness) + " N/m");
+  // A k_drive given with --set is kept (docs/analysis.md): the spring is the machine's still.
+  if (machine_stiffness > 0 && !sets(overrides, "drive")) {
+    terms.insert(terms.begin(), "drive=spring");
+    if (!sets(overrides, "k_drive")) terms.push_back("k_drive=" + io::format_number(machine_stiffness));
+    notes.push_back("the model is driven as the machine drives the record: drive = spring, k_drive = " +
+                    (sets(overrides, "k_drive") ? std::string("as --set gives it")
+                                                : "the machine stiffness " + short_number(machine_stiffness) + " N/m"));
   }
   return terms;
 }

@@ -230,15 +230,23 @@ bool open_bracket(const std::string& field) {
          std::count(field.begin(), field.end(), '[') > std::count(field.begin(), field.end(), ']');
 }
 
+/// A field as a spreadsheet quotes it ("t (s)", with "" for a quote inside) without its quotes.
+std::string unquoted(std::string field) {
+  if (field.size() < 2 || field.front() != '"' || field.back() != '"') return field;
+  field = field.substr(1, field.size() - 2);
+  for (auto at = field.find("\"\""); at != std::string::npos; at = field.find("\"\"", at + 1)) field.erase(at, 1);
+  return field;
+}
+
 /// Fields of one line: split on commas, else tabs or semicolons, else runs of whitespace
-/// (where a unit in brackets stays with its name: "x (mm)", "t [s]").
+/// (where a unit in brackets stays with its name: "x (mm)", "t [s]"); quotes around a field dropped.
 std::vector<std::string> split_fields(const std::string& line) {
   std::vector<std::string> fields;
   for (const char separator : {',', '\t', ';'}) {
     if (line.find(separator) == std::string::npos) continue;
     std::string field;
     std::istringstream stream(line);
-    while (std::getline(stream, field, separator)) fields.push_back(trim(field));
+    while (std::getline(stream, field, separator)) fields.push_back(unquoted(trim(field)));
     if (!line.empty() && line.back() == separator) fields.emplace_back();
     return fields;
   }
@@ -249,6 +257,7 @@ std::vector<std::string> split_fields(const std::string& line) {
     else
       fields.push_back(field);
   }
+  for (std::string& field : fields) field = unquoted(field);
   return fields;
 }
 
@@ -457,19 +466,26 @@ class RecordReader {
 
  private:
   /// The next line of `in` (false at its end), refusing a line or a record beyond the caps.
+  /// A line ends at LF, CR LF or a CR alone (as old Mac software writes).
   bool read_line(std::istream& in, std::string& line, int line_number) {
-    buffer_.resize(static_cast<std::size_t>(kLongestRecordLine) + 1);
-    in.getline(buffer_.data(), kLongestRecordLine + 1);
-    const std::streamsize got = in.gcount();
-    if (in.fail() && !in.eof() && got == kLongestRecordLine)
-      throw InputError(source_ + ": line " + std::to_string(line_number) + ": longer than " +
-                       std::to_string(kLongestRecordLine) + " characters: not a record of numbers");
-    if (got == 0 && !in) return false;
-    bytes_ += static_cast<std::uint64_t>(got);
+    std::streambuf& from = *in.rdbuf();
+    line.clear();
+    int c = from.sbumpc();
+    if (c == std::char_traits<char>::eof()) return false;
+    for (; c != std::char_traits<char>::eof() && c != '\n'; c = from.sbumpc()) {
+      if (c == '\r') {
+        if (from.sgetc() == '\n') from.sbumpc();
+        break;
+      }
+      if (static_cast<std::streamsize>(line.size()) == kLongestRecordLine)
+        throw InputError(source_ + ": line " + std::to_string(line_number) + ": longer than " +
+                         std::to_string(kLongestRecordLine) + " characters: not a record of numbers");
+      line.push_back(static_cast<char>(c));
+    }
+    bytes_ += line.size() + 1;
     if (bytes_ > kMostRecordBytes)
       throw InputError(source_ + ": more than " + std::to_string(kMostRecordBytes >> 30) +
                        " GiB: beyond the largest record analyze reads (cut a window of it first)");
-    line.assign(buffer_.data(), static_cast<std::size_t>(in.eof() ? got : got - 1));  // less the newline
     return true;
   }
 
@@ -526,11 +542,12 @@ class RecordReader {
   /// The column headed `name`, or else the one whose header is `name` and a unit in brackets
   /// ("F" for "F (N)", "Displ" for "Displ(microns)"; any case) when only one is.
   int find_column(const std::string& name, const char* option, int line_number) const {
-    const auto found = std::find(names_.begin(), names_.end(), name);
+    const std::string wanted = unquoted(trim(name));  // as the header's fields are read
+    const auto found = std::find(names_.begin(), names_.end(), wanted);
     if (found != names_.end()) return static_cast<int>(found - names_.begin());
     std::vector<int> matches;
     for (int k = 0; k < static_cast<int>(names_.size()); ++k)
-      if (lower(without_bracket(names_[std::size_t(k)])) == lower(trim(name))) matches.push_back(k);
+      if (lower(without_bracket(names_[std::size_t(k)])) == lower(wanted)) matches.push_back(k);
     if (matches.size() > 1)
       fail(line_number, std::string(option) + ": '" + name + "' names " + std::to_string(matches.size()) +
                             " columns (columns: " + column_list(names_) + "); give the whole header");
@@ -584,8 +601,16 @@ class RecordReader {
         fail(line_number, "--column " + format_.column + ": the header names " + holds +
                               ", not a displacement; give it as --force-column (--column is the displacement)");
     } else {
-      for (int k = 0; k < count && x_index_ < 0; ++k)
-        if (!taken(k) && is_displacement_name(split_unit(names_[k])) && force_like(names_[k]).empty()) x_index_ = k;
+      std::vector<std::string> candidates;
+      for (int k = 0; k < count; ++k)
+        if (!taken(k) && is_displacement_name(split_unit(names_[k])) && force_like(names_[k]).empty()) {
+          if (x_index_ < 0) x_index_ = k;
+          candidates.push_back(names_[static_cast<std::size_t>(k)]);
+        }
+      // Two columns that could each be the displacement (x (um), x (mm)): taking the first
+      // would be a guess.
+      if (candidates.size() > 1)
+        fail(line_number, "which column is the displacement: " + column_list(candidates) + "? give --column");
       if (x_index_ < 0 && needed && count - (time_index_ >= 0 ? 1 : 0) == 1) {
         x_index_ = time_index_ == 0 ? 1 : 0;
         const std::string holds = force_like(names_[static_cast<std::size_t>(x_index_)]);
@@ -722,6 +747,23 @@ class RecordReader {
     } else {
       detail::make_uniform(record_, times_, where_, source_, place_, format_);
     }
+    check_slip();
+  }
+
+  /// The slip x - F/K within the values a record may hold: a stiffness far too small (in
+  /// the wrong unit, most often) would make F/K inf or too large to square and sum.
+  void check_slip() const {
+    if (record_.observable != Observable::slip || record_.force.empty()) return;
+    double largest = 0;
+    for (const double force : record_.force) largest = std::max(largest, std::fabs(force));
+    const double reach = largest / record_.machine_stiffness;
+    if (reach <= kLargestRecordValue) return;
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "--machine-stiffness %.3g N/m: the slip's F/K reaches %.3g m, beyond the %.0e m a "
+                  "record may hold (the stiffness in the wrong unit?)",
+                  record_.machine_stiffness, reach, kLargestRecordValue);
+    throw InputError(source_ + ": " + text);
   }
 
   void take_time(double t, int line_number) {
@@ -733,8 +775,7 @@ class RecordReader {
   }
 
   std::string source_;
-  std::vector<char> buffer_;  // one line
-  std::uint64_t bytes_ = 0;   // read so far
+  std::uint64_t bytes_ = 0;  // read so far
   std::string place_ = "line";
   RecordFormat format_;
   std::vector<std::string> names_;

@@ -44,6 +44,9 @@ nlohmann::ordered_json spectrum_json(const RecordSpectrum& s, const std::vector<
                        {"spectrum", name},
                        {"unit", spectrum_unit(s.observable)},
                        {"channel", s.channel}};
+  const Verdict verdict = judge_spectrum(s);
+  doc["spectrum_ok"] = verdict.ok;
+  if (!verdict.ok) doc["spectrum_failure"] = verdict.reason;
   if (force) {
     doc["mean_force"] = s.sliding.x0 + s.sliding.v * s.duration / 2;
     doc["force_trend"] = {{"value", s.sliding.v}, {"standard_error", s.sliding.v_error}};
@@ -111,6 +114,8 @@ nlohmann::ordered_json with_verdict(nlohmann::ordered_json doc, const Verdict& v
 }  // namespace
 
 Verdict judge_chi2(double chi2_per_dof, int dof) {
+  if (std::isnan(chi2_per_dof))
+    return {false, "chi2/dof is not a number: the band holds nothing to fit (a spectrum of 0, or no spread)"};
   const double allowed = std::max(3.0, 1 + 5 * std::sqrt(2.0 / std::max(dof, 1)));
   if (chi2_per_dof <= allowed) return {};
   return {false, "chi2/dof " + short_number(chi2_per_dof) + " > " + short_number(allowed) +
@@ -123,6 +128,20 @@ Verdict judge_alpha(const AlphaFit& fit, const Parameters& fitted) {
   const TheoryChoice holds = best_theory(fitted);
   if (holds.kind == TheoryKind::none) add_reason(verdict, "no theory holds at the fitted alpha: " + holds.reason);
   return verdict;
+}
+
+Verdict judge_spectrum(const RecordSpectrum& s) {
+  const char* name = s.observable == Observable::force ? "C_F" : "C_x";
+  for (const AnalysisPoint& point : s.points)
+    if (!std::isfinite(point.C_x) || !std::isfinite(point.standard_error) || !std::isfinite(point.omega))
+      return {false, std::string("the point at omega = ") + short_number(point.omega) + " rad/s holds inf or nan: " +
+                         "beyond the range of a double (the sampling interval, units or stiffness given?)"};
+  if (!s.points.empty() &&
+      std::all_of(s.points.begin(), s.points.end(), [](const AnalysisPoint& p) { return p.C_x == 0; }))
+    return {false, std::string(name) +
+                       " is 0 at every point: the record holds no fluctuation (a constant, or "
+                       "values below the resolution of a double); no spectrum was measured"};
+  return {};
 }
 
 Verdict judge_model(const ModelFit& fit) {

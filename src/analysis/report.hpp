@@ -23,7 +23,8 @@ std::string no_usable_band_for_fit(const std::string& fit);
 std::string usable_band_line(const RecordSpectrum& spectrum);
 
 /// The spectrum's own fields: observable, the mean motion (or force) removed, the floor's
-/// variance, usable band, estimator, and every point (with `theory` per point when given).
+/// variance, usable band, estimator, whether it is a spectrum at all (`spectrum_ok`, and
+/// `spectrum_failure` saying why not), and every point (with `theory` per point when given).
 nlohmann::ordered_json spectrum_json(const RecordSpectrum& spectrum, const std::vector<double>& theory = {});
 
 /// Whether a fit describes the data (docs/analysis.md, "Judging a fit"): chi2/dof within a few
@@ -36,6 +37,10 @@ struct Verdict {
 Verdict judge_chi2(double chi2_per_dof, int dof);
 Verdict judge_alpha(const AlphaFit& fit, const Parameters& fitted);
 Verdict judge_model(const ModelFit& fit);
+/// Whether the spectrum is one: not where a point holds inf or nan (a sampling interval or
+/// stiffness beyond a double's range), nor where it is 0 at every point (a constant record,
+/// or values below a double's resolution): no fluctuation was measured there.
+Verdict judge_spectrum(const RecordSpectrum& spectrum);
 
 /// Each fit's JSON object, with its verdict's ok and failure.
 nlohmann::ordered_json slope_fit_json(const SlopeFit& fit, const Verdict& verdict);

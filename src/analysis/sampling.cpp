@@ -17,6 +17,8 @@ constexpr double kRateChange = 1.5;
 constexpr std::size_t kRateMedianIntervals = 15;
 // Fewest samples of a window or part that can give a spectrum.
 constexpr std::size_t kFewestSamples = 64;
+// The most samples a resampled grid may have: as many as the largest record analyze reads.
+constexpr std::size_t kMostResampledSamples = 50'000'000;
 // Linear interpolation at offsets spread evenly over an interval d passes power
 // 1 - (1 - cos(omega d)) / 3 on average: the band is cut where that loses 5%.
 constexpr double kInterpolationLoss = 0.05;
@@ -153,8 +155,9 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
     while (last > first && time[last - 1] > t1) --last;
     if (last - first < std::min(kFewestSamples, time.size()))
       throw InputError("--window " + shortest(t0) + ":" + shortest(t1) + ": holds " + std::to_string(last - first) +
-                       " samples; the record runs from " + shortest(time.front()) + " to " + shortest(time.back()) +
-                       " s (record time)");
+                       " samples, fewer than the " + std::to_string(kFewestSamples) +
+                       " a spectrum needs; the record runs from " + shortest(time.front()) + " to " +
+                       shortest(time.back()) + " s (record time)");
   }
   std::vector<double> t(time.begin() + std::ptrdiff_t(first), time.begin() + std::ptrdiff_t(last));
   keep_samples(record, first, last);
@@ -215,7 +218,15 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
   const bool jittered = jitter > format.time_tolerance;
   if (forced || (jittered && !gap && format.resample == Resampling::automatic)) {
     const double grid = format.resample == Resampling::interval ? format.resample_interval : typical;
-    const std::size_t samples = std::size_t(std::floor((t.back() - t.front()) / grid)) + 1;
+    // Checked before anything is allocated: a grid far finer than the record would not fit
+    // in memory, and one coarser than the record holds no spectrum.
+    const double count = std::floor((t.back() - t.front()) / grid) + 1;
+    if (!(count >= double(kFewestSamples)) || count > double(kMostResampledSamples))
+      throw InputError("--resample " + shortest(grid) + ": a grid every " + shortest(grid) + " s over the record's " +
+                       shortest(t.back() - t.front()) + " s gives " + shortest(count) + " samples; it needs " +
+                       std::to_string(kFewestSamples) + " to " + shortest(double(kMostResampledSamples)) +
+                       " (the record's median interval is " + shortest(typical) + " s)");
+    const auto samples = static_cast<std::size_t>(count);
     for (std::vector<double>* channel : {&record.displacement, &record.force}) {
       if (channel->empty()) continue;
       const std::vector<double>& x = *channel;
@@ -278,7 +289,8 @@ void apply_window(Record& record, const RecordFormat& format, const std::string&
   const double b = std::min(double(record.samples() - 1), std::floor((t1 - record.start_time) / record.dt + 1e-9));
   if (!(b >= a) || b - a + 1 < double(kFewestSamples))
     throw InputError(source + ": --window " + shortest(t0) + ":" + shortest(t1) + " holds " +
-                     std::to_string(b >= a ? std::size_t(b - a + 1) : 0) + " samples; the record runs from " +
+                     std::to_string(b >= a ? std::size_t(b - a + 1) : 0) + " samples, fewer than the " +
+                     std::to_string(kFewestSamples) + " a spectrum needs; the record runs from " +
                      shortest(record.start_time) + " to " + shortest(end) + " s (record time)");
   keep_samples(record, std::size_t(a), std::size_t(b) + 1);
   record.start_time += a * record.dt;

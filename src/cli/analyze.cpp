@@ -131,10 +131,13 @@ struct Findings {
   std::optional<AlphaFit> alpha;
   std::optional<PowerLawFit> power;
   std::optional<ModelFit> joint;  // model parameters fitted jointly (--fit alpha,a)
+  Verdict spectrum_verdict;       // the spectrum is one (not 0 everywhere, no inf or nan)
   Verdict slope_verdict, alpha_verdict, power_verdict, joint_verdict;
   std::vector<double> model_values;  // model seen through the estimator, per point
   int model_order = 1;               // the theory order of model_values
-  bool ok() const { return slope_verdict.ok && alpha_verdict.ok && power_verdict.ok && joint_verdict.ok; }
+  bool ok() const {
+    return spectrum_verdict.ok && slope_verdict.ok && alpha_verdict.ok && power_verdict.ok && joint_verdict.ok;
+  }
 };
 
 std::string analysis_table(const Options& o, const RecordSpectrum& s, const Findings& f) {
@@ -155,7 +158,8 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
   if (!o.format.column.empty())
     out << "# units = " << to_string(o.format.unit.value_or(LengthUnit::m)) << "  # of the displacement column, from "
         << o.unit_source << "\n";
-  out << "# ok = " << (f.ok() ? "true" : "false") << "  # false: a fit failed (see its line)\n"
+  out << "# ok = " << (f.ok() ? "true" : "false") << "  # false: a fit failed, or the spectrum is none (see its line)\n"
+      << "# spectrum_ok = " << (f.spectrum_verdict.ok ? "true" : "false  # " + f.spectrum_verdict.reason) << "\n"
       << "# record = " << o.file << "\n# samples = " << s.samples << "\n# dt = " << number(s.dt) << "  # [s]\n"
       << "# duration = " << number(s.duration) << "  # [s]\n";
   if (force)
@@ -360,7 +364,10 @@ int command_analyze(Options o) {
     throw InputError("--fit " + o.fit + " needs --compare-case NAME");
   if (o.fit == "power-law" && !o.slope_band.empty())
     throw InputError("--fit power-law and --fit-slope both fit a power law; give one (--fit-band sets the band)");
-  if (!o.compare_case.empty()) build_parameters(o.compare_case, o.overrides);  // refused before any reading
+  if (!o.compare_case.empty()) {  // refused before any reading, with the terms the record will add
+    std::vector<std::string> ignored;
+    build_parameters(o.compare_case, record_terms(o.overrides, 0, o.format.machine_stiffness, ignored));
+  }
 
   if (!o.window.empty()) o.format.window = parse_window(o.window);
   parse_resample(o.resample, o.format);
@@ -383,6 +390,7 @@ int command_analyze(Options o) {
   if (!o.resolution.empty()) o.request.resolution = parse_length(o.resolution, record.unit, "--resolution");
   if (!o.sensor_noise.empty()) o.request.sensor_noise = parse_length(o.sensor_noise, record.unit, "--sensor-noise");
   const RecordSpectrum s = analyze_record(record, o.request);
+  f.spectrum_verdict = detail::judge_spectrum(s);
   if (!o.slope_band.empty()) {
     f.slope = fit_slope(s, o.slope_band[0], o.slope_band[1]);
     f.slope_verdict = detail::judge_chi2(f.slope->chi2_per_dof, f.slope->points - 2);
@@ -417,12 +425,13 @@ int command_analyze(Options o) {
   }
 
   if (!f.ok()) {
-    const std::string reason = !f.joint_verdict.ok   ? f.joint_verdict.reason
-                               : !f.power_verdict.ok ? f.power_verdict.reason
-                               : !f.alpha_verdict.ok ? f.alpha_verdict.reason
-                                                     : f.slope_verdict.reason;
-    o.title =
-        (o.title.empty() ? literal_title(o.file) : o.title) + " - fit FAILED: " + reason.substr(0, reason.find(':'));
+    const std::string reason = !f.spectrum_verdict.ok ? f.spectrum_verdict.reason
+                               : !f.joint_verdict.ok  ? f.joint_verdict.reason
+                               : !f.power_verdict.ok  ? f.power_verdict.reason
+                               : !f.alpha_verdict.ok  ? f.alpha_verdict.reason
+                                                      : f.slope_verdict.reason;
+    o.title = (o.title.empty() ? literal_title(o.file) : o.title) +
+              (f.spectrum_verdict.ok ? " - fit FAILED: " : " - no spectrum: ") + reason.substr(0, reason.find(':'));
   }
   io::OutputSet outputs;  // the table, the JSON and the picture appear together or not at all
   outputs.add(o.out + ".tsv", analysis_table(o, s, f));
@@ -432,9 +441,10 @@ int command_analyze(Options o) {
       !o.no_plot && plot({outputs.temporary(o.out + ".tsv")},
                          outputs.add_written_by_other(figure, std::filesystem::path(figure).extension().string()),
                          o.title, o.figure) == 0;
-  if (!o.no_plot && !plotted) outputs.drop(figure);
+  // As for run: a set without its figure is not the set asked for, so none of it is written.
+  if (!o.no_plot && !plotted)
+    throw io::WriteError(figure + " not drawn; no output written (--no-plot writes the table and JSON alone)");
   outputs.commit();
-  if (!o.no_plot && !plotted) std::cerr << "slidespec: warning: " << o.figure.path(o.out) << " not drawn\n";
   for (const std::string& note : o.notes) std::cerr << "slidespec: note: " << note << "\n";
   // Warnings and failed fits are printed even with --quiet: they change what the files mean.
   const bool force = s.observable == Observable::force;
@@ -472,6 +482,9 @@ int command_analyze(Options o) {
   for (const auto& [name, verdict] : {std::pair{"slope", &f.slope_verdict}, std::pair{"alpha", &f.alpha_verdict},
                                       std::pair{"power-law", &f.power_verdict}, std::pair{"model", &f.joint_verdict}})
     if (!verdict->ok) std::cerr << "slidespec: " << name << " fit FAILED: " << verdict->reason << "\n";
+  if (!f.spectrum_verdict.ok)
+    std::cerr << "slidespec: not a spectrum (marked spectrum_ok = false, exit status 3): " << f.spectrum_verdict.reason
+              << "\n";
   const int status = f.ok() ? 0 : kFitFailedStatus;
   if (o.quiet) return status;
   std::cerr << "slidespec: " << o.file << ": " << s.samples << " samples every " << s.dt << " s, " << unit_note;
@@ -529,7 +542,7 @@ int command_analyze(Options o) {
               << ", " << f.alpha->omega_low << " .. " << f.alpha->omega_high << " rad/s, chi2/dof "
               << f.alpha->chi2_per_dof << ", " << (f.alpha->theory_order == 2 ? "second" : "first")
               << "-order theory)\n";
-  std::cerr << "slidespec: wrote " << o.out << ".tsv, .json" << (plotted ? ", ." + o.figure.format : "")
+  std::cerr << "slidespec: wrote " << o.out << ".tsv, .json" << (o.no_plot ? "" : ", ." + o.figure.format)
             << (f.ok() ? "" : " (marked ok = false)") << "\n";
   return status;
 }
@@ -671,6 +684,12 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
   analyze_->add_flag("--quiet", o.quiet, "no summary");
   analyze_->add_flag("--no-plot", o.no_plot, "skip the figure PREFIX.png");
   o.figure.add_to(*analyze_);
+  // --segments lists the record's segments and stops: an output, a fit or a figure would be ignored.
+  for (const char* ignored : {"--out", "--fit", "--fit-slope", "--fit-band", "--compare-case", "--set",
+                              "--theory-order", "--no-plot", "--format", "--size", "--dpi", "--omega-min",
+                              "--omega-max", "--points", "--estimator", "--resolution", "--sensor-noise"})
+    if (CLI::Option* option = analyze_->get_option_no_throw(ignored))
+      analyze_->get_option("--segments")->excludes(option);
 
   synth_ = app.add_subcommand("synth", "a synthetic displacement-sensor record of a simulated slider (CSV)");
   synth_->add_option("--case", o.synth_case, "named case (default reference)");

@@ -174,7 +174,15 @@ class TheoryCommand final : public Command {
       return log_spaced_omegas(omega_min_, omega_max_, points_per_decade_);
     const bool from_file = !omega_file_.empty();
     const std::string source = from_file ? omega_file_ : "--omega";
-    const std::string text = from_file ? io::read_file(omega_file_, "--omega-file") : omega_list_;
+    std::string text = from_file ? io::read_file(omega_file_, "--omega-file") : omega_list_;
+    if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // a UTF-8 byte order mark
+    // Lines end at LF, CR LF or a CR alone: a '#' comment ends at any of them.
+    for (std::size_t at = text.find('\r'); at != std::string::npos; at = text.find('\r', at)) {
+      if (at + 1 < text.size() && text[at + 1] == '\n')
+        text.erase(at, 1);
+      else
+        text[at] = '\n';
+    }
     std::vector<double> omegas;
     std::istringstream lines(text);
     int line_number = 0;

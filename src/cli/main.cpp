@@ -3,6 +3,10 @@
 // output prefixes and maps what it throws to an exit status.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <new>
 #include <thread>
@@ -17,7 +21,24 @@
 
 using namespace slidespec;
 
+namespace {
+
+/// Flushes standard output; throws WriteError when the system refused a byte of it (a full
+/// disk, /dev/full), which a buffered stream would otherwise lose silently at exit.
+void flush_standard_output() {
+  errno = 0;
+  std::cout.flush();
+  if (std::cout.good() && std::fflush(stdout) == 0 && std::ferror(stdout) == 0) return;
+  throw io::WriteError(std::string("cannot write standard output: ") +
+                       (errno != 0 ? std::strerror(errno) : "the stream failed"));
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  // A file-size limit (ulimit -f) makes a write fail with EFBIG, as a full disk does with
+  // ENOSPC, instead of killing the process between a temporary and its rename.
+  std::signal(SIGXFSZ, SIG_IGN);
   cli::Context context;
 #ifdef SLIDESPEC_MPI
   cli::MpiWorld mpi(argc, argv);
@@ -43,9 +64,12 @@ int main(int argc, char** argv) {
       std::vector<std::string> prefixes;
       for (const cli::NamedFile& prefix : files.prefixes) prefixes.push_back(prefix.path);
       const io::OutputLock lock(speaks ? prefixes : std::vector<std::string>{});
-      return command->run();
+      const int status = command->run();
+      flush_standard_output();
+      return status;
     }
     if (speaks) std::cout << app.help();  // bare `slidespec`: what it can do
+    flush_standard_output();
     return 0;
   } catch (const CLI::Success& e) {  // --help, --version
     return app.exit(e);

@@ -248,13 +248,24 @@ RunOutcome run_and_write(const Context& context, RunSession& session, const RunO
   control.stop = &stop_requested;
   control.communicator = context.communicator;
   control.checkpoint_every = options.checkpoint_every;
-  control.checkpoint = [&](const RunSession& s) {
-    if (writes) io::write_atomically(state_path, s.save());
+  const auto save = [&](const RunSession& s) {
+    if (!writes) return;
+    try {
+      io::write_atomically(state_path, s.save());
+    } catch (const io::WriteError& e) {
+      // The atomic write left the previous checkpoint as it was: say so, and how to go on.
+      std::error_code ignored;
+      if (!std::filesystem::exists(state_path, ignored)) throw;
+      throw io::WriteError(std::string(e.what()) + "; " + state_path +
+                           " still holds the previous checkpoint, intact: continue it with slidespec run --resume " +
+                           out);
+    }
   };
+  control.checkpoint = save;
   const bool finished = session.advance(control);
   if (!options.shared_progress) progress.finish();
   if (writes) {
-    io::write_atomically(state_path, session.save());
+    save(session);
     if (!finished && !options.quiet)
       std::cerr << "slidespec: saved the run to " << state_path << "; continue it with: slidespec run --resume " << out
                 << (options.save_state.empty() ? "" : " --save-state " + options.save_state) << "\n";
@@ -339,6 +350,9 @@ class RunCommand final : public Command {
     // Resuming a part whose --save-state was its PREFIX.state names that state twice.
     if (given("--save-state") && (resume.empty() || options_.save_state != resume + ".state"))
       files.output(options_.save_state, "--save-state");
+    // A state is an output like the others: F.state is locked as the prefix F, so that no
+    // two commands write it at once, nor a part's --save-state the state of a run --out F.
+    if (given("--save-state")) files.prefixes.push_back({state_prefix(options_.save_state), "--save-state"});
     return files;
   }
 
@@ -374,6 +388,8 @@ class RunCommand final : public Command {
                                       : "an interrupted run; continue it with --resume " + options.out) +
                        ", or remove it to start afresh");
     }
+    if (given("--save-state") && options.save_state != options.out + ".state")
+      refuse_state_of_another_run(options.save_state, nullptr);
     if (context_.writes_outputs()) refuse_state_beyond_free_space(p, options.request, options.out);
     if (!options.quiet && context_.writes_outputs()) warn_if_no_theory_holds(p);
     catch_stop_signals();
@@ -382,6 +398,31 @@ class RunCommand final : public Command {
 
  private:
   bool given(const char* name) const { return subcommand().count(name) > 0; }
+
+  /// The prefix whose lock guards a state file: F for F.state, else the name itself.
+  static std::string state_prefix(const std::string& path) {
+    const std::string suffix = ".state";
+    return path.size() > suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0
+               ? path.substr(0, path.size() - suffix.size())
+               : path;
+  }
+
+  /// --save-state FILE would replace a state already there: a finished part (merge's only
+  /// copy) or an interrupted run. Allowed only when it holds the very run `resumed` continues.
+  static void refuse_state_of_another_run(const std::string& path, const RunSession* resumed) {
+    if (std::error_code ignored; !std::filesystem::exists(path, ignored)) return;
+    std::string held = "a file that is not a run state";
+    try {
+      const RunSession there = RunSession::load(io::read_file(path, "--save-state"));
+      if (resumed != nullptr && resumed->difference(there.parameters(), there.request()).empty()) return;
+      held = there.finished()
+                 ? (there.request().part ? "a finished part of a run (join it with merge)" : "a finished run")
+                 : "an interrupted run";
+    } catch (const InputError&) {
+    }
+    throw InputError("--save-state: " + path + " already holds " + held +
+                     "; choose another file, or remove it to write this run's state there");
+  }
 
   /// A run saves a state of at least (points + 2) doubles per realization of each
   /// sub-band (its own periodogram means, control and speed) before its outputs: refused
@@ -415,6 +456,9 @@ class RunCommand final : public Command {
   /// Continues a saved run: its parameters and request are in the state; options given
   /// here must describe the same run (threads and SIMD path may change).
   int resume(RunOptions& options) {
+    // The budget bounds the plan a fresh run makes; a resumed run continues the plan it has.
+    if (given("--work-budget"))
+      throw InputError("--work-budget: a resumed run continues the plan it started with; leave --work-budget out");
     RunSession session = RunSession::load(io::read_file(options.resume + ".state", "--resume"));
     const bool model_given = given("--case") || given("--set") || given("--params");
     RunRequest request = session.request();
@@ -432,6 +476,9 @@ class RunCommand final : public Command {
     if (given("--control-variate")) request.control_variate = options.request.control_variate;
     const std::string differs = session.difference(model_given ? model_.build() : session.parameters(), request);
     if (!differs.empty()) throw InputError("--resume: " + options.resume + ".state is another run (" + differs + ")");
+    if (given("--save-state") && options.save_state != options.resume + ".state" &&
+        options.save_state != options.out + ".state")
+      refuse_state_of_another_run(options.save_state, &session);
     session.set_execution(options.request.threads, options.request.simd);
     catch_stop_signals();
     return exit_status(run_and_write(context_, session, options, options.out));
@@ -538,11 +585,11 @@ class SweepCommand final : public Command {
         std::erase_if(one.overrides, [](const std::string& change) { return change.rfind("k_drive=", 0) == 0; });
       try {
         params.push_back(one.build());
+        RunSession check(params.back(), options.request);  // validates the band for these values
+        work.push_back(planned_work(params.back(), options.request));
       } catch (const InputError& e) {
         throw InputError("sweep run " + grid_point(values) + ": " + e.what());
       }
-      RunSession check(params.back(), options.request);  // validates the band for these values
-      work.push_back(planned_work(params.back(), options.request));
     }
     catch_stop_signals();
     const bool writes = context_.writes_outputs();
@@ -552,7 +599,7 @@ class SweepCommand final : public Command {
     share_progress(singles, work, progress);
     std::vector<SweepRun> runs;
     std::vector<std::string> tables;
-    bool stationary = true, written = true;
+    bool stationary = true, written = true, interrupted = false;
     for (std::size_t k = 0; k < grid.size(); ++k) {
       const std::string name = run_prefix(grid[k]);
       const std::string shown = grid_point(grid[k]);
@@ -566,7 +613,9 @@ class SweepCommand final : public Command {
       tables.push_back(name + ".tsv");
       stationary = stationary && outcome.result.stationary;
       written = written && outcome.written;
-      if (!outcome.result.complete && stop_requested) break;
+      // Interrupted in any run, the last one included: the sweep is not done.
+      interrupted = !outcome.result.complete && stop_requested;
+      if (interrupted) break;
     }
     progress.finish();
     // The combined table holds what was run, also when interrupted.
@@ -578,7 +627,7 @@ class SweepCommand final : public Command {
       if (!options.quiet)
         std::cerr << "slidespec: wrote " << options.out << ".tsv, .json (all " << runs.size() << " runs)\n";
     }
-    if (runs.size() < grid.size()) return 128 + stop_signal;
+    if (interrupted) return 128 + stop_signal;
     if (!written) return kNotWritten;
     const int done = stationary ? 0 : kNotStationary;
     if (options.no_plot || !writes) return done;

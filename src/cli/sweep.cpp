@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 #include "io/tables.hpp"
@@ -104,6 +106,18 @@ std::vector<SweepAxis> parse_sweep(const std::vector<std::string>& arguments) {
         axis.values.push_back(value);
       }
       if (list.back() == ',') throw InputError("sweep: an empty value in '" + word + "'");
+      // The same value twice (0.5 and 0.50) would run twice, and its outputs once.
+      std::map<double, std::string> numbers;
+      std::set<std::string> words_seen;
+      for (const std::string& value : axis.values) {
+        const std::optional<double> number = io::parse_number(value);
+        const auto [seen, fresh] = number ? numbers.emplace(*number, value) : std::pair{numbers.end(), true};
+        if (!fresh || !words_seen.insert(value).second) {
+          const std::string first = fresh ? value : seen->second;
+          throw InputError("sweep: '" + word + "' gives the value " + first + " twice" +
+                           (first == value ? "" : " (also as " + value + ")") + "; give each value once");
+        }
+      }
     }
     axes.push_back(axis);
   }

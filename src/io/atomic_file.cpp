@@ -5,10 +5,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -43,6 +47,45 @@ void write_all(int fd, const std::string& temp, const std::string& content) {
   if (::fsync(fd) != 0 || ::close(fd) != 0) {
     ::unlink(temp.c_str());
     throw WriteError("cannot flush " + temp);
+  }
+}
+
+// A name the writer gives a temporary of `path`: PATH.tmp.XXXXXX (mkstemp's six letters
+// or digits), PATH.tmp.XXXXXX.EXT (one another program writes), PATH.tmp.old.PID (a backup).
+bool is_temporary_of(const std::string& name, const std::string& path_name) {
+  const std::string stem = path_name + ".tmp.";
+  if (name.size() <= stem.size() || name.compare(0, stem.size(), stem) != 0) return false;
+  const std::string rest = name.substr(stem.size());
+  auto all_of = [](const std::string& text, int (*kind)(int)) {
+    for (const char c : text)
+      if (!kind(static_cast<unsigned char>(c))) return false;
+    return !text.empty();
+  };
+  if (rest.compare(0, 4, "old.") == 0) return all_of(rest.substr(4), isdigit);
+  if (rest.size() < 6 || !all_of(rest.substr(0, 6), isalnum)) return false;
+  return rest.size() == 6 || (rest[6] == '.' && all_of(rest.substr(7), isalnum));
+}
+
+// Removes the temporaries of `paths` left by a process that died before its rename (a
+// SIGKILL, a power loss). Called once they are committed: the prefix lock keeps any other
+// writer of them away, so every temporary of them but this process's own is stale. Each
+// path once per process (a run's checkpoints rewrite one state), each directory read once.
+void remove_stale_temporaries(const std::vector<std::string>& paths) {
+  namespace fs = std::filesystem;
+  static std::mutex mutex;
+  static std::set<std::string> cleaned;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::map<std::string, std::vector<std::string>> names_by_directory;
+  for (const std::string& path : paths)
+    if (cleaned.insert(path).second)
+      names_by_directory[directory_of(path)].push_back(fs::path(path).filename().string());
+  for (const auto& [directory, names] : names_by_directory) {
+    std::error_code error;
+    for (fs::directory_iterator entry(directory, error), end; !error && entry != end; entry.increment(error)) {
+      const std::string found = entry->path().filename().string();
+      for (const std::string& name : names)
+        if (is_temporary_of(found, name)) ::unlink(entry->path().c_str());
+    }
   }
 }
 
@@ -150,7 +193,12 @@ void OutputSet::commit() {
     throw WriteError("cannot write " + failed + ": " + why + " (no output of the set was changed)");
   }
   remove_backups();
-  for (const Pending& p : pending_) sync_directory(p.path);
+  std::vector<std::string> committed;
+  for (const Pending& p : pending_) {
+    committed.push_back(p.path);
+    sync_directory(p.path);
+  }
+  remove_stale_temporaries(committed);
   pending_.clear();
 }
 

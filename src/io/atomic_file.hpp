@@ -27,7 +27,9 @@ void write_atomically(const std::string& path, const std::string& content);
 /// (or anything before it, a full disk say), every file already renamed is put back as it
 /// was (restored from a hard link to the old file, or removed if it was new) and no
 /// temporary remains. Only a crash between the renames (power loss, SIGKILL) can leave a
-/// part of the set new; then each file is still whole, old or new.
+/// part of the set new; then each file is still whole, old or new. A committed set also
+/// removes the temporaries of its files that such a crash left (the prefix lock keeps
+/// every other writer of them away).
 class OutputSet {
  public:
   OutputSet() = default;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cerrno>
+#include <cfloat>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -183,6 +184,12 @@ double parse_real(const std::string& key, const std::string& text) {
   char* end = nullptr;
   const double value = std::strtod(t.c_str(), &end);
   if (end != t.c_str() + t.size()) throw InputError("parameter " + key + ": '" + text + "' is not a number");
+  // strtod's ERANGE is an overflow (inf) or an underflow (a subnormal, or 0): only the
+  // first is "not finite"; the second is a number too small to compute with.
+  if (errno == ERANGE && std::isfinite(value) && std::fabs(value) < DBL_MIN)
+    throw InputError("parameter " + key + ": '" + text +
+                     "' is below the smallest normal double (2.2e-308); parameters lie within 1e-100..1e100, or are 0 "
+                     "where 0 is allowed");
   if (!std::isfinite(value) || errno == ERANGE)
     throw InputError("parameter " + key + ": '" + text + "' is not a finite number");
   return value;

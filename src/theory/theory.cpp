@@ -31,6 +31,14 @@ void check_theory_omegas(const Parameters& p, const std::vector<double>& omegas)
   const double highest_asked = omegas.empty() ? 0 : *std::max_element(omegas.begin(), omegas.end());
   if (LumpedTheory(p)(highest_asked) >= std::numeric_limits<double>::min()) return;
   const double highest = highest_theory_omega(p);
+  // Below the doubles at every omega: no frequency to name. With no random force at any
+  // touching level (alpha = 0) there is no fluctuation at all.
+  bool noise = false;
+  for (int l = 1; l <= p.levels; ++l) noise = noise || (p.touches(l) && p.level(l).alpha > 0);
+  if (highest == 0)
+    throw InputError(noise ? "C_x lies below the smallest double at every omega: no spectrum to compute"
+                           : "alpha: 0 gives no random force, so C_x is zero at every omega and there is no spectrum "
+                             "to compute");
   for (const double omega : omegas)
     if (omega > highest) {
       std::snprintf(message, sizeof message,

@@ -1,0 +1,169 @@
+#!/usr/bin/env bash
+# Every failure is a failure, state files are outputs too, and no limit or signal loses work
+# (issue 37): writes the system refuses exit 1, a file-size limit is a failed write, stale
+# temporaries go, --save-state is locked and kept like PREFIX.state, an interrupted sweep
+# says so, a spectrum of nothing is marked, and files read as a spreadsheet writes them.
+source "$(dirname "$0")/common.sh"
+data=$(cd "$(dirname "$0")/../data/realdata" && pwd)
+cd "$work" || exit 1
+
+band="--omega-min 100 --omega-max 1000"
+"$bin" synth --duration 5 --sample-interval 0.01 --out rec > /dev/null 2>&1 || fail "synth fixture"
+
+# expect_failed NAME WORD STATUS: exit 1 and a message naming WORD.
+expect_failed() {
+  [ "$3" -eq 1 ] || fail "$1: exit status $3, expected 1: $(cat err)"
+  grep -q -- "$2" err || fail "$1: no message naming '$2': $(cat err)"
+}
+
+# --- Failed writes exit 1 (standard output included), and analyze keeps its set back as run does.
+if [ -w /dev/full ]; then
+  "$bin" theory --omega 1,2 > /dev/full 2> err
+  expect_failed "theory > /dev/full" "cannot write standard output" $?
+  "$bin" cases > /dev/full 2> err
+  expect_failed "cases > /dev/full" "cannot write standard output" $?
+  "$bin" analyze rec.csv --segments > /dev/full 2> err
+  expect_failed "analyze --segments > /dev/full" "cannot write standard output" $?
+fi
+"$bin" analyze rec.csv --out an --quiet || fail "analyze with its figure"
+before=$(sha256sum an.tsv an.json an.png)
+SLIDESPEC_PYTHON=/bin/false "$bin" analyze rec.csv --sensor-noise 1e-9 --out an --quiet 2> err
+expect_failed "analyze whose figure cannot be drawn" "an.png not drawn" $?
+[ "$(sha256sum an.tsv an.json an.png)" = "$before" ] || fail "analyze without its figure changed the set"
+ls an.*tmp* > /dev/null 2>&1 && fail "analyze without its figure left temporaries: $(ls an.*tmp*)"
+
+# --- A file-size limit is a failed write (EFBIG), as a full disk is: exit 1, no temporary
+# and no lock left, not death by SIGXFSZ.
+(ulimit -f 8 && exec "$bin" run $band --precision 0.2 --out limited --quiet --no-plot) 2> err
+expect_failed "run under ulimit -f" "File too large" $?
+ls limited.* > /dev/null 2>&1 && fail "run under ulimit -f left files: $(ls limited.*)"
+(ulimit -f 1 && exec "$bin" analyze rec.csv --out limited --quiet --no-plot) 2> err
+expect_failed "analyze under ulimit -f" "File too large" $?
+ls limited.* > /dev/null 2>&1 && fail "analyze under ulimit -f left files: $(ls limited.*)"
+# Temporaries a SIGKILL left beside a prefix's files go once that prefix's set is written;
+# another prefix's stay.
+touch clean.tsv.tmp.Ab3dE9 clean.state.tmp.ZZ00zz clean.png.tmp.q1w2e3.png clean.json.tmp.old.4242 \
+  cleanx.tsv.tmp.Ab3dE9 clean.tsv.tmp.notours
+"$bin" run $band --precision 0.2 --out clean --quiet || fail "a run beside stale temporaries"
+for stale in clean.tsv.tmp.Ab3dE9 clean.state.tmp.ZZ00zz clean.png.tmp.q1w2e3.png clean.json.tmp.old.4242; do
+  [ -e $stale ] && fail "stale temporary $stale stayed"
+done
+[ -e cleanx.tsv.tmp.Ab3dE9 ] && [ -e clean.tsv.tmp.notours ] || fail "a file not a temporary of the set was removed"
+
+# --- --save-state is an output like PREFIX.state: never replaced by another run's, and locked.
+"$bin" run $band --realizations-range 0:8 --save-state s.state --out pa --quiet --no-plot || fail "part 0:8"
+cp s.state s.copy
+expect_refused "second part onto a part's state" "s.state already holds a finished part" \
+  run $band --realizations-range 8:8 --save-state s.state --out pb --no-plot
+cmp -s s.state s.copy || fail "a second part replaced the first part's state"
+cp s.state y.state  # as an interrupted run --out y would leave it
+expect_refused "part onto another run's PREFIX.state" "y.state already holds" \
+  run $band --realizations-range 8:8 --save-state y.state --out pb --no-plot
+# The same part resumed may write its own state again; another part's is refused.
+"$bin" run --resume pa --save-state s.state --quiet --no-plot || fail "a part resumed onto its own --save-state"
+"$bin" run $band --realizations-range 8:8 --save-state t.state --out pc --quiet --no-plot || fail "part 8:8"
+expect_refused "resumed part onto another part's state" "t.state already holds" \
+  run --resume pa --save-state t.state --no-plot
+# A command writing the state's prefix (held here by flock(1)) keeps a second writer away.
+if command -v flock > /dev/null; then
+  ( exec 9> held.lock && flock 9 && exec sleep 30 ) &  # the lock held by the sleeping process itself
+  holder=$!
+  for _ in $(seq 100); do [ -e held.lock ] && break; sleep 0.05; done
+  sleep 0.2
+  expect_refused "two writers of one --save-state" "another slidespec is writing" \
+    run $band --realizations-range 0:8 --save-state held.state --out pd --no-plot
+  kill "$holder"
+  wait "$holder" 2> /dev/null
+fi
+
+# --- A sweep interrupted in its last run is interrupted (130), as in an earlier one.
+# Each run takes a second or more: the interrupt lands 0.3 s into the second.
+"$bin" sweep alpha=1,0.9 --omega-min 0.1 --omega-max 1e4 --precision 0.01 --out sw --no-plot 2> err &
+sweep=$!
+for _ in $(seq 400); do grep -q "sweep 2/2" err && break; sleep 0.05; done
+sleep 0.3
+kill -INT $sweep
+wait $sweep
+status=$?
+[ $status -eq 130 ] || fail "a sweep interrupted in its last run exited $status, expected 130: $(cat err)"
+
+# --- A spectrum of nothing is marked, not ok (exit 3).
+awk 'BEGIN { print "t (s),x (m)"; for (k = 0; k < 4000; ++k) print k * 0.01 ",0.002" }' > flat.csv
+"$bin" analyze flat.csv --out flat --no-plot --quiet 2> err
+status=$?
+[ $status -eq 3 ] || fail "a constant record: exit status $status, expected 3: $(cat err)"
+grep -q "^# spectrum_ok = false" flat.tsv && grep -q '"ok": false' flat.json || fail "a constant record is not marked"
+grep -q "no fluctuation" err || fail "a constant record: no message saying why: $(cat err)"
+"$bin" analyze rec.csv --dt 1e-170 --out tiny --no-plot --quiet 2> err
+status=$?
+[ $status -eq 3 ] || [ $status -eq 2 ] || fail "analyze --dt 1e-170: exit status $status, expected 3 (or a refusal)"
+
+# --- Files as spreadsheets and old software write them.
+awk 'BEGIN { print "\"t (s)\",\"x (um)\""; srand(3); x = 0
+             for (k = 0; k < 4000; ++k) { x += 0.5 + rand() - 0.5; printf "%g,%g\n", k * 0.01, x } }' > quoted.csv
+"$bin" analyze quoted.csv --out quoted --no-plot --quiet 2> err || fail "a quoted CSV header: $(cat err)"
+grep -q '^# units = um' quoted.tsv || fail "a quoted header's unit was not read: $(grep '^# units' quoted.tsv)"
+"$bin" analyze quoted.csv --column '"x (um)"' --out quoted2 --no-plot --quiet 2> err \
+  || fail "--column given as quoted: $(cat err)"
+grep -q '^# units = um' quoted2.tsv || fail "--column given as quoted: its unit was not read"
+tr '\n' '\r' < quoted.csv > cr.csv
+"$bin" analyze cr.csv --out cr --no-plot --quiet 2> err || fail "a record with CR line ends: $(cat err)"
+cmp -s <(grep -v '^# record\|^# label' quoted.tsv) <(grep -v '^# record\|^# label' cr.tsv) \
+  || fail "CR line ends read otherwise than LF"
+awk 'BEGIN { print "t (s),x (um),x (mm)"; for (k = 0; k < 4000; ++k) printf "%g,%g,%g\n", k * 0.01, k, k / 1000 }' \
+  > twox.csv
+expect_refused "two displacement columns" "which column is the displacement" analyze twox.csv --out out --no-plot
+printf '\xEF\xBB\xBF1\r2\r# a comment\r10\r' > om.txt
+"$bin" theory --omega-file om.txt > om.tsv 2> err || fail "an omega file with a BOM and CR line ends: $(cat err)"
+[ "$(grep -vc '^#' om.tsv)" -eq 3 ] || fail "an omega file with a BOM and CR line ends: not 3 rows"
+
+# --- Options that would be accepted and ignored are refused.
+expect_refused "--segments with --out" "--segments" analyze rec.csv --segments --out out
+expect_refused "--segments with --fit" "--segments" analyze rec.csv --segments --fit power-law
+expect_refused "a sweep value twice" "twice" sweep alpha=0.5,0.50 $band --out out --no-plot
+expect_refused "resume with a work budget" "--work-budget" run --resume pa --work-budget 1 --no-plot
+# The failing run of a sweep is named.
+expect_refused "a sweep's failing run" "sweep run N=30000: --omega-min" sweep N=1,30000 --omega-min 0.1 \
+  --omega-max 1e5 --out out --no-plot
+
+# A checkpoint that cannot be written (its state grows past the file-size limit) says the
+# previous one is intact, and it is: the resume finishes the run.
+(ulimit -f 100 && exec "$bin" run --omega-min 10 --omega-max 1e4 --precision 0.01 --out ck --no-plot --quiet \
+  --checkpoint-every 0.05) 2> err
+expect_failed "a checkpoint beyond the file-size limit" "ck.state still holds the previous checkpoint, intact" $?
+if [ -s ck.state ]; then
+  "$bin" run --resume ck --no-plot --quiet || fail "the intact checkpoint does not resume"
+fi
+
+# --- Messages that name what is wrong.
+# A record too short for 16 blocks of 8 samples takes fewer blocks for the speed's error.
+awk 'BEGIN { print "t,x (um)"; srand(3); x = 0; for (k = 0; k < 100; ++k) { x += 0.5 + rand() - 0.5; printf "%g,%g\n", k * 0.01, x } }' > short.csv
+"$bin" analyze short.csv --out short --no-plot --quiet 2> err || fail "a 100-sample record: $(cat err)"
+grep -q "^# measured_mean_speed = .*+- [1-9].* (from 12 blocks)" short.tsv \
+  || fail "a 100-sample record's speed has no error: $(grep measured_mean_speed short.tsv)"
+expect_refused "theory of no random force" "alpha: 0 gives no random force" theory --set alpha=0 --omega 1
+expect_refused "a subnormal parameter" "below the smallest normal double" theory --set alpha=1e-310 --omega 1
+expect_refused "a window short of samples" "fewer than the 64 a spectrum needs" analyze rec.csv --window 0:0.5 \
+  --out out --no-plot
+for interval in 1e-300 1e-9 100; do
+  expect_refused "--resample $interval" "--resample .*: a grid every" analyze rec.csv --resample $interval \
+    --out out --no-plot
+done
+
+# A fit on a spectrum of nothing says why, not "chi2/dof -nan".
+"$bin" analyze flat.csv --fit-slope 1 10 --out flat --no-plot --quiet 2> err
+grep -q "slope fit FAILED: chi2/dof is not a number" err && ! grep -q "nan" err \
+  || fail "a slope fit on a constant record: $(cat err)"
+# --set k_drive beside --machine-stiffness is kept, as docs/analysis.md says.
+sepiolite="$data/velstep3_TR2_exp013_sepiolite.txt"
+"$bin" analyze "$sepiolite" --window 21350:22319 --machine-stiffness 0.01MPa/um --contact-area 25cm2 \
+  --compare-case reference --set k_drive=1e4 --no-plot --out kept --quiet 2> err
+grep -q "^# k_drive = 10000" kept.tsv && grep -q "^# drive = spring" kept.tsv \
+  || fail "--set k_drive beside --machine-stiffness: $(cat err)"
+# A stiffness that makes the slip F/K unrepresentable is refused naming it, not blamed on the unit.
+expect_refused "a machine stiffness far too small" "--machine-stiffness 1e-300 N/m: the slip's F/K reaches" \
+  analyze "$sepiolite" --window 21350:22319 --machine-stiffness 1e-300 --contact-area 25cm2 --out out --no-plot
+
+[ $failures -eq 0 ] && echo "reliability: failed writes, file-size limits, state files, interrupted sweeps," \
+  "spectra of nothing, file formats and ignored options as issue 37 asks"
+exit $((failures > 0))
