@@ -128,7 +128,7 @@ expect_refused "a sweep's failing run" "sweep run N=30000: --omega-min" sweep N=
 
 # A checkpoint that cannot be written (its state grows past the file-size limit) says the
 # previous one is intact, and it is: the resume finishes the run.
-(ulimit -f 100 && exec "$bin" run --omega-min 10 --omega-max 1e4 --precision 0.01 --out ck --no-plot --quiet \
+(ulimit -f 100 && exec "$bin" run --omega-min 10 --omega-max 1e4 --precision 0.003 --out ck --no-plot --quiet \
   --checkpoint-every 0.05) 2> err
 expect_failed "a checkpoint beyond the file-size limit" "ck.state still holds the previous checkpoint, intact" $?
 if [ -s ck.state ]; then
