@@ -25,9 +25,12 @@ def read_run(path):
             elif line.startswith("# label = ") or line.startswith("# case = "):
                 label = line.split("=", 1)[1].split("  #")[0].strip()
             elif not line.startswith("#") and line.strip():
-                rows.append([float(x) for x in line.split("\t")])
+                try:
+                    rows.append([float(x) for x in line.split("\t")])
+                except ValueError:
+                    raise ValueError(f"{path}: not a run's TSV (slidespec run writes PREFIX.tsv)") from None
     if names is None or "correction" not in names:
-        raise ValueError(f"{path}: not a run table with a correction column (slidespec run writes one)")
+        raise ValueError(f"{path}: not a run's TSV with a correction column (slidespec run writes PREFIX.tsv)")
     return label, {name: [r[i] for r in rows] for i, name in enumerate(names)}
 
 
@@ -48,8 +51,15 @@ def main(argv):
         error = [100 * x for x in c["correction_stderr"]]
         ax.errorbar(c["omega"], percent, yerr=error, fmt="o", ms=3.5, color=color, capsize=2,
                     label=f"{label}: C_x/theory - 1, ±1 stderr")
-        second = [100 * (t2 / t - 1) for t2, t in zip(c["theory2"], c["theory"])]
-        ax.plot(c["omega"], second, "-", color=color, lw=1.2, label="theory2/theory - 1 (docs/model.md §7)")
+        # theory2 only where the run says it holds (theory_kind 2 second order, 3 quasi-static),
+        # broken where it does not.
+        kinds = c.get("theory_kind", [2.0] * len(c["omega"]))
+        second = [100 * (t2 / t - 1) if k in (2.0, 3.0) else float("nan")
+                  for t2, t, k in zip(c["theory2"], c["theory"], kinds)]
+        if any(x == x for x in second):
+            name = "quasi-static" if 3.0 in kinds else "second order"
+            ax.plot(c["omega"], second, "-", color=color, lw=1.2,
+                    label=f"{name} where it holds: theory2/theory - 1 (docs/model.md §7)")
     ax.axhline(0, color="black", lw=0.8)
     ax.set_xscale("log")
     ax.set_xlabel("ω (rad/s)")

@@ -31,7 +31,7 @@ struct RunRequest {
   bool part = false;
   std::uint64_t seed = 1;
   /// Each realization's linear shadow as a control variate (docs/run.md, "The shadow"):
-  /// the same expectation, a smaller error for the same work; false gives the plain estimate.
+  /// the same expectation, a smaller error for the same work; false: the forcing alone.
   bool control_variate = true;
   int threads = 0;  ///< 0 = all cores
   SimdPath simd = SimdPath::automatic;

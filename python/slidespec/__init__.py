@@ -598,7 +598,8 @@ def run(params, *, omega_min=_RUN["omega_min"], omega_max=_RUN["omega_max"], poi
     duration: instead (not with precision), a fixed simulated time per realization of the lowest sub-band [s].
     realizations: a fixed number of realizations per sub-band.
     control_variate: "shadow" (each realization's linear shadow as a control variate, docs/run.md)
-      or "off" (the plain estimate; the same expectation, larger error bars for the same work).
+      or "off" (without it, on the forcing control variate alone; the same expectation, larger
+      error bars for the same work).
     seed: the random seed; threads: worker threads (0 = all cores); simd:
       "auto"|"scalar"|"sse2"|"avx2"|"avx512". The same parameters, band, precision and seed
       give bitwise the numbers of the command line, whatever threads and simd.

@@ -294,28 +294,41 @@ const char* const kPeakNote =
 
 /// A run's table says per point which theory holds (its theory_kind column: 2 second order,
 /// 3 quasi-static, both its theory2; 1 the first order; 0 none). The residuals are taken
-/// against that theory and left out where none holds; the line follows it, scaled from the
-/// first order by theory2/theory at the nearest point, and breaks where none holds.
+/// against that theory and left out where none holds; the line is the fine first-order one
+/// where that holds, runs through the points' theory2 where a theory beyond it does (the
+/// periodic first order's zeros are not the second order's), and breaks where none holds.
+/// Returns whether a theory beyond the first order is drawn anywhere.
 bool show_only_where_a_theory_holds(const Table& table, figure::Spectrum& spectrum) {
   const std::vector<double>& kind = table.column("theory_kind");
   const std::vector<double>& theory2 = table.column("theory2");
-  if (kind.size() != spectrum.omega.size() || theory2.size() != spectrum.omega.size()) return false;
-  std::vector<double> scale(kind.size(), NAN);
-  for (std::size_t i = 0; i < kind.size(); ++i) {
-    const bool beyond_first = kind[i] == 2 || kind[i] == 3;
-    if (beyond_first && std::isfinite(theory2[i]) && spectrum.theory[i] > 0) scale[i] = theory2[i] / spectrum.theory[i];
-    if (kind[i] == 1) scale[i] = 1;
-    spectrum.theory[i] *= scale[i];
-  }
+  const std::size_t n = spectrum.omega.size();
+  if (kind.size() != n || theory2.size() != n) return false;
+  auto beyond_first = [&](std::size_t i) { return (kind[i] == 2 || kind[i] == 3) && std::isfinite(theory2[i]); };
+  std::vector<std::pair<double, double>> line;
   for (std::size_t j = 0; j < spectrum.line_omega.size(); ++j) {
     std::size_t nearest = 0;
-    for (std::size_t i = 1; i < spectrum.omega.size(); ++i)
+    for (std::size_t i = 1; i < n; ++i)
       if (std::fabs(std::log(spectrum.line_omega[j] / spectrum.omega[i])) <
           std::fabs(std::log(spectrum.line_omega[j] / spectrum.omega[nearest])))
         nearest = i;
-    spectrum.line_C_x[j] *= scale[nearest];
+    if (kind[nearest] == 1) line.emplace_back(spectrum.line_omega[j], spectrum.line_C_x[j]);
   }
-  return std::any_of(kind.begin(), kind.end(), [](double k) { return k != 1; });
+  bool any_beyond = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (beyond_first(i)) {
+      spectrum.theory[i] = theory2[i];
+      line.emplace_back(spectrum.omega[i], theory2[i]);
+      any_beyond = true;
+    } else if (kind[i] != 1) {
+      spectrum.theory[i] = NAN;
+      line.emplace_back(spectrum.omega[i], NAN);  // breaks the line
+    }
+  }
+  std::stable_sort(line.begin(), line.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  spectrum.line_omega.clear();
+  spectrum.line_C_x.clear();
+  for (const auto& [omega, value] : line) spectrum.line_omega.push_back(omega), spectrum.line_C_x.push_back(value);
+  return any_beyond;
 }
 
 }  // namespace

@@ -131,8 +131,10 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
   std::uint64_t realizations = 0;
   for (const SubBand& band : result.sub_bands) realizations += band.realizations;
   out << "# seed = " << request.seed << "\n"
-      << "# control_variate = " << (request.control_variate ? "shadow" : "off")
-      << "  # shadow: each realization's linear shadow as a control variate (docs/run.md)\n"
+      << "# control_variate = "
+      << (request.control_variate ? "shadow  # each realization's linear shadow as a control variate where it pays"
+                                  : "off  # the forcing control variate alone")
+      << " (docs/run.md)\n"
       << "# realizations = " << realizations << "  # over all sub-bands\n"
       << "# simulated_time = " << format_number(result.simulated_time) << "  # [s], all realizations\n"
       << "# measured_mean_speed = " << format_number(result.mean_speed) << "  # [m/s] +- "
