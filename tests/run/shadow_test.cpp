@@ -129,9 +129,9 @@ TEST(Shadow, TheShadowFollowsTheBlockBelowTheTopSubRuns) {
 TEST(Shadow, TheControlVariateKeepsTheEstimateAndShrinksItsError) {
   const Parameters p = ParameterBuilder("reference").build();
   RunRequest request;
-  request.omega_min = 0.1;
+  request.omega_min = 1;
   request.omega_max = 75;
-  request.realizations = 128;
+  request.realizations = 64;
   request.seed = 9;
   const RunResult with = run_spectrum(p, request);
   request.control_variate = false;
