@@ -271,7 +271,11 @@ std::vector<std::unique_ptr<Command>> make_commands(CLI::App& app, const Context
   std::vector<std::unique_ptr<Command>> commands;
   commands.push_back(make_cases_command(app));
   commands.push_back(make_theory_command(app, context));
-  add_run_commands(app, context, commands);
+  commands.push_back(make_run_command(app, context));
+  commands.push_back(make_sweep_command(app, context));
+  commands.push_back(make_merge_command(app, context));
+  commands.push_back(make_plot_command(app, context));
+  commands.push_back(make_paper_command(app, context));
   add_analysis_commands(app, context, commands);
   return commands;
 }
