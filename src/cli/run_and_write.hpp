@@ -16,6 +16,7 @@
 
 namespace slidespec::cli {
 
+/// Exit status of a run that is not stationary: its outputs are written and say so.
 inline constexpr int kNotStationary = kNotWhatItClaims;
 /// Exit status of a run whose outputs could not all be written (its state is kept).
 inline constexpr int kNotWritten = 1;
@@ -51,6 +52,7 @@ struct RunOptions {
 /// Weights the runs of a multi-run command by their planned work and shares one bar.
 void share_progress(std::vector<RunOptions>& runs, const std::vector<double>& work, Progress& progress);
 
+/// Says on stderr that the run written to `out` is not stationary, when it is not.
 void warn_if_not_stationary(const RunResult& result, const std::string& out);
 
 /// What a run came to: its result, and whether its whole output set is on disk.
