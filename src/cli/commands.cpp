@@ -13,6 +13,7 @@
 #include "cli/command.hpp"
 #include "io/atomic_file.hpp"
 #include "io/tables.hpp"
+#include "util/numbers.hpp"
 #include "slidespec/theory.hpp"
 
 namespace slidespec::cli {
@@ -87,9 +88,9 @@ std::string long_time_line(const Parameters& p) {
   if (touching_levels != 1) return "";
   const LongTimeMotion exact = long_time_motion(p, MotionTheory::quasi_static);
   const LongTimeMotion first = long_time_motion(p, MotionTheory::first_order);
-  return "# beyond first order (docs/model.md §7): mean speed V = " + io::format_number(exact.mean_speed) +
-         " m/s, diffusion D = " + io::format_number(exact.diffusion) + " m^2/s (first order " +
-         io::format_number(first.diffusion) + "), C_x -> D / (pi omega^2) below v/a\n";
+  return "# beyond first order (docs/model.md §7): mean speed V = " + util::format_number(exact.mean_speed) +
+         " m/s, diffusion D = " + util::format_number(exact.diffusion) + " m^2/s (first order " +
+         util::format_number(first.diffusion) + "), C_x -> D / (pi omega^2) below v/a\n";
 }
 
 class TheoryCommand final : public Command {
@@ -148,9 +149,10 @@ class TheoryCommand final : public Command {
     for (size_t k = 0; k < omegas.size(); ++k) {
       const double eq1 = eq1_asymptote(p, omegas[k]);
       const double c2 = second ? second(omegas[k]) : 0;
-      table << io::format_number(omegas[k]) << "\t" << io::format_number(spectrum[k]) << "\t" << io::format_number(eq1);
-      if (second) table << "\t" << io::format_number(c2);
-      if (spring) table << "\t" << io::format_number(spring_force_spectrum(p, spectrum[k]));
+      table << util::format_number(omegas[k]) << "\t" << util::format_number(spectrum[k]) << "\t"
+            << util::format_number(eq1);
+      if (second) table << "\t" << util::format_number(c2);
+      if (spring) table << "\t" << util::format_number(spring_force_spectrum(p, spectrum[k]));
       table << "\n";
       if (!std::isfinite(spectrum[k]) || !std::isfinite(eq1) || !std::isfinite(c2)) {
         if (not_numbers++ == 0) first_omega = omegas[k];
@@ -162,7 +164,7 @@ class TheoryCommand final : public Command {
       io::write_atomically(out_ + ".tsv", table.str());
     if (not_numbers == 0) return 0;
     std::cerr << "slidespec: warning: " << not_numbers
-              << " row(s) hold inf or nan (the first at omega = " << io::format_number(first_omega)
+              << " row(s) hold inf or nan (the first at omega = " << util::format_number(first_omega)
               << " rad/s): beyond the range of a double or of the solve; not a spectrum there (exit status 3)\n";
     return kNotWhatItClaims;
   }
@@ -192,7 +194,7 @@ class TheoryCommand final : public Command {
       std::replace(line.begin(), line.end(), ',', ' ');
       std::istringstream words(line);
       for (std::string word; words >> word;) {
-        const double omega = io::parse_number(word).value_or(0);
+        const double omega = util::parse_number(word).value_or(0);
         if (!(omega > 0))
           throw InputError(source + (from_file ? ": line " + std::to_string(line_number) : std::string()) + ": '" +
                            word + "' is not a positive omega in rad/s");
@@ -235,9 +237,9 @@ class AnalysisCommand final : public Command {
   int run() override {
     // A sampling interval of 0 reads as "from the time column": refused when given.
     for (const std::string& dt : given("--dt"))
-      if (const auto seconds = io::parse_number(dt); !seconds || !(*seconds > 0) || !std::isnormal(*seconds))
+      if (const auto seconds = util::parse_number(dt); !seconds || !(*seconds > 0) || !std::isnormal(*seconds))
         throw InputError("--dt: need a positive sampling interval in seconds, at least " +
-                         io::format_number(std::numeric_limits<double>::min()) + " (got " + dt + ")");
+                         util::format_number(std::numeric_limits<double>::min()) + " (got " + dt + ")");
     return commands_->run().value_or(0);
   }
 

@@ -1,7 +1,7 @@
 // The request options of the simulating commands, declared once.
 #include "cli/request_options.hpp"
 
-#include "io/tables.hpp"
+#include "util/numbers.hpp"
 #include "slidespec/simd.hpp"
 
 namespace slidespec::cli {
@@ -31,7 +31,7 @@ void RequestOptions::add_to(CLI::App& command) {
       ->check(CLI::Validator(
           [](const std::string& text) {
             // 0 reads as "the default budget": refused rather than silently replaced.
-            const auto steps = io::parse_number(text);
+            const auto steps = util::parse_number(text);
             return steps && *steps > 0 ? std::string()
                                        : "need a positive number of realization-steps (got " + text + ")";
           },

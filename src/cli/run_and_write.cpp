@@ -13,6 +13,7 @@
 #include "cli/sweep.hpp"
 #include "io/atomic_file.hpp"
 #include "io/tables.hpp"
+#include "util/numbers.hpp"
 
 namespace slidespec::cli {
 
@@ -65,7 +66,7 @@ void mark_if_not_numbers(RunResult& result) {
   for (const RunPoint& point : result.points)
     if (!std::isfinite(point.C_x) || !std::isfinite(point.standard_error) || !std::isfinite(point.theory)) {
       result.stationary = false;
-      result.stationarity = "the point at omega = " + io::format_number(point.omega) +
+      result.stationarity = "the point at omega = " + util::format_number(point.omega) +
                             " rad/s holds inf or nan: beyond the range of a double";
       return;
     }
@@ -100,9 +101,9 @@ bool write_outputs(const Context& context, const RunSession& session, const RunR
                 : result.stationary ? "interrupted; wrote what accumulated to "
                                     : "stopped; wrote what accumulated to ")
             << out << ".tsv, .json" << (options.no_plot ? "" : ", ." + options.figure.format) << " ("
-            << result.points.size() << " points, largest relative error " << io::format_number(result.reached_precision)
-            << ", measured mean speed " << io::format_number(result.mean_speed) << " m/s, " << result.wall_seconds
-            << " s)\n";
+            << result.points.size() << " points, largest relative error "
+            << util::format_number(result.reached_precision) << ", measured mean speed "
+            << util::format_number(result.mean_speed) << " m/s, " << result.wall_seconds << " s)\n";
   const RunRequest& request = session.request();
   if (result.complete && result.reached_precision > request.precision && request.duration == 0 &&
       request.realizations == 0)

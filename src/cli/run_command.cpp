@@ -10,7 +10,7 @@
 #include "cli/request_options.hpp"
 #include "cli/run_and_write.hpp"
 #include "io/atomic_file.hpp"
-#include "io/tables.hpp"
+#include "util/numbers.hpp"
 #include "run/session.hpp"
 #include "slidespec/theory.hpp"
 
@@ -54,7 +54,7 @@ class RunCommand final : public Command {
                  "save the run to PREFIX.state every S seconds of wall time")
         ->check(CLI::Validator(
             [](const std::string& text) {
-              const auto seconds = io::parse_number(text);
+              const auto seconds = util::parse_number(text);
               return seconds && *seconds > 0 ? std::string() : "need a positive number of seconds (got " + text + ")";
             },
             "S>0"));
@@ -96,7 +96,7 @@ class RunCommand final : public Command {
     // Zero would read as "no fixed duration" and run to the precision instead.
     if (given("--duration") && !(options.request.duration > 0))
       throw InputError("--duration: need a positive number of seconds (got " +
-                       io::format_number(options.request.duration) + ")");
+                       util::format_number(options.request.duration) + ")");
     if (!options.resume.empty()) return resume(options);
     const Parameters p = model_.build();
     RunSession session(p, options.request, model_.label(p));  // validates before any work
