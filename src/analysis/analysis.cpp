@@ -11,7 +11,7 @@
 #include "analysis/names.hpp"
 #include "analysis/report.hpp"
 #include "util/suggest.hpp"
-#include "io/tables.hpp"
+#include "util/numbers.hpp"
 #include "slidespec/analysis.hpp"
 #include "slidespec/theory.hpp"
 
@@ -184,7 +184,7 @@ std::vector<AnalysisPoint> welch_points(const Record& record, const AnalysisRequ
   }
   if (points.empty())
     throw InputError("no spectrum point between --omega-min and --omega-max (the record's bins are " +
-                     io::format_number(result.welch.bin_spacing) + " rad/s apart)");
+                     util::format_number(result.welch.bin_spacing) + " rad/s apart)");
   return points;
 }
 
@@ -205,7 +205,7 @@ std::string observable_channel(const Record& r) {
     case Observable::force:
       return "force " + r.force_channel;
     case Observable::slip:
-      return "slip " + r.column + " - F/K, K = " + io::format_number(r.machine_stiffness) +
+      return "slip " + r.column + " - F/K, K = " + util::format_number(r.machine_stiffness) +
              " N/m, F = " + r.force_channel;
     default:
       return "column " + r.column;
@@ -231,11 +231,11 @@ void check_band(const AnalysisRequest& request) {
   for (const auto& [option, omega] :
        {std::pair{"--omega-min", request.omega_min}, std::pair{"--omega-max", request.omega_max}})
     if (!(omega >= 0) || !std::isfinite(omega))
-      throw InputError(std::string(option) + ": " + io::format_number(omega) +
+      throw InputError(std::string(option) + ": " + util::format_number(omega) +
                        " is not a frequency > 0 in rad/s (leave it out for what the record allows)");
   if (request.omega_min > 0 && request.omega_max > 0 && request.omega_min >= request.omega_max)
-    throw InputError("--omega-min " + io::format_number(request.omega_min) + " must be below --omega-max " +
-                     io::format_number(request.omega_max));
+    throw InputError("--omega-min " + util::format_number(request.omega_min) + " must be below --omega-max " +
+                     util::format_number(request.omega_max));
   if (request.points_per_decade < 1 || request.points_per_decade > 100)
     throw InputError("--points: must be between 1 and 100 per decade");
 }
@@ -359,8 +359,8 @@ PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, doub
   const int parameters = fit.floor_given ? 2 : 3;
   fit.points = int(inside.size());
   if (fit.points < parameters + 1)
-    throw InputError("--fit power-law: the band " + io::format_number(omega_low) + " .. " +
-                     io::format_number(omega_high) + " rad/s holds " + std::to_string(fit.points) +
+    throw InputError("--fit power-law: the band " + util::format_number(omega_low) + " .. " +
+                     util::format_number(omega_high) + " rad/s holds " + std::to_string(fit.points) +
                      " usable points; amplitude, slope" + (fit.floor_given ? "" : " and floor") + " need at least " +
                      std::to_string(parameters + 1));
   fit.dof = fit.points - parameters;
@@ -465,8 +465,8 @@ std::pair<double, double> default_alpha_band(const RecordSpectrum& s, const Para
   const double high = std::min(s.usable_high, l.omega_c / 3);
   if (!(s.usable_high > s.usable_low)) throw InputError(detail::no_usable_band_for_fit("alpha"));
   if (!(high > low))
-    throw InputError("--fit alpha: the usable band " + io::format_number(s.usable_low) + " .. " +
-                     io::format_number(s.usable_high) +
+    throw InputError("--fit alpha: the usable band " + util::format_number(s.usable_low) + " .. " +
+                     util::format_number(s.usable_high) +
                      " rad/s misses the model's omega^-4 band; give --fit-band LO HI");
   return {low, high};
 }

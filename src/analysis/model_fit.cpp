@@ -8,7 +8,7 @@
 
 #include "analysis/names.hpp"
 #include "analysis/report.hpp"
-#include "io/tables.hpp"
+#include "util/numbers.hpp"
 #include "slidespec/analysis.hpp"
 #include "slidespec/input_error.hpp"
 #include "slidespec/theory.hpp"
@@ -51,14 +51,14 @@ std::vector<std::string> record_terms(const std::vector<std::string>& overrides,
                                       double machine_stiffness, std::vector<std::string>& notes) {
   std::vector<std::string> terms = overrides;
   if (measured_speed > 0 && !sets(overrides, "v") && !sets(overrides, "eta1")) {
-    terms.push_back("v=" + io::format_number(measured_speed));
+    terms.push_back("v=" + util::format_number(measured_speed));
     notes.push_back("the model's v is the record's measured mean speed, " + short_number(measured_speed) +
                     " m/s (--set v=... to change it)");
   }
   // A k_drive given with --set is kept (docs/analysis.md): the spring is the machine's still.
   if (machine_stiffness > 0 && !sets(overrides, "drive")) {
     terms.insert(terms.begin(), "drive=spring");
-    if (!sets(overrides, "k_drive")) terms.push_back("k_drive=" + io::format_number(machine_stiffness));
+    if (!sets(overrides, "k_drive")) terms.push_back("k_drive=" + util::format_number(machine_stiffness));
     notes.push_back("the model is driven as the machine drives the record: drive = spring, k_drive = " +
                     (sets(overrides, "k_drive") ? std::string("as --set gives it")
                                                 : "the machine stiffness " + short_number(machine_stiffness) + " N/m"));
@@ -127,7 +127,7 @@ ModelFit fit_model(const RecordSpectrum& spectrum, const Parameters& start, cons
   const auto model_count = static_cast<int>(names.size());
   fit.points = static_cast<int>(inside.size());
   if (fit.points < model_count + (floor_fitted ? 1 : 0) + 1)
-    throw InputError("--fit: the band " + io::format_number(omega_low) + " .. " + io::format_number(omega_high) +
+    throw InputError("--fit: the band " + util::format_number(omega_low) + " .. " + util::format_number(omega_high) +
                      " rad/s holds " + std::to_string(fit.points) + " usable points, too few for " +
                      std::to_string(model_count) + " parameters" + (floor_fitted ? " and the floor" : ""));
   // The white floor as each point sees it: a constant through the estimator's bins.

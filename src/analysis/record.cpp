@@ -12,7 +12,7 @@
 
 #include "analysis/names.hpp"
 #include "analysis/sampling.hpp"
-#include "io/tables.hpp"
+#include "util/numbers.hpp"
 #include "util/suggest.hpp"
 #include "slidespec/analysis.hpp"
 
@@ -685,7 +685,7 @@ class RecordReader {
       if (format_.normal_force > 0) {
         if (area > 0) fail(line_number, "--contact-area: mu x --normal-force is a force already; the area is not used");
         newtons_per_ = format_.normal_force;
-        made_of += " x normal force " + io::format_number(format_.normal_force) + " N";
+        made_of += " x normal force " + util::format_number(format_.normal_force) + " N";
       } else {
         choose_normal_stress_column(line_number);
         const std::string& normal_name = names_[static_cast<std::size_t>(normal_index_)];
@@ -697,7 +697,7 @@ class RecordReader {
                                 " is a shear stress; give --contact-area A (m^2, or 25cm2) to make it a force, or "
                                 "--normal-force FN instead");
         newtons_per_ = si_per(*normal_unit) * area;
-        made_of += " x " + normal_name + " x contact area " + io::format_number(area) + " m^2";
+        made_of += " x " + normal_name + " x contact area " + util::format_number(area) + " m^2";
       }
     } else {
       if (format_.normal_force > 0 || !format_.normal_stress_column.empty())
@@ -709,7 +709,7 @@ class RecordReader {
           fail(line_number, "column " + name + " is a stress in " + to_string(unit) +
                                 "; give --contact-area A (m^2, or 25cm2) to make it a force in N");
         newtons_per_ = si_per(unit) * area;
-        made_of += " x contact area " + io::format_number(area) + " m^2";
+        made_of += " x contact area " + util::format_number(area) + " m^2";
       } else {
         if (area > 0)
           fail(line_number, "--contact-area: the force channel " + name + " is in " + to_string(unit) +
@@ -792,7 +792,7 @@ class RecordReader {
 void check_format(const RecordFormat& format) {
   if (format.dt < 0 || !std::isfinite(format.dt)) throw InputError("--dt: must be a positive number of seconds");
   if (!(format.time_tolerance > 0 && format.time_tolerance < kLoosestTimeTolerance))
-    throw InputError("--time-tolerance: must lie between 0 and " + io::format_number(kLoosestTimeTolerance) +
+    throw InputError("--time-tolerance: must lie between 0 and " + util::format_number(kLoosestTimeTolerance) +
                      " (exclusive), a share of the median interval; a record off by more is not uniform: --resample "
                      "median interpolates it, --window T0:T1 picks a stretch");
   if (format.contact_area < 0 || !std::isfinite(format.contact_area))

@@ -5,7 +5,8 @@
 #include <cstdio>
 
 #include "analysis/names.hpp"
-#include "io/tables.hpp"
+#include "io/points.hpp"
+#include "util/numbers.hpp"
 #include "slidespec/theory.hpp"
 
 namespace slidespec::detail {
@@ -32,7 +33,7 @@ std::string top_set_by(const RecordSpectrum& s) {
 
 std::string usable_band_line(const RecordSpectrum& s) {
   if (!(s.usable_high > s.usable_low)) return std::string("none  # ") + kNoUsableBand;
-  return io::format_number(s.usable_low) + " .. " + io::format_number(s.usable_high) + "  # [rad/s], top set by " +
+  return util::format_number(s.usable_low) + " .. " + util::format_number(s.usable_high) + "  # [rad/s], top set by " +
          top_set_by(s);
 }
 

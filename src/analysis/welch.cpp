@@ -11,7 +11,7 @@
 #include <mutex>
 #include <numbers>
 
-#include "io/tables.hpp"
+#include "util/numbers.hpp"
 #include "slidespec/analysis.hpp"
 
 namespace slidespec {
@@ -144,9 +144,9 @@ std::size_t welch_segment_samples(std::size_t samples, double dt, double omega_m
     const std::size_t longest = fft_friendly(2 * differences / (kFewestSegments + 1));
     if (wanted > static_cast<double>(longest)) {
       const double reachable = kLowestBin * 2 * std::numbers::pi / (static_cast<double>(longest) * dt);
-      throw InputError("--omega-min " + io::format_number(omega_min) + ": the record (" + std::to_string(samples) +
-                       " samples, T = " + io::format_number(static_cast<double>(samples) * dt) +
-                       " s) reaches down to " + io::format_number(reachable) + " rad/s (bin 2 of " +
+      throw InputError("--omega-min " + util::format_number(omega_min) + ": the record (" + std::to_string(samples) +
+                       " samples, T = " + util::format_number(static_cast<double>(samples) * dt) +
+                       " s) reaches down to " + util::format_number(reachable) + " rad/s (bin 2 of " +
                        std::to_string(kFewestSegments) +
                        " half-overlapping segments); a lower omega needs a longer record");
     }
@@ -233,8 +233,8 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
   const double bin_spacing = 2 * std::numbers::pi / (double(length) * dt);
   const double nyquist = std::numbers::pi / dt;
   if (request.omega_max > nyquist * (1 + 1e-12))
-    throw InputError("--omega-max " + io::format_number(request.omega_max) + ": above the Nyquist frequency " +
-                     io::format_number(nyquist) + " rad/s of the sampling");
+    throw InputError("--omega-max " + util::format_number(request.omega_max) + ": above the Nyquist frequency " +
+                     util::format_number(nyquist) + " rad/s of the sampling");
   const double ratio = std::pow(10.0, 1.0 / request.points_per_decade);
   std::size_t first = kLowestBin;
   // The lowest point: the bin at or just below omega_min.

@@ -14,6 +14,7 @@
 #include "io/atomic_file.hpp"
 #include "util/suggest.hpp"
 #include "io/tables.hpp"
+#include "util/numbers.hpp"
 #include "slidespec/analysis.hpp"
 
 namespace slidespec::cli {
@@ -77,7 +78,7 @@ Parameters build_parameters(const std::string& case_name, const std::vector<std:
   return builder.build();
 }
 
-std::string number(double x) { return io::format_number(x); }
+std::string number(double x) { return util::format_number(x); }
 
 /// A record time [s] as a user reads it off the file.
 std::string seconds(double t) {
@@ -571,7 +572,7 @@ int command_synth(const Options& o) {
   io::write_atomically(o.synth_out + ".csv", record_csv(record, unit, comments.str()));
   std::cerr << "slidespec: wrote " << o.synth_out << ".csv (" << record.displacement.size()
             << " samples); analyse it with: slidespec analyze " << o.synth_out << ".csv --resolution "
-            << io::format_number(sensor.resolution) << "m --sensor-noise " << io::format_number(sensor.sensor_noise)
+            << util::format_number(sensor.resolution) << "m --sensor-noise " << util::format_number(sensor.sensor_noise)
             << "m\n";
   return 0;
 }
@@ -592,7 +593,7 @@ int paper_fig6(const std::string& record, const std::string& directory, const Fi
     io::check_output_prefix(synth.synth_out);
     command_synth(synth);
     o.file = synth.synth_out + ".csv";
-    o.sensor_noise = io::format_number(synth.sensor.sensor_noise) + "m";
+    o.sensor_noise = util::format_number(synth.sensor.sensor_noise) + "m";
   }
   o.resolution = "0.5um";  // the paper's sensor (docs/model.md §5)
   o.compare_case = "concrete-fit";

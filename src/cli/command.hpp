@@ -69,10 +69,16 @@ void warn_if_no_theory_holds(const Parameters& p);
 /// Every command of `slidespec`, in the order `slidespec --help` lists them.
 std::vector<std::unique_ptr<Command>> make_commands(CLI::App& app, const Context& context);
 
-/// The commands by family, for make_commands.
+/// One command each, declared on `app`, for make_commands; each lives in its own file
+/// (cli/run_command.cpp, ...), as CLI11's subcom_in_files example has it.
 std::unique_ptr<Command> make_cases_command(CLI::App& app);
 std::unique_ptr<Command> make_theory_command(CLI::App& app, const Context& context);
-void add_run_commands(CLI::App& app, const Context& context, std::vector<std::unique_ptr<Command>>& commands);
+std::unique_ptr<Command> make_run_command(CLI::App& app, const Context& context);
+std::unique_ptr<Command> make_sweep_command(CLI::App& app, const Context& context);
+std::unique_ptr<Command> make_merge_command(CLI::App& app, const Context& context);
+std::unique_ptr<Command> make_plot_command(CLI::App& app, const Context& context);
+std::unique_ptr<Command> make_paper_command(CLI::App& app, const Context& context);
+/// analyze and synth, which share their options (cli/analyze.hpp).
 void add_analysis_commands(CLI::App& app, const Context& context, std::vector<std::unique_ptr<Command>>& commands);
 
 }  // namespace slidespec::cli

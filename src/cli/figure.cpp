@@ -21,7 +21,7 @@
 #include "cli/plot.hpp"
 #include "figure/spectrum_figure.hpp"
 #include "figure/text.hpp"
-#include "io/tables.hpp"
+#include "util/numbers.hpp"
 #include "slidespec/parameters.hpp"
 #include "slidespec/theory.hpp"
 
@@ -159,7 +159,7 @@ struct Table {
   std::optional<double> number(const std::string& key) const {
     const auto found = metadata.find(key);
     if (found == metadata.end()) return std::nullopt;
-    return io::parse_number(found->second);
+    return util::parse_number(found->second);
   }
 };
 
@@ -189,12 +189,12 @@ Table read_table(const std::string& path) {
     }
     const std::vector<std::string> fields = tab_fields(line);
     if (fields.empty()) continue;
-    if (names.empty() || !io::parse_number(fields[0])) {
+    if (names.empty() || !util::parse_number(fields[0])) {
       names = fields;
       continue;
     }
     for (std::size_t k = 0; k < names.size() && k < fields.size(); ++k)
-      table.columns[names[k]].push_back(io::parse_number(fields[k]).value_or(NAN));
+      table.columns[names[k]].push_back(util::parse_number(fields[k]).value_or(NAN));
   }
   if (table.column("omega").empty() || table.column("C_x").empty())
     throw std::runtime_error(path + ": no omega and C_x columns");
@@ -239,7 +239,7 @@ std::string parameter_text(const std::string& key, const std::string& value) {
       {"k_drive", {"*k*_{drive}", {{"N/m", 1}}}}};
   const auto style = styles.find(key);
   const std::string symbol = style == styles.end() ? figure::literal(key) : style->second.symbol;
-  const std::optional<double> number = io::parse_number(value);
+  const std::optional<double> number = util::parse_number(value);
   if (!number || style == styles.end()) return symbol + " = " + figure::literal(value);
   auto [unit, size] = style->second.units.back();
   for (const auto& [candidate, candidate_size] : style->second.units)

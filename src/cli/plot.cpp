@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "io/atomic_file.hpp"
-#include "io/tables.hpp"
+#include "util/numbers.hpp"
 #include "slidespec/parameters.hpp"
 
 namespace slidespec::cli {
@@ -150,8 +150,8 @@ void FigureStyle::check() const {
   double width = 7, height = 6.2;
   if (!size.empty()) std::sscanf(size.c_str(), "%lfx%lf", &width, &height);
   if (format == "png" && std::max(width, height) * dpi > kMostPixels)
-    throw InputError("--dpi: a " + io::format_number(width) + "x" + io::format_number(height) + " in PNG at " +
-                     io::format_number(dpi) + " dpi is wider than " + io::format_number(kMostPixels) +
+    throw InputError("--dpi: a " + util::format_number(width) + "x" + util::format_number(height) + " in PNG at " +
+                     util::format_number(dpi) + " dpi is wider than " + util::format_number(kMostPixels) +
                      " pixels; lower --dpi or use --format pdf or svg");
 }
 
@@ -167,7 +167,7 @@ void check_title(const std::string& title, const FigureStyle& style) {
   const auto fitting = static_cast<std::size_t>(kTitleCharactersPerInch * width);
   if (characters > fitting)
     throw InputError("--title: " + std::to_string(characters) + " characters do not fit above a " +
-                     io::format_number(width) + " in wide figure (at most " + std::to_string(fitting) +
+                     util::format_number(width) + " in wide figure (at most " + std::to_string(fitting) +
                      "); shorten it or widen --size");
 }
 
@@ -190,7 +190,7 @@ int plot(const std::vector<std::string>& tables, const std::string& out, const s
   WaitingPlotter plotter = waiting_plotter().pid >= 0 ? waiting_plotter() : start_server();
   waiting_plotter() = {};
   std::vector<std::string> args = tables;
-  args.insert(args.end(), {"-o", out, "--dpi", io::format_number(style.dpi)});
+  args.insert(args.end(), {"-o", out, "--dpi", util::format_number(style.dpi)});
   if (!title.empty()) args.insert(args.end(), {"--title", title});
   if (!style.size.empty()) args.insert(args.end(), {"--size", style.size});
   std::string colors;
@@ -208,7 +208,7 @@ int plot(const std::vector<std::string>& tables, const std::string& out, const s
       std::ostringstream table;
       table << "# exact first-order theory on a fine grid\n# omega\tC_x\n";
       for (std::size_t i = 0; i < omegas.size(); ++i)
-        table << io::format_number(omegas[i]) << "\t" << io::format_number(spectrum[i]) << "\n";
+        table << util::format_number(omegas[i]) << "\t" << util::format_number(spectrum[i]) << "\n";
       path = scratch.path() + "/theory_" + std::to_string(k) + ".tsv";
       io::write_atomically(path, table.str());
       any_theory = true;

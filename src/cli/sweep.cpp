@@ -8,7 +8,7 @@
 #include <set>
 #include <sstream>
 
-#include "io/tables.hpp"
+#include "util/numbers.hpp"
 
 namespace slidespec::cli {
 
@@ -20,7 +20,7 @@ bool integer_key(const std::string& key) {
 }
 
 double parse_value(const std::string& text, const std::string& word) {
-  const std::optional<double> value = io::parse_number(text);
+  const std::optional<double> value = util::parse_number(text);
   if (!value) throw InputError("sweep: '" + text + "' in '" + word + "' is not a number");
   return *value;
 }
@@ -31,7 +31,7 @@ std::string grid_value(double value, bool integer) {
   if (integer) return std::to_string(std::llround(value));
   char text[32];
   std::snprintf(text, sizeof text, "%.12g", value);
-  return io::format_number(std::stod(text));
+  return util::format_number(std::stod(text));
 }
 
 std::vector<std::string> range_values(const std::string& key, const std::string& range, const std::string& spacing,
@@ -110,7 +110,7 @@ std::vector<SweepAxis> parse_sweep(const std::vector<std::string>& arguments) {
       std::map<double, std::string> numbers;
       std::set<std::string> words_seen;
       for (const std::string& value : axis.values) {
-        const std::optional<double> number = io::parse_number(value);
+        const std::optional<double> number = util::parse_number(value);
         const auto [seen, fresh] = number ? numbers.emplace(*number, value) : std::pair{numbers.end(), true};
         if (!fresh || !words_seen.insert(value).second) {
           const std::string first = fresh ? value : seen->second;
@@ -175,7 +175,7 @@ std::string sweep_table(const std::vector<SweepAxis>& axes, const std::vector<Sw
   // sweep_KEY list, so the table stays numbers (numpy.loadtxt reads it with no options).
   std::vector<bool> words(axes.size(), false);
   for (std::size_t a = 0; a < axes.size(); ++a) {
-    for (const std::string& value : axes[a].values) words[a] = words[a] || !io::parse_number(value);
+    for (const std::string& value : axes[a].values) words[a] = words[a] || !util::parse_number(value);
     out << "# sweep_" << axes[a].key << " =";
     for (const std::string& value : axes[a].values) out << " " << value;
     out << (words[a] ? "  # its column holds the index of the value in this list" : "") << "\n";
@@ -199,10 +199,10 @@ std::string sweep_table(const std::vector<SweepAxis>& axes, const std::vector<Sw
         else
           out << "\t" << value;
       }
-      out << "\t" << io::format_number(point.omega) << "\t" << io::format_number(point.C_x) << "\t"
-          << io::format_number(point.standard_error) << "\t" << io::format_number(point.theory) << "\t"
-          << io::format_number(point.n_avg) << "\t" << io::format_number(point.bandwidth) << "\t"
-          << io::format_number(point.theory2) << "\n";
+      out << "\t" << util::format_number(point.omega) << "\t" << util::format_number(point.C_x) << "\t"
+          << util::format_number(point.standard_error) << "\t" << util::format_number(point.theory) << "\t"
+          << util::format_number(point.n_avg) << "\t" << util::format_number(point.bandwidth) << "\t"
+          << util::format_number(point.theory2) << "\n";
     }
   return out.str();
 }
@@ -216,7 +216,7 @@ std::string sweep_json(const std::vector<SweepAxis>& axes, const std::vector<Swe
   for (const SweepRun& run : runs) {
     nlohmann::ordered_json entry;
     for (const auto& [key, value] : run.values) {
-      if (const auto number = io::parse_number(value))
+      if (const auto number = util::parse_number(value))
         entry["values"][key] = *number;
       else
         entry["values"][key] = value;

@@ -11,24 +11,12 @@
 #include <sstream>
 #include <xsimd/config/xsimd_config.hpp>
 
+#include "io/points.hpp"
 #include "slidespec/estimator.hpp"
 #include "slidespec/theory.hpp"
+#include "util/numbers.hpp"
 
 namespace slidespec::io {
-
-std::string format_number(double x) {
-  char text[32];
-  const auto end = std::to_chars(text, text + sizeof text, x).ptr;
-  return std::string(text, end);
-}
-
-std::optional<double> parse_number(const std::string& text) {
-  double value = 0;
-  const char* end = text.data() + text.size();
-  const auto [stop, error] = std::from_chars(text.data(), end, value);
-  if (text.empty() || error != std::errc() || stop != end || !std::isfinite(value)) return std::nullopt;
-  return value;
-}
 
 std::string run_label(const std::string& case_name, const Parameters& p) {
   const auto base = describe(ParameterBuilder(case_name).build());
@@ -71,24 +59,18 @@ std::string versions() {
 
 }  // namespace
 
-nlohmann::ordered_json point_json(double omega, const char* spectrum_name, double value, double standard_error,
-                                  double n_avg, double bandwidth) {
-  return {
-      {"omega", omega}, {spectrum_name, value}, {"stderr", standard_error}, {"n_avg", n_avg}, {"bandwidth", bandwidth}};
-}
-
 std::string metadata_lines(const Parameters& p, const std::string& case_name) {
   std::ostringstream out;
   out << "# slidespec " << SLIDESPEC_VERSION << "\n# case = " << case_of(case_name) << "\n";
   if (case_of(case_name) != case_name) out << "# label = " << case_name << "\n";
   for (const auto& [key, value] : describe(p)) out << "# " << key << " = " << value << "\n";
   const Landmarks l = landmarks(p);
-  out << "# renewal_rate = " << format_number(l.renewal_rate) << "  # v/a [1/s]\n"
-      << "# omega_c = " << format_number(l.omega_c) << "  # sqrt(N k0/M) [rad/s]\n"
-      << "# diffusion_D = " << format_number(l.diffusion) << "  # [m^2/s], C_x -> D/(pi omega^2)\n"
-      << "# eq1_prefactor = " << format_number(l.eq1_prefactor)
+  out << "# renewal_rate = " << util::format_number(l.renewal_rate) << "  # v/a [1/s]\n"
+      << "# omega_c = " << util::format_number(l.omega_c) << "  # sqrt(N k0/M) [rad/s]\n"
+      << "# diffusion_D = " << util::format_number(l.diffusion) << "  # [m^2/s], C_x -> D/(pi omega^2)\n"
+      << "# eq1_prefactor = " << util::format_number(l.eq1_prefactor)
       << "  # [m^2 rad^4/s^3], C_x ~ prefactor/omega^4 for v/a << omega << omega_c\n"
-      << "# coupling_eps = " << format_number(l.coupling_eps)
+      << "# coupling_eps = " << util::format_number(l.coupling_eps)
       << "  # alpha F_kin / ((F_drive - F_kin) sqrt(6 N)), for the theories' validity\n";
   const TheoryChoice holds = best_theory(p);
   out << "# theory_kind = " << theory_kind_name(holds.kind)
@@ -96,13 +78,13 @@ std::string metadata_lines(const Parameters& p, const std::string& case_name) {
   if (!holds.reason.empty()) out << "; " << holds.reason;
   out << "\n";
   if (p.drive == Drive::spring) {
-    out << "# omega_s = " << format_number(l.omega_s)
+    out << "# omega_s = " << util::format_number(l.omega_s)
         << "  # k_drive v/(F_drive - F_kin) [rad/s], C_x flattens below it\n"
-        << "# omega_resonance = " << format_number(l.omega_resonance) << "  # sqrt((N k0 + k_drive)/M) [rad/s]\n"
-        << "# d0 = " << format_number(l.spring_offset) << "  # F_drive/k_drive [m], the spring's mean stretch\n"
-        << "# C_x_zero = " << format_number(spring_low_frequency_limit(p))
+        << "# omega_resonance = " << util::format_number(l.omega_resonance) << "  # sqrt((N k0 + k_drive)/M) [rad/s]\n"
+        << "# d0 = " << util::format_number(l.spring_offset) << "  # F_drive/k_drive [m], the spring's mean stretch\n"
+        << "# C_x_zero = " << util::format_number(spring_low_frequency_limit(p))
         << "  # C_x(0) [m^2 s] of the first-order theory\n"
-        << "# mean_speed = " << format_number(p.v) << "  # [m/s] the load point's v exactly; diffusion_D = 0\n";
+        << "# mean_speed = " << util::format_number(p.v) << "  # [m/s] the load point's v exactly; diffusion_D = 0\n";
   }
   return out.str();
 }
@@ -136,22 +118,23 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
                                   : "off  # the forcing control variate alone")
       << " (docs/run.md)\n"
       << "# realizations = " << realizations << "  # over all sub-bands\n"
-      << "# simulated_time = " << format_number(result.simulated_time) << "  # [s], all realizations\n"
-      << "# measured_mean_speed = " << format_number(result.mean_speed) << "  # [m/s] +- "
-      << format_number(result.mean_speed_error) << "\n"
-      << "# reached_precision = " << format_number(result.reached_precision) << "  # largest stderr/C_x ("
+      << "# simulated_time = " << util::format_number(result.simulated_time) << "  # [s], all realizations\n"
+      << "# measured_mean_speed = " << util::format_number(result.mean_speed) << "  # [m/s] +- "
+      << util::format_number(result.mean_speed_error) << "\n"
+      << "# reached_precision = " << util::format_number(result.reached_precision) << "  # largest stderr/C_x ("
       << (request.realizations > 0 ? std::string("a fixed realization count: no target")
           : request.duration > 0   ? std::string("a fixed duration: no target")
-                                   : "target " + format_number(request.precision))
+                                   : "target " + util::format_number(request.precision))
       << ")\n"
       << "# complete = " << (result.complete ? "true" : "false") << "\n"
       << "# stationary = " << (result.stationary ? "true" : "false  # " + result.stationarity) << "\n"
       << "# versions = " << versions() << "\n";
   for (std::size_t b = 0; b < result.sub_bands.size(); ++b) {
     const SubBand& band = result.sub_bands[b];
-    out << "# sub_band " << b << ": omega " << format_number(band.omega_low) << " .. " << format_number(band.omega_high)
-        << ", dt = " << format_number(band.dt) << " s, duration = " << format_number(band.duration)
-        << " s, warm_up = " << format_number(band.warm_up) << " s at dt " << format_number(band.warm_up_dt)
+    out << "# sub_band " << b << ": omega " << util::format_number(band.omega_low) << " .. "
+        << util::format_number(band.omega_high) << ", dt = " << util::format_number(band.dt)
+        << " s, duration = " << util::format_number(band.duration)
+        << " s, warm_up = " << util::format_number(band.warm_up) << " s at dt " << util::format_number(band.warm_up_dt)
         << " s, shadow = " << (band.shadow ? "true" : "false") << ", realizations = " << band.realizations << "\n";
   }
   out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, the mean of C_x over the bin's frequencies;"
@@ -176,18 +159,20 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
          "\testimator\ttheory_kind\tcorrection\tcorrection_stderr"
       << (spring ? "\tC_F_spring\tC_F_spring_stderr\tC_F_spring_theory" : "") << "\n";
   for (const RunPoint& point : result.points) {
-    out << format_number(point.omega) << "\t" << format_number(point.C_x) << "\t" << format_number(point.standard_error)
-        << "\t" << format_number(point.theory) << "\t" << format_number(point.n_avg) << "\t"
-        << format_number(point.bandwidth) << "\t" << format_number(velocity_spectrum(point.omega, point.C_x)) << "\t"
-        << format_number(force_spectrum(point.omega, point.C_x, p.M)) << "\t" << format_number(point.theory_at_omega)
-        << "\t" << format_number(eq1_asymptote(p, point.omega)) << "\t" << format_number(point.theory2) << "\t"
-        << format_number(point.variance_ratio) << "\t" << estimator_code(point.estimator) << "\t"
-        << theory_kind_code(point.theory_kind) << "\t" << format_number(point.C_x / point.theory - 1) << "\t"
-        << format_number(point.standard_error / point.theory);
+    out << util::format_number(point.omega) << "\t" << util::format_number(point.C_x) << "\t"
+        << util::format_number(point.standard_error) << "\t" << util::format_number(point.theory) << "\t"
+        << util::format_number(point.n_avg) << "\t" << util::format_number(point.bandwidth) << "\t"
+        << util::format_number(velocity_spectrum(point.omega, point.C_x)) << "\t"
+        << util::format_number(force_spectrum(point.omega, point.C_x, p.M)) << "\t"
+        << util::format_number(point.theory_at_omega) << "\t" << util::format_number(eq1_asymptote(p, point.omega))
+        << "\t" << util::format_number(point.theory2) << "\t" << util::format_number(point.variance_ratio) << "\t"
+        << estimator_code(point.estimator) << "\t" << theory_kind_code(point.theory_kind) << "\t"
+        << util::format_number(point.C_x / point.theory - 1) << "\t"
+        << util::format_number(point.standard_error / point.theory);
     if (spring)
-      out << "\t" << format_number(spring_force_spectrum(p, point.C_x)) << "\t"
-          << format_number(spring_force_spectrum(p, point.standard_error)) << "\t"
-          << format_number(spring_force_spectrum(p, point.theory));
+      out << "\t" << util::format_number(spring_force_spectrum(p, point.C_x)) << "\t"
+          << util::format_number(spring_force_spectrum(p, point.standard_error)) << "\t"
+          << util::format_number(spring_force_spectrum(p, point.theory));
     out << "\n";
   }
   return out.str();

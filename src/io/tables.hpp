@@ -2,18 +2,12 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
-#include <optional>
 #include <string>
 
 #include "slidespec/parameters.hpp"
 #include "slidespec/run.hpp"
 
 namespace slidespec::io {
-
-/// The shortest text that reads back as the same double ("1e-05", "0.5", "548.2").
-std::string format_number(double x);
-/// The finite double `text` spells, all of it ("0.5", "1e-05"), or nothing.
-std::optional<double> parse_number(const std::string& text);
 
 /// "reference + N=5, alpha=3": the case and the parameters that differ from it (eta1 is
 /// derived, so left out); the case alone when none differ.
@@ -31,12 +25,6 @@ nlohmann::ordered_json parameters_json(const Parameters& p);
 /// '#' lines: version, case (and label when keys were set), every parameter, and the
 /// landmarks of the theory. `case_name` may be a label "CASE + KEY=V, ...".
 std::string metadata_lines(const Parameters& p, const std::string& case_name);
-
-/// The fields every spectrum point carries in JSON, in this order: omega [rad/s], the
-/// spectrum under `spectrum_name` (C_x [m^2 s] or C_F [N^2 s]), stderr, n_avg and bandwidth
-/// [rad/s]. Run and analysis points add their own fields after these.
-nlohmann::ordered_json point_json(double omega, const char* spectrum_name, double value, double standard_error,
-                                  double n_avg, double bandwidth);
 
 /// The run's table: metadata, the run's own facts, a header, one row per point.
 std::string run_table(const Parameters& p, const std::string& case_name, const RunRequest& request,

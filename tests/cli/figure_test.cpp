@@ -10,6 +10,7 @@
 
 #include "cli/plot.hpp"
 #include "io/tables.hpp"
+#include "util/numbers.hpp"
 #include "slidespec/theory.hpp"
 
 namespace slidespec {
@@ -20,7 +21,7 @@ std::string write_table(const Parameters& p, const std::string& label, double om
   std::ofstream out(path);
   out << io::metadata_lines(p, label) << "# omega\tC_x\n";
   for (double omega : log_spaced_omegas(omega_min, omega_max, 8))
-    out << io::format_number(omega) << "\t" << io::format_number(exact_spectrum(p, {omega})[0]) << "\n";
+    out << util::format_number(omega) << "\t" << util::format_number(exact_spectrum(p, {omega})[0]) << "\n";
   return path;
 }
 

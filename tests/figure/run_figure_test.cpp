@@ -8,6 +8,7 @@
 
 #include "cli/plot.hpp"
 #include "io/tables.hpp"
+#include "util/numbers.hpp"
 #include "slidespec/parameters.hpp"
 #include "slidespec/theory.hpp"
 
@@ -24,9 +25,9 @@ std::string write_run_table(const std::string& name, const std::string& label, c
   const double prefactor = landmarks(p).eq1_prefactor;
   for (const double omega : log_spaced_omegas(0.1, 1e5, 8)) {
     const double theory = exact_spectrum(p, {omega})[0];
-    out << io::format_number(omega) << "\t" << io::format_number(1.01 * theory) << "\t"
-        << io::format_number(0.02 * theory) << "\t" << io::format_number(theory) << "\t"
-        << io::format_number(prefactor / std::pow(omega, 4)) << "\n";
+    out << util::format_number(omega) << "\t" << util::format_number(1.01 * theory) << "\t"
+        << util::format_number(0.02 * theory) << "\t" << util::format_number(theory) << "\t"
+        << util::format_number(prefactor / std::pow(omega, 4)) << "\n";
   }
   return path;
 }

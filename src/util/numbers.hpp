@@ -1,0 +1,14 @@
+// Numbers as text, the one way every table, message and parser writes and reads them.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace slidespec::util {
+
+/// The shortest text that reads back as the same double ("1e-05", "0.5", "548.2").
+std::string format_number(double x);
+/// The finite double `text` spells, all of it ("0.5", "1e-05"), or nothing.
+std::optional<double> parse_number(const std::string& text);
+
+}  // namespace slidespec::util
