@@ -21,8 +21,8 @@ void RequestOptions::add_to(CLI::App& command) {
               throw CLI::ValidationError("--control-variate", "need shadow or off (got " + word + ")");
             request.control_variate = word == "shadow";
           },
-          "shadow: each realization's linear shadow as a control variate (docs/run.md); off: the plain "
-          "estimate (default shadow)")
+          "shadow: each realization's linear shadow as a control variate (docs/run.md); off: without it, on "
+          "the forcing control variate alone (default shadow)")
       ->type_name("shadow|off");
   command.add_option("--threads", request.threads, "threads (default, or 0: all cores)");
   command
