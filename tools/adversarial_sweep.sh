@@ -569,7 +569,7 @@ for delay in 0.3 0.8; do
 done
 fi
 
-# 10. Issue 37: state files are outputs too, every failure is a failure, no limit or exit loses work.
+# 10. State files are outputs too, every failure is a failure, no limit or exit loses work.
 if in_part refusals; then
   # A state already there is another run's: a part's --save-state never replaces it.
   attack refuse "second part onto a part's --save-state" run $band --realizations-range 8:8 --save-state ../part.state \

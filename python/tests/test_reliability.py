@@ -1,4 +1,4 @@
-"""Issue 37 in Python: the interpreter exiting while a run works on another thread, a
+"""Python's reliability: the interpreter exiting while a run works on another thread, a
 spectrum of nothing, and arguments that would be accepted and ignored (run through ctest:
 PYTHONPATH holds the built package)."""
 
