@@ -155,10 +155,9 @@ class RunCommand final : public Command {
   /// at once where even that cannot fit. A run of fixed realizations knows its count; a
   /// run to a precision runs at least its first round of realizations in every sub-band.
   static void refuse_state_beyond_free_space(const Parameters& p, const RunRequest& request, const std::string& out) {
-    const double realizations =
-        static_cast<double>(request.realizations > 0 ? request.realizations : run_detail::kInitialRealizations);
     double bytes = 0;
     for (const SubBand& band : plan_sub_bands(p, request)) {
+      const double realizations = static_cast<double>(run_detail::first_round_realizations(p, request, band));
       const double points = static_cast<double>(
           log_spaced_omegas(band.omega_low, band.omega_high * (1 + 1e-12), request.points_per_decade).size());
       bytes += realizations * (points + 2) * sizeof(double);

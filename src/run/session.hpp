@@ -18,14 +18,21 @@ namespace run_detail {
 // SIMD width or thread count (and a multiple of every lane width).
 constexpr int kBatchRealizations = 8;
 
-// The first round of a precision-driven run: fixed, not scaled by the thread count, so
-// that every later round (chosen from the results so far) is the same on any machine;
-// large enough that the error bars from the scatter between realizations are themselves
-// good to ~13%.
+// The first round of a precision-driven run: fixed by the request and the plan alone, not
+// scaled by the thread count, so that every later round (chosen from the results so far) is
+// the same on any machine. 64 realizations reach about 2.5% at a sub-band's lowest points
+// without the shadow; a coarser target needs fewer, (2.5% / precision)^2 times 64, but never
+// under 32 realizations of 15 renewals each: where each holds few renewals their periodograms
+// are skewed, and their scatter gives error bars short in the tails (docs/run.md, "Rounds").
 constexpr std::uint64_t kInitialRealizations = 64;
+constexpr std::uint64_t kFewestFirstRound = 32;
+constexpr double kFirstRoundRenewals = 32 * 15;
+constexpr double kInitialRoundReach = 0.025;
+/// The first round's realizations of a sub-band of `params` under `request`.
+std::uint64_t first_round_realizations(const Parameters& params, const RunRequest& request, const SubBand& band);
 // Bump whenever a change alters any number a run produces (stepper, renewal, estimator):
 // saved states of other numerics are refused on resume and merge, which are bitwise.
-constexpr int kNumericsVersion = 7;
+constexpr int kNumericsVersion = 8;
 // A precision-driven sub-band stops growing here (see run.cpp).
 constexpr std::uint64_t kMaxRealizationsPerBand = std::uint64_t{1} << 16;
 

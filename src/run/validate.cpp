@@ -96,11 +96,12 @@ void check_plan(const Parameters& p, const std::vector<SubBand>& plan) {
 namespace {
 
 double first_round_work(const Parameters& p, const RunRequest& r, const std::vector<SubBand>& plan) {
-  const double realizations = static_cast<double>(r.realizations > 0 ? r.realizations : kInitialRealizations);
   double steps = 0;
   for (const SubBand& band : plan)
-    steps += std::ceil(band.duration / band.dt) + (band.warm_up > 0 ? std::ceil(band.warm_up / band.warm_up_dt) : 0.0);
-  return steps * realizations * block_weight(p);
+    steps +=
+        static_cast<double>(first_round_realizations(p, r, band)) *
+        (std::ceil(band.duration / band.dt) + (band.warm_up > 0 ? std::ceil(band.warm_up / band.warm_up_dt) : 0.0));
+  return steps * block_weight(p);
 }
 
 // A duration is rounded up to whole time steps: far below this.

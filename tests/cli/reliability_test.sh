@@ -34,7 +34,7 @@ ls an.*tmp* > /dev/null 2>&1 && fail "analyze without its figure left temporarie
 
 # --- A file-size limit is a failed write (EFBIG), as a full disk is: exit 1, no temporary
 # and no lock left, not death by SIGXFSZ.
-(ulimit -f 8 && exec "$bin" run $band --precision 0.2 --out limited --quiet --no-plot) 2> err
+(ulimit -f 4 && exec "$bin" run $band --precision 0.2 --out limited --quiet --no-plot) 2> err
 expect_failed "run under ulimit -f" "File too large" $?
 ls limited.* > /dev/null 2>&1 && fail "run under ulimit -f left files: $(ls limited.*)"
 (ulimit -f 1 && exec "$bin" analyze rec.csv --out limited --quiet --no-plot) 2> err
@@ -123,7 +123,7 @@ expect_refused "--segments with --fit" "--segments" analyze rec.csv --segments -
 expect_refused "a sweep value twice" "twice" sweep alpha=0.5,0.50 $band --out out --no-plot
 expect_refused "resume with a work budget" "--work-budget" run --resume pa --work-budget 1 --no-plot
 # The failing run of a sweep is named.
-expect_refused "a sweep's failing run" "sweep run N=30000: --omega-min" sweep N=1,30000 --omega-min 0.1 \
+expect_refused "a sweep's failing run" "sweep run N=60000: --omega-min" sweep N=1,60000 --omega-min 0.1 \
   --omega-max 1e5 --out out --no-plot
 
 # A checkpoint that cannot be written (its state grows past the file-size limit) says the

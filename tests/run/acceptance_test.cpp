@@ -119,7 +119,9 @@ TEST_P(Acceptance, DeviationsFromTheoryAreStandardNormal) {
     EXPECT_LE(n - within_two, most_outside_two) << s.name;
     EXPECT_LE(beyond_three, most_beyond_three) << s.name;
   }
-  EXPECT_LT(worst, 0.15) << s.name;
+  // No point far off: every error bar is within the target, so honest ones put a point
+  // beyond four targets from the theory about once in 5000 runs of 33 points.
+  EXPECT_LT(worst, 4 * request_for(s).precision) << s.name;
 }
 
 // Below v/a the periodic force spectrum, T s2/(2 pi) sinc^2(omega T/2), is about half the
