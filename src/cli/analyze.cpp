@@ -399,7 +399,7 @@ int command_analyze(Options o) {
   if (o.fit == "power-law") {
     f.power = o.fit_band.empty() ? fit_power_law(s, s.points.front().omega, s.points.back().omega)
                                  : fit_power_law(s, o.fit_band[0], o.fit_band[1]);
-    f.power_verdict = detail::judge_chi2(f.power->chi2_per_dof, f.power->dof);
+    f.power_verdict = detail::judge_power_law(*f.power);
   }
   const ModelOrder order = o.theory_order == 2 ? ModelOrder::best : ModelOrder::first;
   if (!o.compare_case.empty())
