@@ -442,11 +442,13 @@ bool is_displacement_name(const ColumnName& c) {
          (std::find(bases.begin(), bases.end(), c.base) != bases.end() || (c.base.empty() && !c.unit.empty()));
 }
 
-/// A header naming a friction coefficient, which carries no unit: mu, COF, Friction coefficient.
+/// A header naming a friction coefficient, which carries no unit: mu, COF, Friction
+/// coefficient, and Friction without a unit (a biaxial rig's mu; a tribometer that writes
+/// its friction force as Friction writes the unit too, Friction [uN]).
 bool names_coefficient(const std::string& name) {
-  const std::string base = split_unit(name).base;
-  return base == "mu" || base == "cof" || base == "friction coefficient" || base == "coefficient of friction" ||
-         base == "friction_coefficient";
+  const ColumnName c = split_unit(name);
+  return (c.base == "friction" && c.unit.empty() && bracket_text(name).empty()) || c.base == "mu" || c.base == "cof" ||
+         c.base == "friction coefficient" || c.base == "coefficient of friction" || c.base == "friction_coefficient";
 }
 
 /// A header naming a force, a stress or a friction coefficient (Friction, mu, shear_MPa,
@@ -901,10 +903,12 @@ class RecordReader {
                               name + ", which gives " + to_string(*named) + "; leave --force-units out");
       if (!named && names_coefficient(name) && unit != ForceUnit::mu)
         fail(line_number, std::string("--force-units ") + to_string(unit) + " contradicts the header of column " +
-                              name + ", which names a friction coefficient mu (no unit); leave --force-units out");
+                              name +
+                              ", which names a friction coefficient mu (no unit); leave --force-units out (a "
+                              "friction force's header names its unit, e.g. Friction [N])");
     } else if (named) {
       unit = *named;
-    } else if (split_unit(name).base == "friction" || names_coefficient(name)) {
+    } else if (names_coefficient(name)) {
       unit = ForceUnit::mu;
     } else if (const std::string unknown = bracket_text(name); !unknown.empty()) {
       fail(line_number, "force column " + name + ": '" + unknown + "' is not a unit analyze knows (" + kKnownForces +

@@ -388,15 +388,22 @@ TEST(LabHeaders, UnitOptionsThatContradictTheHeaderAreRefusedNamingBoth) {
   refused(force, "--force-units N contradicts the header of column Friction [uN], which gives uN");
   force.force_unit = ForceUnit::uN;
   EXPECT_DOUBLE_EQ(read(lab, force).force[1], 71e-6);
-  // A header naming no unit takes the option's: Friction alone may be a force or mu.
+  // Friction without a unit is mu, as a biaxial rig writes it: another unit contradicts it.
   RecordFormat bare;
   bare.observable = Observable::force;
+  bare.force_unit = ForceUnit::MPa;
+  bare.contact_area = 0.0025;
+  EXPECT_NE(refusal("t,Friction\n0,0.6\n1,0.6\n", bare).find("which names a friction coefficient mu"),
+            std::string::npos);
+  // A header naming no unit otherwise takes the option's.
   bare.force_unit = ForceUnit::N;
-  EXPECT_DOUBLE_EQ(read("t,Friction\n0,2\n1,3\n", bare).force[1], 3);
+  bare.contact_area = 0;
+  EXPECT_DOUBLE_EQ(read("t,F\n0,2\n1,3\n", bare).force[1], 3);
 }
 
 TEST(Channels, EveryOptionTakesEffectOrIsRefusedWithTheReason) {
-  const std::string lab = "Time(s)\tDispl(microns)\tFriction\tNormal_stress(MPa)\n0\t10\t0.6\t20\n0.1\t11\t0.6\t20\n";
+  const std::string lab =
+      "Time(s)\tDispl(microns)\tFriction\tNormal_stress(MPa)\tF\n0\t10\t0.6\t20\t5\n0.1\t11\t0.6\t20\t5\n";
   const auto refused = [&](const RecordFormat& format, const std::string& why) {
     EXPECT_NE(refusal(lab, format).find(why), std::string::npos)
         << "expected '" << why << "': " << refusal(lab, format);
@@ -415,8 +422,10 @@ TEST(Channels, EveryOptionTakesEffectOrIsRefusedWithTheReason) {
       {force([](RecordFormat& f) { f.machine_stiffness = 1e9; }), "--machine-stiffness: gives the slip"},
       {force([](RecordFormat&) {}), "give --contact-area"},  // mu without a normal load
       {force([](RecordFormat& f) { f.normal_force = 1e4, f.normal_stress_column = "Normal_stress(MPa)"; }), "give one"},
-      {force([](RecordFormat& f) { f.force_unit = ForceUnit::N, f.normal_force = 1e4; }), "not a friction coefficient"},
-      {force([](RecordFormat& f) { f.force_unit = ForceUnit::N, f.contact_area = 0.0025; }), "a force already"},
+      {force([](RecordFormat& f) { f.force_column = "F", f.force_unit = ForceUnit::N, f.normal_force = 1e4; }),
+       "not a friction coefficient"},
+      {force([](RecordFormat& f) { f.force_column = "F", f.force_unit = ForceUnit::N, f.contact_area = 0.0025; }),
+       "a force already"},
   };
   for (const auto& [format, why] : cases) refused(format, why);
 

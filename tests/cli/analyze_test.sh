@@ -311,6 +311,7 @@ expect_refused unknown-time-unit-named "time column T (days): 'days' is not a ti
 expect_refused units-contradict "--units mm contradicts the header of column LP_disp(micron), which gives um" analyze "$work/rig.txt" --units mm $out
 expect_refused force-units-stress "--force-units kN contradicts the header of column Shr_stress(MPa), which gives MPa" analyze "$work/rig.txt" --observable force --force-units kN --contact-area 25cm2 $out
 expect_refused force-units-mu "--force-units MPa contradicts the header of column mu, which names a friction coefficient" analyze "$work/rig.txt" --force-column mu --force-units MPa --contact-area 25cm2 $out
+expect_refused force-units-friction "--force-units MPa contradicts the header of column Friction, which names a friction coefficient" analyze "$basalt" --observable force --force-units MPa --contact-area 25cm2 $out
 printf 't (s),x (um),Friction [uN]\n0,1,70\n1,2,71\n2,3,72\n' > "$work/micro.csv"
 expect_refused force-units-micro "--force-units N contradicts the header of column Friction \[uN\], which gives uN" analyze "$work/micro.csv" --observable force --force-units N $out
 # A power law stuck at the edge of its slope's search (a record whose lowest point towers
