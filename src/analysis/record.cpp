@@ -664,9 +664,13 @@ class RecordReader {
   }
 
   void take_data(const std::vector<std::string>& fields, int line_number) {
-    if (fields.size() != names_.size())
-      fail(line_number, std::to_string(fields.size()) + " fields, expected " + std::to_string(names_.size()) + " (" +
-                            column_list(names_) + ")");
+    if (fields.size() != names_.size()) {
+      // An export of several steps or runs starts the next one's preamble below the data.
+      const bool text = !std::all_of(fields.begin(), fields.end(), is_number);
+      fail(line_number, (text ? "a line of text inside the data, " : "") + std::to_string(fields.size()) +
+                            " fields, expected " + std::to_string(names_.size()) + " (" + column_list(names_) + ")" +
+                            (text ? "; an export of several steps or runs? keep one's lines" : ""));
+    }
     take_row([&](int index) { return number(fields, index, line_number); }, line_number);
     last_line_ = line_number;
   }

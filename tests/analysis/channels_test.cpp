@@ -355,6 +355,10 @@ TEST(LabHeaders, AnInstrumentExportWithAPreambleAndAUnitsRowIsRead) {
       << refusal("t,x\n0,abc\n0.1,2\n");
   EXPECT_NE(refusal("0,abc\n0.1,2\n").find("line 1: column 2: 'abc' is not a number"), std::string::npos)
       << refusal("0,abc\n0.1,2\n");
+  // An export of two steps: the second one's preamble ends the first one's data, said so.
+  const std::string two_steps = instrument_export(50) + "\nStep No. 2\n" + instrument_export(50);
+  EXPECT_NE(refusal(two_steps).find("line 64: a line of text inside the data"), std::string::npos)
+      << refusal(two_steps);
   std::string endless;
   for (int k = 0; k < 1100; ++k) endless += "a line of words\n";
   EXPECT_NE(refusal(endless).find("not one of numbers"), std::string::npos) << refusal(endless);
