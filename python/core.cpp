@@ -360,7 +360,7 @@ class Spectrum {
       py::gil_scoped_release release;
       f = fit_power_law(spectrum_, low, high);
     }
-    py::dict d = as_dict(detail::power_law_json(f, detail::judge_chi2(f.chi2_per_dof, f.dof)));
+    py::dict d = as_dict(detail::power_law_json(f, detail::judge_power_law(f)));
     d["fit"] = to_array(f.model);
     d["residual"] = to_array(f.residuals);
     return d;

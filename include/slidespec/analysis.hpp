@@ -32,12 +32,15 @@ double metres_per(LengthUnit unit);
 
 /// Unit of a record's force channel: a force, a shear stress (a force once multiplied by the
 /// contact area) or a friction coefficient (a force once multiplied by the normal force).
-enum class ForceUnit { N, kN, MPa, kPa, mu };
-/// Parses N|kN|MPa|kPa|mu (friction for mu); throws InputError naming `option` and the known units.
+/// gf and kgf are the weight of a gram and a kilogram (g_n = 9.80665 m/s^2).
+enum class ForceUnit { uN, mN, N, kN, MN, gf, kgf, lbf, Pa, kPa, MPa, psi, mu };
+/// Parses uN|mN|N|kN|MN|gf|kgf|lbf|Pa|kPa|MPa|psi|mu (µN for uN, g and kg for gf and kgf,
+/// lb for lbf, friction for mu); any case but mN and MN, which differ by 1e9. Throws
+/// InputError naming `option` and the known units.
 ForceUnit parse_force_unit(const std::string& name, const std::string& option = "--force-units");
 const char* to_string(ForceUnit unit);
 
-/// A force such as "1000", "1000N" or "1.5kN" in newtons (a bare number in N); throws
+/// A force such as "1000", "1000N", "1.5kN" or "200gf" in newtons (a bare number in N); throws
 /// InputError naming `option` unless it is finite and > 0.
 double parse_force(const std::string& text, const std::string& option);
 /// An area such as "0.0025", "0.0025m2", "25cm2" or "2500mm2" in m^2 (a bare number in m^2);
@@ -71,14 +74,19 @@ enum class Resampling {
 };
 
 /// How to read a record. Without a header line, columns are named by number ("1", "2", ...).
-/// A header name may carry its unit: `t_s`, `time (s)`, `t [ms]`, `x_m`, `x (mm)`,
-/// `position [um]`, or the unit alone (`nm`).
+/// A header name may carry its unit: `t_s`, `Time(sec)`, `t [ms]`, `x_m`, `x (mm)`,
+/// `position [um]`, `Friction [uN]`, or the unit alone (`nm`); or a units row below the
+/// header gives them. Lines before the header (an instrument's preamble) are skipped.
+/// A unit the header names and an option contradicts is refused, as is a time or length
+/// unit analyze does not know.
 struct RecordFormat {
   std::string column;              ///< displacement column; empty: x, position, displacement or
                                    ///< distance (with or without a unit), else the only non-time column
-  std::string time_column;         ///< empty: a column named t or time (any case, any time unit), or column 1 of 2
+  std::string time_column;         ///< empty: a column named t or time (any case, any time unit), or column 1 of 2;
+                                   ///< its unit from the header, else seconds
   double dt = 0;                   ///< > 0: fixed sampling interval [s], no time column is read
-  std::optional<LengthUnit> unit;  ///< overrides the header's unit; neither: metres
+  std::optional<LengthUnit> unit;  ///< the column's unit where its header names none (or one analyze does not
+                                   ///< know); neither: metres
   double time_tolerance = 0.01;    ///< largest |interval - median| / median accepted as uniform [-]
   /// Keep the samples with T0 <= t <= T1, in record time [s] (--window T0:T1).
   std::optional<std::pair<double, double>> window;
@@ -88,7 +96,7 @@ struct RecordFormat {
   Observable observable = Observable::automatic;
   std::string force_column;             ///< empty: the first column naming a force, stress or friction (not a
                                         ///< normal one), when the observable needs a force
-  std::optional<ForceUnit> force_unit;  ///< overrides the force column header's unit
+  std::optional<ForceUnit> force_unit;  ///< the force column's unit where its header names none
   double contact_area = 0;              ///< [m^2]: turns a stress into a force; 0: none given
   double normal_force = 0;              ///< [N]: turns mu into a force; 0: none given
   std::string normal_stress_column;     ///< turns mu into a stress (with contact_area, a force);
@@ -361,10 +369,17 @@ struct PowerLawFit {
   /// Correlations of (amplitude, slope, floor); errors are scaled by sqrt(chi2/dof) when > 1.
   double correlation[3][3] = {};
   double chi2_per_dof = 0;
+  /// The slope ended at an end of its search range (kSteepestPowerLawSlope ..
+  /// kFlattestPowerLawSlope): the band does not bound it (the fit is no result).
+  bool slope_at_search_edge = false;
   std::vector<double> model;      ///< per point of the spectrum (NaN outside the band) [m^2 s]
   std::vector<double> residuals;  ///< (C_x - model) / sigma per point (NaN outside the band)
   std::string undetermined;       ///< what the data cannot determine, in words
 };
+
+/// The range fit_power_law searches for the slope: steeper than any friction spectrum
+/// (omega^-4 and its force omega^0) by far on both sides.
+inline constexpr double kSteepestPowerLawSlope = -10, kFlattestPowerLawSlope = 2;
 
 /// Weighted least squares (weights from the model's level and each point's relative error,
 /// iterated), the slope scanned and (amplitude, floor) solved at each, then refined; throws

@@ -394,7 +394,7 @@ PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, doub
     }
     return best;
   };
-  constexpr double kSteepest = -10, kFlattest = 2, kScanStep = 0.01;
+  constexpr double kSteepest = kSteepestPowerLawSlope, kFlattest = kFlattestPowerLawSlope, kScanStep = 0.01;
   Solution best{0, 0, std::numeric_limits<double>::infinity()};
   for (int iteration = 0; iteration < 4; ++iteration) {
     best.chi2 = std::numeric_limits<double>::infinity();
@@ -417,6 +417,9 @@ PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, doub
     }
   }
   best = solve(fit.slope);
+  // The refinement may step a little beyond the grid's end: within a grid step of it, the
+  // minimum is the range's end, not chi2's.
+  fit.slope_at_search_edge = fit.slope <= kSteepest + kScanStep || fit.slope >= kFlattest - kScanStep;
   fit.amplitude = best.amplitude;
   fit.floor = fit.floor_given ? spectrum.points[inside.front()].noise_floor : best.floor;
   fit.chi2_per_dof = best.chi2 / fit.dof;

@@ -38,37 +38,73 @@ constexpr std::array<detail::Word<LengthUnit>, 16> kLengthWords{{{"m", LengthUni
                                                                  {"inch", LengthUnit::inch},
                                                                  {"inches", LengthUnit::inch}}};
 
-constexpr std::array<detail::Word<ForceUnit>, 6> kForceWords{{{"N", ForceUnit::N},
-                                                              {"kN", ForceUnit::kN},
-                                                              {"MPa", ForceUnit::MPa},
-                                                              {"kPa", ForceUnit::kPa},
-                                                              {"mu", ForceUnit::mu},
-                                                              {"friction", ForceUnit::mu}}};
+constexpr std::array<detail::Word<ForceUnit>, 20> kForceWords{{{"uN", ForceUnit::uN},
+                                                               {"mN", ForceUnit::mN},
+                                                               {"N", ForceUnit::N},
+                                                               {"kN", ForceUnit::kN},
+                                                               {"MN", ForceUnit::MN},
+                                                               {"gf", ForceUnit::gf},
+                                                               {"kgf", ForceUnit::kgf},
+                                                               {"lbf", ForceUnit::lbf},
+                                                               {"Pa", ForceUnit::Pa},
+                                                               {"kPa", ForceUnit::kPa},
+                                                               {"MPa", ForceUnit::MPa},
+                                                               {"psi", ForceUnit::psi},
+                                                               {"mu", ForceUnit::mu},
+                                                               {"\u00b5N", ForceUnit::uN},
+                                                               {"\u03bcN", ForceUnit::uN},
+                                                               // Instruments (CETR/Bruker UMT) write a
+                                                               // force as the mass whose weight it is.
+                                                               {"g", ForceUnit::gf},
+                                                               {"kg", ForceUnit::kgf},
+                                                               {"lb", ForceUnit::lbf},
+                                                               {"friction", ForceUnit::mu},
+                                                               {"cof", ForceUnit::mu}}};
+
+constexpr const char* kKnownForces = "uN (µN), mN, N, kN, MN, gf (g), kgf (kg), lbf (lb); Pa, kPa, MPa, psi; mu";
+
+/// A time unit's words and the seconds in one of it.
+struct TimeWord {
+  const char* word;
+  double seconds;
+};
+constexpr std::array<TimeWord, 24> kTimeWords{
+    {{"s", 1},          {"sec", 1},        {"secs", 1},           {"second", 1},          {"seconds", 1},
+     {"ms", 1e-3},      {"msec", 1e-3},    {"millisecond", 1e-3}, {"milliseconds", 1e-3}, {"us", 1e-6},
+     {"\u00b5s", 1e-6}, {"\u03bcs", 1e-6}, {"usec", 1e-6},        {"microsecond", 1e-6},  {"microseconds", 1e-6},
+     {"min", 60},       {"mins", 60},      {"minute", 60},        {"minutes", 60},        {"h", 3600},
+     {"hr", 3600},      {"hrs", 3600},     {"hour", 3600},        {"hours", 3600}}};
+
+constexpr const char* kKnownTimes = "s (sec), ms (msec), us (µs), min, h (hr)";
 
 constexpr std::array<detail::Word<Observable>, 4> kObservableWords{{{"auto", Observable::automatic},
                                                                     {"displacement", Observable::displacement},
                                                                     {"force", Observable::force},
                                                                     {"slip", Observable::slip}}};
 
-std::optional<LengthUnit> length_unit(const std::string& name) { return detail::find_word(kLengthWords, name); }
-
-constexpr const char* kKnownLengths = "m, cm, mm, um (µm, microns), nm, in (inch)";
-
-/// Seconds in one time unit of a header (t_ms, time (us)), or 0 when not a time unit.
-double seconds_per(const std::string& name) {
-  if (name == "s") return 1;
-  if (name == "ms") return 1e-3;
-  if (name == "us" || name == "\u00b5s" || name == "\u03bcs") return 1e-6;
-  return 0;
-}
-
 std::string lower(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
   return text;
 }
 
-/// A force channel's unit as a header writes it, in any case ("N", "kn", "MPa", "Friction").
+/// A length unit as a header writes it, in any case ("mm", "MM", "Microns").
+std::optional<LengthUnit> length_unit(const std::string& name) { return detail::find_word(kLengthWords, lower(name)); }
+
+constexpr const char* kKnownLengths = "m, cm, mm, um (µm, microns), nm, in (inch)";
+
+/// Seconds in one time unit of a header (t_ms, Time(sec), time [h]), or 0 when not a time unit.
+double seconds_per(const std::string& name) {
+  const std::string word = lower(name);
+  for (const TimeWord& time : kTimeWords)
+    if (word == time.word) return time.seconds;
+  return 0;
+}
+
+/// A force channel's unit as a header writes it, in any case ("N", "kn", "MPa", "Friction"),
+/// except mN and MN: "mn" could be either, a factor 1e9 apart, so it names no unit.
 std::optional<ForceUnit> force_unit(const std::string& name) {
+  if (const auto exact = detail::find_word(kForceWords, name)) return exact;
+  if (lower(name) == "mn") return std::nullopt;
   for (const auto& [word, unit] : kForceWords)
     if (lower(name) == lower(word)) return unit;
   return std::nullopt;
@@ -124,7 +160,7 @@ double metres_per(LengthUnit unit) {
 
 ForceUnit parse_force_unit(const std::string& name, const std::string& option) {
   if (const auto unit = force_unit(name)) return *unit;
-  return detail::parse_word(kForceWords, name, option, "unit", "; MPa and kPa need --contact-area");
+  return detail::parse_word(kForceWords, name, option, "unit", "; a stress needs --contact-area");
 }
 
 const char* to_string(ForceUnit unit) { return detail::name_of(kForceWords, unit); }
@@ -133,32 +169,61 @@ namespace {
 
 /// Newtons per unit of a force, pascals per unit of a stress; 0 for mu.
 double si_per(ForceUnit unit) {
+  constexpr double kStandardGravity = 9.80665;  // [m/s^2]: a gram-force is a gram's weight
   switch (unit) {
+    case ForceUnit::uN:
+      return 1e-6;
+    case ForceUnit::mN:
+      return 1e-3;
     case ForceUnit::N:
       return 1;
     case ForceUnit::kN:
       return 1e3;
-    case ForceUnit::MPa:
+    case ForceUnit::MN:
       return 1e6;
+    case ForceUnit::gf:
+      return 1e-3 * kStandardGravity;
+    case ForceUnit::kgf:
+      return kStandardGravity;
+    case ForceUnit::lbf:
+      return 0.45359237 * kStandardGravity;
+    case ForceUnit::Pa:
+      return 1;
     case ForceUnit::kPa:
       return 1e3;
+    case ForceUnit::MPa:
+      return 1e6;
+    case ForceUnit::psi:
+      return 0.45359237 * kStandardGravity / (0.0254 * 0.0254);
     case ForceUnit::mu:
       return 0;
   }
   return 0;
 }
 
-bool is_stress(ForceUnit unit) { return unit == ForceUnit::MPa || unit == ForceUnit::kPa; }
+bool is_stress(ForceUnit unit) {
+  return unit == ForceUnit::Pa || unit == ForceUnit::kPa || unit == ForceUnit::MPa || unit == ForceUnit::psi;
+}
+
+/// A force unit (not a stress, not mu) as a header or an option writes it.
+std::optional<ForceUnit> pure_force_unit(const std::string& name) {
+  const auto unit = force_unit(name);
+  if (!unit || is_stress(*unit) || *unit == ForceUnit::mu) return std::nullopt;
+  return unit;
+}
+
+constexpr const char* kKnownPureForces = "uN, mN, N, kN, MN, gf, kgf, lbf";
 
 }  // namespace
 
 double parse_force(const std::string& text, const std::string& option) {
   const auto [value, unit] = number_and_unit(text, option, "1000, in N, or 1.5kN");
-  const std::string u = lower(unit);
-  const double scale = u.empty() || u == "n" ? 1 : u == "kn" ? 1e3 : u == "mn" ? 1e6 : 0;
-  if (scale == 0) throw InputError(option + ": '" + unit + "' is not a force unit (N, kN or MN)");
+  const auto named = unit.empty() ? std::optional(ForceUnit::N) : pure_force_unit(unit);
+  if (!named)
+    throw InputError(option + ": '" + unit + "' is not a force unit (" + kKnownPureForces + ")" +
+                     (lower(unit) == "mn" ? "; mN and MN are a factor 1e9 apart: write which" : ""));
   if (!(value > 0)) throw InputError(option + ": '" + text + "' is not a force > 0");
-  return value * scale;
+  return value * si_per(*named);
 }
 
 double parse_area(const std::string& text, const std::string& option) {
@@ -176,11 +241,11 @@ double parse_stiffness(const std::string& text, double contact_area, const std::
   if (!(value > 0)) throw InputError(option + ": '" + text + "' is not a stiffness > 0");
   if (unit.empty()) return value;
   const auto slash = unit.find('/');
-  const std::string top = lower(unit.substr(0, slash));
-  const std::optional<LengthUnit> per =
-      slash == std::string::npos ? std::nullopt : length_unit(lower(unit.substr(slash + 1)));
-  double force = top == "n" ? 1 : top == "kn" ? 1e3 : top == "mn" ? 1e6 : 0;
-  const double stress = top == "pa" ? 1 : top == "kpa" ? 1e3 : top == "mpa" ? 1e6 : top == "gpa" ? 1e9 : 0;
+  const std::string top = unit.substr(0, slash);
+  const std::optional<LengthUnit> per = slash == std::string::npos ? std::nullopt : length_unit(unit.substr(slash + 1));
+  const auto named = force_unit(top);
+  double force = named && !is_stress(*named) ? si_per(*named) : 0;
+  const double stress = named && is_stress(*named) ? si_per(*named) : lower(top) == "gpa" ? 1e9 : 0;
   if (!per || (force == 0 && stress == 0))
     throw InputError(option + ": '" + unit + "' is not a stiffness unit (N/m, kN/mm, N/um...; MPa/um, kPa/um... " +
                      "with --contact-area)");
@@ -293,67 +358,101 @@ std::string column_list(const std::vector<std::string>& names) {
 }
 
 /// A header name and the unit it carries: "time (s)", "t [ms]", "x_mm", "position [um]";
-/// a name that is a length unit alone ("nm") has an empty base.
+/// a name that is a unit alone ("nm") has an empty base. The base is in lower case, the
+/// unit as written (mN and MN differ).
 struct ColumnName {
   std::string base, unit;
 };
 
+bool is_known_unit(const std::string& unit) {
+  const auto force = force_unit(unit);
+  return length_unit(unit).has_value() || seconds_per(unit) > 0 || (force && *force != ForceUnit::mu);
+}
+
+/// The text in a header's trailing brackets, as written ("days" of "t (days)"), or empty.
+std::string bracket_text(const std::string& name) {
+  const std::string n = trim(name);
+  for (const auto& [open, close] : {std::pair{'(', ')'}, std::pair{'[', ']'}}) {
+    const auto start = n.rfind(open);
+    if (start != std::string::npos && n.back() == close) return trim(n.substr(start + 1, n.size() - start - 2));
+  }
+  return "";
+}
+
 ColumnName split_unit(const std::string& name) {
-  const std::string n = lower(trim(name));
-  auto known = [](const std::string& u) {
-    const auto force = force_unit(u);
-    return length_unit(u).has_value() || seconds_per(u) > 0 || (force && *force != ForceUnit::mu);
-  };
-  if (known(n)) return {"", n};
+  const std::string n = trim(name);
+  if (is_known_unit(n)) return {"", n};
   for (const auto& [open, close] : {std::pair{'(', ')'}, std::pair{'[', ']'}}) {
     const auto start = n.rfind(open);
     if (start != std::string::npos && !n.empty() && n.back() == close) {
       const std::string unit = trim(n.substr(start + 1, n.size() - start - 2));
-      if (known(unit)) return {trim(n.substr(0, start)), unit};
+      if (is_known_unit(unit)) return {lower(trim(n.substr(0, start))), unit};
     }
   }
   for (const char separator : {'_', '/'}) {
     const auto at = n.rfind(separator);
-    if (at != std::string::npos && at > 0 && known(n.substr(at + 1))) return {n.substr(0, at), n.substr(at + 1)};
+    if (at != std::string::npos && at > 0 && is_known_unit(n.substr(at + 1)))
+      return {lower(n.substr(0, at)), n.substr(at + 1)};
   }
-  return {n, ""};
+  return {lower(n), ""};
 }
 
-/// The unit a displacement column's header writes that is not a length analyze knows
-/// ("Displ(km)", "x [furlong]", "x_ft"), or empty: such a column is never read as metres.
-std::string unknown_length_unit(const std::string& name) {
+/// The unit a header writes that analyze does not know, in brackets ("Displ(km)", "t (days)")
+/// or after '_' or '/' when the rest is one of `bases` ("x_ft", "time_days"); else empty.
+std::string unknown_unit(const std::string& name, std::initializer_list<const char*> bases) {
+  if (!split_unit(name).unit.empty()) return "";
+  if (const std::string unit = bracket_text(name); !unit.empty()) return lower(unit);
   const std::string n = lower(trim(name));
-  if (!split_unit(n).unit.empty()) return "";
-  for (const auto& [open, close] : {std::pair{'(', ')'}, std::pair{'[', ']'}}) {
-    const auto start = n.rfind(open);
-    if (start != std::string::npos && !n.empty() && n.back() == close)
-      return trim(n.substr(start + 1, n.size() - start - 2));
-  }
   for (const char separator : {'_', '/'}) {
     const auto at = n.rfind(separator);
     const std::string unit = at == std::string::npos ? "" : n.substr(at + 1);
     if (!unit.empty() && std::all_of(unit.begin(), unit.end(), [](unsigned char c) { return std::isalpha(c); }) &&
-        (n.substr(0, at) == "x" || n.substr(0, at) == "position" || n.substr(0, at) == "displacement" ||
-         n.substr(0, at) == "displ" || n.substr(0, at) == "disp" || n.substr(0, at) == "pos"))
+        std::find(bases.begin(), bases.end(), n.substr(0, at)) != bases.end())
       return unit;
   }
   return "";
 }
 
-bool is_time_name(const ColumnName& c) {
-  return (c.base == "t" || c.base == "time") && (c.unit.empty() || seconds_per(c.unit) > 0);
+/// The unit a displacement column's header writes that is not a length analyze knows
+/// ("Displ(km)", "x [furlong]", "x_ft"), or empty: such a column is never read as metres.
+std::string unknown_length_unit(const std::string& name) {
+  return unknown_unit(name, {"x", "position", "displacement", "displ", "disp", "pos", "lp_disp", "lp_displ"});
 }
 
+/// The same for a time column ("t (days)", "time_fortnights"): never read as seconds.
+std::string unknown_time_unit(const std::string& name) {
+  const std::string unit = unknown_unit(name, {"t", "time"});
+  if (!unit.empty()) return unit;
+  // A unit analyze knows that is not a time ("x (mm)" given as --time-column).
+  const ColumnName c = split_unit(name);
+  return !c.unit.empty() && seconds_per(c.unit) == 0 ? c.unit : "";
+}
+
+bool is_time_base(const std::string& base) { return base == "t" || base == "time"; }
+
+bool is_time_name(const ColumnName& c) { return is_time_base(c.base) && (c.unit.empty() || seconds_per(c.unit) > 0); }
+
 bool is_displacement_name(const ColumnName& c) {
-  static const std::vector<std::string> bases = {"x",     "pos",  "position", "displacement", "distance",
-                                                 "displ", "disp", "lp_displ", "slip",         "sliding distance"};
+  // lp_disp: the load point's displacement, as a biaxial rig's acquisition names it.
+  static const std::vector<std::string> bases = {"x",        "pos",     "position",        "displacement", "distance",
+                                                 "displ",    "disp",    "lp_disp",         "lp_displ",     "slip",
+                                                 "lp displ", "lp disp", "sliding distance"};
   const bool unit_ok = c.unit.empty() || length_unit(c.unit).has_value();
   return unit_ok &&
          (std::find(bases.begin(), bases.end(), c.base) != bases.end() || (c.base.empty() && !c.unit.empty()));
 }
 
+/// A header naming a friction coefficient, which carries no unit: mu, COF, Friction
+/// coefficient, and Friction without a unit (a biaxial rig's mu; a tribometer that writes
+/// its friction force as Friction writes the unit too, Friction [uN]).
+bool names_coefficient(const std::string& name) {
+  const ColumnName c = split_unit(name);
+  return (c.base == "friction" && c.unit.empty() && bracket_text(name).empty()) || c.base == "mu" || c.base == "cof" ||
+         c.base == "friction coefficient" || c.base == "coefficient of friction" || c.base == "friction_coefficient";
+}
+
 /// A header naming a force, a stress or a friction coefficient (Friction, mu, shear_MPa,
-/// Normal_stress(MPa), F (N)): never read as a displacement. What it holds, or empty.
+/// Normal_stress(MPa), F (N), Fx (g)): never read as a displacement. What it holds, or empty.
 std::string force_like(const std::string& name) {
   const std::string n = lower(name);
   for (const char* word :
@@ -361,14 +460,57 @@ std::string force_like(const std::string& name) {
     if (n.find(word) != std::string::npos) return "a force, stress or friction channel";
   for (const char* unit : {"_n", "_kn", " n", " kn"})
     if (n.size() > std::string(unit).size() && n.ends_with(unit)) return "a force channel";
-  if (n == "mu" || n.rfind("mu ", 0) == 0 || n.rfind("mu_", 0) == 0 || n.rfind("mu(", 0) == 0)
+  if (const auto unit = force_unit(split_unit(name).unit); unit && *unit != ForceUnit::mu)
+    return is_stress(*unit) ? "a stress channel" : "a force channel";
+  const std::string base = lower(without_bracket(name));
+  if (base == "f" || base == "fx" || base == "ff") return "a force channel";
+  if (names_coefficient(name) || n.rfind("mu ", 0) == 0 || n.rfind("mu_", 0) == 0 || n.rfind("mu(", 0) == 0)
     return "a friction coefficient";
   return "";
 }
 
-/// A column naming a normal load (Normal_stress(MPa), normal force): what presses the
-/// surfaces together, never the friction along them.
-bool names_normal_load(const std::string& name) { return lower(name).find("normal") != std::string::npos; }
+/// A column naming a normal load (Normal_stress(MPa), Nor_stress(MPa), effNS_MPa, Fz):
+/// what presses the surfaces together, never the friction along them.
+bool names_normal_load(const std::string& name) {
+  const std::string n = lower(name), base = split_unit(name).base;
+  // Biaxial rigs abbreviate: Nor_stress, effNS (the effective normal stress); a
+  // tribometer's normal force is its Fz (or Fn).
+  const bool abbreviated = base.rfind("nor_", 0) == 0 || base.rfind("nor ", 0) == 0 || base.rfind("norm_", 0) == 0;
+  const bool load = n.find("stress") != std::string::npos || n.find("load") != std::string::npos ||
+                    n.find("force") != std::string::npos;
+  return n.find("normal") != std::string::npos || (abbreviated && load) || base == "effns" || base == "eff_ns" ||
+         base == "sigma_n" || base == "sigman" || base == "fz" || base == "fn";
+}
+
+/// A unit written in a units row, its brackets dropped: "mm" of "(mm)" or "[mm]".
+std::string unbracketed(const std::string& field) {
+  const std::string unit = trim(field);
+  if (unit.size() >= 2 && ((unit.front() == '(' && unit.back() == ')') || (unit.front() == '[' && unit.back() == ']')))
+    return trim(unit.substr(1, unit.size() - 2));
+  return unit;
+}
+
+/// A row of units below a header (s, mm, g, mm/sec, and an empty field for mu): at least
+/// one unit analyze knows, and nothing but units, of other quantities too.
+bool is_units_row(const std::vector<std::string>& fields) {
+  bool known = false;
+  for (const std::string& field : fields) {
+    const std::string unit = unbracketed(field);
+    if (unit.empty()) continue;
+    if (is_known_unit(unit)) {
+      known = true;
+      continue;
+    }
+    static const std::vector<std::string> others = {"-", "%",  "deg", "\u00b0", "\u00b0c", "c",   "k",
+                                                    "v", "mv", "hz",  "rpm",    "rad",     "a.u."};
+    const std::string u = lower(unit);
+    const bool other = (u.find('/') != std::string::npos || u.find('^') != std::string::npos ||
+                        std::find(others.begin(), others.end(), u) != others.end()) &&
+                       u.find(' ') == std::string::npos;
+    if (!other) return false;
+  }
+  return known;
+}
 
 /// "0,001;2,5" or "0,001<TAB>2,5": numbers written with a decimal comma.
 bool looks_like_decimal_commas(const std::string& line) {
@@ -383,12 +525,22 @@ bool looks_like_decimal_commas(const std::string& line) {
 // A record's line holds a few numbers: a longer one is not a record (/dev/zero, a stream
 // without newlines) and ends the read at once.
 constexpr std::streamsize kLongestRecordLine = std::streamsize{1} << 16;
+// An instrument's preamble runs to some tens of lines; this many without a line of numbers
+// is no record, and the lines are kept until the header is known.
+constexpr std::size_t kLongestHead = 1000;
 // Some 5e7 samples (20 bytes a line): far beyond any lab record, within a machine's memory.
 constexpr std::uint64_t kMostRecordBytes = std::uint64_t{1} << 30;
 
 // A spectrum sums squares of a record's values over up to 1e8 samples: values up to this
 // keep every sum inside a double (no displacement or force is anywhere near it).
 constexpr double kLargestRecordValue = 1e30;
+
+/// A line above a record's first line of numbers, kept until the header is known.
+struct HeadLine {
+  std::vector<std::string> fields;
+  int line_number;
+  std::string raw;
+};
 
 class RecordReader {
  public:
@@ -405,6 +557,9 @@ class RecordReader {
       if (line.empty()) continue;
       take_line(split_fields(line), line_number);
     }
+    // Not one line of numbers: the lines below the header, if any, are data lines gone wrong
+    // (decimal commas, most often), refused with their fault.
+    if (names_.empty() && !head_.empty()) read_head(0, head_.back().line_number);
     if (names_.empty() || record_.samples() == 0) throw InputError(source_ + ": no data lines");
     if (record_.samples() < 2)
       throw InputError(source_ + ": line " + std::to_string(last_line_) +
@@ -497,16 +652,79 @@ class RecordReader {
 
   void take_line(const std::vector<std::string>& fields, int line_number) {
     if (names_.empty()) {
-      const bool header = !std::all_of(fields.begin(), fields.end(), is_number);
-      for (std::size_t k = 0; k < fields.size(); ++k) names_.push_back(header ? fields[k] : std::to_string(k + 1));
-      choose_columns(line_number);
-      if (header) return;
+      if (!std::all_of(fields.begin(), fields.end(), is_number)) {
+        if (head_.size() == kLongestHead)
+          fail(line_number, std::to_string(kLongestHead) + " lines and not one of numbers: not a record");
+        head_.push_back({fields, line_number, raw_line_});
+        return;
+      }
+      read_head(fields.size(), line_number);
     }
-    if (fields.size() != names_.size())
-      fail(line_number, std::to_string(fields.size()) + " fields, expected " + std::to_string(names_.size()) + " (" +
-                            column_list(names_) + ")");
+    take_data(fields, line_number);
+  }
+
+  void take_data(const std::vector<std::string>& fields, int line_number) {
+    if (fields.size() != names_.size()) {
+      // An export of several steps or runs starts the next one's preamble below the data.
+      const bool text = !std::all_of(fields.begin(), fields.end(), is_number);
+      fail(line_number, (text ? "a line of text inside the data, " : "") + std::to_string(fields.size()) +
+                            " fields, expected " + std::to_string(names_.size()) + " (" + column_list(names_) + ")" +
+                            (text ? "; an export of several steps or runs? keep one's lines" : ""));
+    }
     take_row([&](int index) { return number(fields, index, line_number); }, line_number);
     last_line_ = line_number;
+  }
+
+  /// The lines above the first line of numbers: the header is the last without a number in
+  /// it, a units row may follow it, and what precedes it is the preamble an instrument
+  /// writes (its settings, the date). A line below the header that holds numbers is a data
+  /// line gone wrong, read as one to be refused with its fault.
+  void read_head(std::size_t data_fields, int first_data_line) {
+    const auto text = [](const HeadLine& line) {
+      return std::none_of(line.fields.begin(), line.fields.end(), is_number);
+    };
+    int header = static_cast<int>(head_.size()) - 1;
+    while (header >= 0 && !text(head_[std::size_t(header)])) --header;
+    const HeadLine* units = nullptr;
+    if (header >= 1 && is_units_row(head_[std::size_t(header)].fields) && text(head_[std::size_t(header) - 1]) &&
+        head_[std::size_t(header) - 1].fields.size() == head_[std::size_t(header)].fields.size())
+      units = &head_[std::size_t(header--)];
+    if (header < 0) {
+      const std::size_t count = head_.empty() ? data_fields : head_.front().fields.size();
+      for (std::size_t k = 0; k < count; ++k) names_.push_back(std::to_string(k + 1));
+      choose_columns(first_data_line);
+    } else {
+      const HeadLine& names = head_[std::size_t(header)];
+      names_ = names.fields;
+      if (header > 0)
+        record_.notes.push_back("lines " + std::to_string(head_.front().line_number) + "-" +
+                                std::to_string(head_[std::size_t(header) - 1].line_number) +
+                                " above the header (line " + std::to_string(names.line_number) +
+                                ") are the file's preamble, not read");
+      if (units) take_units(*units);
+      choose_columns(names.line_number);
+    }
+    const std::string current_line = raw_line_;
+    for (std::size_t k = std::size_t(header + (units ? 2 : 1)); k < head_.size(); ++k) {
+      raw_line_ = head_[k].raw;
+      take_data(head_[k].fields, head_[k].line_number);
+    }
+    raw_line_ = current_line;
+    head_.clear();
+  }
+
+  /// Each column's unit from the units row below the header, as if its header named it.
+  void take_units(const HeadLine& units) {
+    for (std::size_t k = 0; k < names_.size(); ++k) {
+      const std::string unit = unbracketed(units.fields[k]);
+      if (unit.empty()) continue;
+      const std::string in_header = bracket_text(names_[k]);
+      if (in_header.empty())
+        names_[k] += " (" + unit + ")";
+      else if (lower(in_header) != lower(unit))
+        fail(units.line_number, "column " + names_[k] + ": its header says " + in_header + ", the units row " + unit);
+    }
+    record_.notes.push_back("the columns' units are the units row's (line " + std::to_string(units.line_number) + ")");
   }
 
   /// One sample from the chosen columns, `value(index)` giving a column's number.
@@ -547,7 +765,9 @@ class RecordReader {
     if (found != names_.end()) return static_cast<int>(found - names_.begin());
     std::vector<int> matches;
     for (int k = 0; k < static_cast<int>(names_.size()); ++k)
-      if (lower(without_bracket(names_[std::size_t(k)])) == lower(wanted)) matches.push_back(k);
+      if (lower(without_bracket(names_[std::size_t(k)])) == lower(wanted) ||
+          split_unit(names_[std::size_t(k)]).base == lower(wanted))
+        matches.push_back(k);
     if (matches.size() > 1)
       fail(line_number, std::string(option) + ": '" + name + "' names " + std::to_string(matches.size()) +
                             " columns (columns: " + column_list(names_) + "); give the whole header");
@@ -564,6 +784,11 @@ class RecordReader {
       } else {
         for (int k = 0; k < count && time_index_ < 0; ++k)
           if (is_time_name(split_unit(names_[k]))) time_index_ = k;
+        for (int k = 0; k < count && time_index_ < 0; ++k)
+          if (const std::string unknown = unknown_unit(names_[k], {"t", "time"});
+              !unknown.empty() && (is_time_base(lower(without_bracket(names_[k]))) || bracket_text(names_[k]).empty()))
+            fail(line_number,
+                 "column " + names_[k] + ": '" + unknown + "' is not a time unit analyze knows (" + kKnownTimes + ")");
         if (time_index_ < 0 && count == 2 && names_[0] == "1") time_index_ = 0;
         if (time_index_ < 0)
           fail(line_number,
@@ -581,8 +806,13 @@ class RecordReader {
     // A force record keeps its displacement, when it has one, for the steady segments.
     choose_displacement_column(line_number, record_.observable != Observable::force);
     if (time_index_ >= 0) {
-      const std::string unit = split_unit(names_[static_cast<std::size_t>(time_index_)]).unit;
-      if (seconds_per(unit) > 0) seconds_per_time_ = seconds_per(unit);
+      const std::string& name = names_[static_cast<std::size_t>(time_index_)];
+      // As with a length, a unit the header names and analyze cannot read is never taken
+      // for seconds (a time in ms read as s gives a speed 1000x too low).
+      if (const std::string unknown = unknown_time_unit(name); !unknown.empty())
+        fail(line_number,
+             "time column " + name + ": '" + unknown + "' is not a time unit analyze knows (" + kKnownTimes + ")");
+      if (const double seconds = seconds_per(split_unit(name).unit); seconds > 0) seconds_per_time_ = seconds;
     }
   }
 
@@ -628,6 +858,9 @@ class RecordReader {
     record_.column = names_[static_cast<std::size_t>(x_index_)];
     const std::string header_unit = split_unit(record_.column).unit;
     if (format_.unit) {
+      if (const auto named = length_unit(header_unit); named && *named != *format_.unit)
+        fail(line_number, std::string("--units ") + to_string(*format_.unit) + " contradicts the header of column " +
+                              record_.column + ", which gives " + to_string(*named) + "; leave --units out");
       record_.unit = *format_.unit;
       record_.unit_source = "--units";
     } else if (const auto unit = length_unit(header_unit)) {
@@ -664,16 +897,29 @@ class RecordReader {
     if (force_index_ == time_index_) fail(line_number, "the force column is the time column");
     const std::string& name = names_[static_cast<std::size_t>(force_index_)];
     ForceUnit unit{};
+    const auto named = force_unit(split_unit(name).unit);
     if (format_.force_unit) {
       unit = *format_.force_unit;
-    } else if (const std::string header = split_unit(name).unit; force_unit(header)) {
-      unit = *force_unit(header);
+      // The header's word decides what the numbers are: an option that says otherwise is a
+      // slip of the user's (a uN column read as N is a million times too strong).
+      if (named && *named != unit)
+        fail(line_number, std::string("--force-units ") + to_string(unit) + " contradicts the header of column " +
+                              name + ", which gives " + to_string(*named) + "; leave --force-units out");
+      if (!named && names_coefficient(name) && unit != ForceUnit::mu)
+        fail(line_number, std::string("--force-units ") + to_string(unit) + " contradicts the header of column " +
+                              name +
+                              ", which names a friction coefficient mu (no unit); leave --force-units out (a "
+                              "friction force's header names its unit, e.g. Friction [N])");
+    } else if (named) {
+      unit = *named;
+    } else if (names_coefficient(name)) {
+      unit = ForceUnit::mu;
+    } else if (const std::string unknown = bracket_text(name); !unknown.empty()) {
+      fail(line_number, "force column " + name + ": '" + unknown + "' is not a unit analyze knows (" + kKnownForces +
+                            "); give --force-units");
     } else {
-      const std::string base = split_unit(name).base;
-      if (base == "mu" || base == "friction" || base == "friction coefficient" || base == "cof")
-        unit = ForceUnit::mu;
-      else
-        fail(line_number, "--force-column " + name + ": its header names no unit; give --force-units N|kN|MPa|kPa|mu");
+      fail(line_number,
+           "force column " + name + ": its header names no unit; give --force-units (" + kKnownForces + ")");
     }
     const double area = format_.contact_area;
     // The unit in words unless the header already writes it.
@@ -691,7 +937,8 @@ class RecordReader {
         const std::string& normal_name = names_[static_cast<std::size_t>(normal_index_)];
         const auto normal_unit = force_unit(split_unit(normal_name).unit);
         if (!normal_unit || !is_stress(*normal_unit))
-          fail(line_number, "normal-stress column " + normal_name + ": its header names no stress unit (MPa or kPa)");
+          fail(line_number,
+               "normal-stress column " + normal_name + ": its header names no stress unit (Pa, kPa, MPa or psi)");
         if (!(area > 0))
           fail(line_number, "column " + name + " is a friction coefficient mu: mu x " + normal_name +
                                 " is a shear stress; give --contact-area A (m^2, or 25cm2) to make it a force, or "
@@ -725,11 +972,21 @@ class RecordReader {
       normal_index_ = find_column(format_.normal_stress_column, "--normal-stress-column", line_number);
       return;
     }
-    for (int k = 0; k < static_cast<int>(names_.size()) && normal_index_ < 0; ++k) {
-      const std::string n = lower(names_[k]);
-      if (k != force_index_ && n.find("normal") != std::string::npos && n.find("stress") != std::string::npos)
-        normal_index_ = k;
+    std::vector<std::string> candidates;
+    for (int k = 0; k < static_cast<int>(names_.size()); ++k) {
+      const std::string written = split_unit(names_[k]).unit;
+      const auto unit = force_unit(written);
+      // A normal force (Fz) is no stress; a header naming no unit is refused below for that.
+      if (k != force_index_ && names_normal_load(names_[k]) && (written.empty() || (unit && is_stress(*unit)))) {
+        if (normal_index_ < 0) normal_index_ = k;
+        candidates.push_back(names_[std::size_t(k)]);
+      }
     }
+    // A rig may write the applied normal stress and the effective one (less the pore
+    // pressure): which one mu was made with is the lab's to say.
+    if (candidates.size() > 1)
+      fail(line_number,
+           "which column is mu's normal stress: " + column_list(candidates) + "? give --normal-stress-column");
     if (normal_index_ < 0)
       fail(line_number, "column " + names_[static_cast<std::size_t>(force_index_)] +
                             " is a friction coefficient mu; give --normal-force FN [N], or "
@@ -774,6 +1031,7 @@ class RecordReader {
     where_.push_back(line_number);
   }
 
+  std::vector<HeadLine> head_;
   std::string source_;
   std::uint64_t bytes_ = 0;  // read so far
   std::string place_ = "line";

@@ -157,6 +157,32 @@ Verdict judge_model(const ModelFit& fit) {
   return verdict;
 }
 
+Verdict judge_power_law(const PowerLawFit& fit) {
+  Verdict verdict = judge_chi2(fit.chi2_per_dof, fit.dof);
+  const std::string range = short_number(kSteepestPowerLawSlope) + " .. " + short_number(kFlattestPowerLawSlope);
+  const char* unbounded =
+      ": the band does not bound it (a longer stretch of record reaches lower frequencies; "
+      "--resolution or --sensor-noise give the floor)";
+  if (fit.slope_at_search_edge)
+    add_reason(verdict, "the slope " + short_number(fit.slope) + " ran to the edge of its search range (" + range +
+                            ")" + unbounded);
+  else if (fit.slope - fit.slope_error < kSteepestPowerLawSlope && fit.slope + fit.slope_error > kFlattestPowerLawSlope)
+    add_reason(verdict, "the slope's error bar " + short_number(fit.slope) + " +- " + short_number(fit.slope_error) +
+                            " spans its whole search range (" + range + ")" + unbounded);
+  // A correlation that rounds to 1 leaves the covariance singular: the two parameters move
+  // together (A and the floor where the slope is 0) and their errors mean nothing.
+  constexpr double kIndistinguishable = 0.9995;
+  const char* names[] = {"the amplitude", "the slope", "the floor"};
+  const int parameters = fit.floor_given ? 2 : 3;
+  for (int i = 0; i < parameters; ++i)
+    for (int j = i + 1; j < parameters; ++j)
+      if (!(std::fabs(fit.correlation[i][j]) <= kIndistinguishable))
+        add_reason(verdict, std::string(names[i]) + " and " + names[j] +
+                                " are not told apart by the band (correlation " + short_number(fit.correlation[i][j]) +
+                                "): their errors mean nothing");
+  return verdict;
+}
+
 nlohmann::ordered_json slope_fit_json(const SlopeFit& f, const Verdict& verdict) {
   return with_verdict({{"omega_low", f.omega_low},
                        {"omega_high", f.omega_high},
@@ -187,6 +213,7 @@ nlohmann::ordered_json power_law_json(const PowerLawFit& p, const Verdict& verdi
                        {"floor_given", p.floor_given},
                        {"correlation", correlation},
                        {"chi2_per_dof", p.chi2_per_dof},
+                       {"slope_at_search_edge", p.slope_at_search_edge},
                        {"undetermined", p.undetermined}},
                       verdict);
 }

@@ -37,6 +37,8 @@ struct Verdict {
 Verdict judge_chi2(double chi2_per_dof, int dof);
 Verdict judge_alpha(const AlphaFit& fit, const Parameters& fitted);
 Verdict judge_model(const ModelFit& fit);
+/// A power-law fit also fails where its slope ran to the end of the range searched.
+Verdict judge_power_law(const PowerLawFit& fit);
 /// Whether the spectrum is one: not where a point holds inf or nan (a sampling interval or
 /// stiffness beyond a double's range), nor where it is 0 at every point (a constant record,
 /// or values below a double's resolution): no fluctuation was measured there.

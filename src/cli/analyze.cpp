@@ -399,7 +399,7 @@ int command_analyze(Options o) {
   if (o.fit == "power-law") {
     f.power = o.fit_band.empty() ? fit_power_law(s, s.points.front().omega, s.points.back().omega)
                                  : fit_power_law(s, o.fit_band[0], o.fit_band[1]);
-    f.power_verdict = detail::judge_chi2(f.power->chi2_per_dof, f.power->dof);
+    f.power_verdict = detail::judge_power_law(*f.power);
   }
   const ModelOrder order = o.theory_order == 2 ? ModelOrder::best : ModelOrder::first;
   if (!o.compare_case.empty())
@@ -614,7 +614,8 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
   analyze_->add_option("--time-column", o.format.time_column, "time column [s] (default: t or time)");
   analyze_->add_option("--dt", o.format.dt, "fixed sampling interval [s] instead of a time column");
   analyze_->add_option("--units", o.units,
-                       "unit of the displacement column: m|mm|um|nm (default: from its header, e.g. x (mm), else m)");
+                       "unit of a displacement column whose header names none: m|cm|mm|um|nm|in (default: from its "
+                       "header, e.g. x (mm), else m)");
   analyze_->add_option("--observable", o.observable,
                        "the spectrum asked for: auto (default: slip with --machine-stiffness, force with "
                        "--force-column, else displacement) | displacement (C_x) | force (C_F [N^2 s] of the force "
@@ -623,7 +624,8 @@ AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Op
                        "force, stress or friction column (default: the first naming one, e.g. Friction, shear_MPa, "
                        "F (N); never a normal one)");
   analyze_->add_option("--force-units", o.force_units,
-                       "unit of the force column: N|kN|MPa|kPa|mu (default: from its header; Friction or mu is mu)");
+                       "unit of a force column whose header names none: uN|mN|N|kN|MN|gf|kgf|lbf|Pa|kPa|MPa|psi|mu "
+                       "(default: from its header; Friction or mu is mu)");
   analyze_->add_option("--contact-area", o.contact_area,
                        "contact area A (m^2, or 25cm2, 2500mm2): a stress x A is a force, and K in MPa/um x A is N/m");
   analyze_->add_option("--normal-force", o.normal_force, "normal force for a friction column: F = mu x FN (N, or kN)");

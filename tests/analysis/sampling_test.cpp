@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <complex>
 #include <numbers>
 #include <random>
 #include <tuple>
 
+#include "analysis/report.hpp"
 #include "slidespec/analysis.hpp"
 
 namespace slidespec {
@@ -292,6 +294,54 @@ TEST(PowerLawFit, RandomWalkAndFloorAreRecoveredWithinTheirErrors) {
   }
   EXPECT_GE(slope_inside, kSeeds * 8 / 10);
   EXPECT_GE(floor_inside, kSeeds * 8 / 10);
+}
+
+/// A spectrum of points at omega = 1 .. 30 rad/s, each with a 10% error bar.
+RecordSpectrum spectrum_of(const std::function<double(double)>& C) {
+  RecordSpectrum s;
+  for (double omega = 1; omega < 30; omega *= 1.3)
+    s.points.push_back({.omega = omega,
+                        .C_x = C(omega),
+                        .standard_error = 0.1 * C(omega),
+                        .noise_floor = 0,
+                        .n_avg = 10,
+                        .bandwidth = 0.3 * omega,
+                        .below_floor = false});
+  return s;
+}
+
+TEST(PowerLawFit, ASlopeAtTheEdgeOfItsSearchFailsLoudly) {
+  // White but for the lowest point, a thousand times higher: no power law drops that fast,
+  // so the steepest slope searched fits best and the band bounds nothing.
+  const RecordSpectrum cliff = spectrum_of([](double omega) { return omega < 1.1 ? 1e-13 : 1e-16; });
+  const PowerLawFit stuck = fit_power_law(cliff, 1, 30);
+  EXPECT_LE(stuck.slope, kSteepestPowerLawSlope + 0.01);
+  EXPECT_TRUE(stuck.slope_at_search_edge);
+  const detail::Verdict verdict = detail::judge_power_law(stuck);
+  EXPECT_FALSE(verdict.ok);
+  EXPECT_NE(verdict.reason.find("ran to the edge of its search range (-10 .. 2)"), std::string::npos) << verdict.reason;
+  // An exact omega^-3 law over a floor is found, and judged a result.
+  const RecordSpectrum law = spectrum_of([](double omega) { return 1e-14 * std::pow(omega, -3) + 1e-19; });
+  const PowerLawFit found = fit_power_law(law, 1, 30);
+  EXPECT_NEAR(found.slope, -3, 1e-3);
+  EXPECT_FALSE(found.slope_at_search_edge);
+  EXPECT_TRUE(detail::judge_power_law(found).ok) << detail::judge_power_law(found).reason;
+}
+
+TEST(PowerLawFit, AnUnboundedSlopeOrParametersNotToldApartFail) {
+  PowerLawFit fit;
+  fit.dof = 10, fit.chi2_per_dof = 1, fit.slope = -3, fit.slope_error = 0.5;
+  for (int i = 0; i < 3; ++i) fit.correlation[i][i] = 1;
+  EXPECT_TRUE(detail::judge_power_law(fit).ok);
+  fit.slope_error = 8;  // -11 .. 5: the whole range searched
+  EXPECT_NE(detail::judge_power_law(fit).reason.find("spans its whole search range"), std::string::npos);
+  fit.slope_error = 0.5;
+  fit.correlation[0][2] = fit.correlation[2][0] = -0.9999;  // A + floor where the slope is 0
+  EXPECT_NE(detail::judge_power_law(fit).reason.find("the amplitude and the floor are not told apart"),
+            std::string::npos)
+      << detail::judge_power_law(fit).reason;
+  fit.correlation[0][2] = fit.correlation[2][0] = std::nan("");
+  EXPECT_FALSE(detail::judge_power_law(fit).ok);
 }
 
 }  // namespace

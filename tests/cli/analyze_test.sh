@@ -87,10 +87,12 @@ for header in "t_s,x_mm" "t [s],x [mm]" "time,mm"; do
   "$bin" analyze "$work/h.csv" --quiet --no-plot --out "$work/h" || fail "header '$header' not read"
   [ "$(speed "$work/h.json")" = "$v_mm" ] || fail "header '$header': v = $(speed "$work/h.json"), expected $v_mm"
 done
-# A byte order mark is ignored; '-' reads standard input; --units overrides the header.
+# A byte order mark is ignored; '-' reads standard input; --units gives a unit the header does
+# not (and is refused where it contradicts one, below).
 { printf '\xEF\xBB\xBF'; cat "$work/mm.csv"; } | "$bin" analyze - --quiet --no-plot --out "$work/bom" || fail "BOM or stdin"
 [ "$(speed "$work/bom.json")" = "$v_mm" ] || fail "stdin with a BOM: another speed"
-"$bin" analyze "$work/rec.csv" --units m --no-plot --out "$work/over" 2> "$work/over.err"
+sed 's/^t (s),x (um)$/t (s),x/' "$work/rec.csv" > "$work/bare.csv"
+"$bin" analyze "$work/bare.csv" --units m --no-plot --out "$work/over" 2> "$work/over.err"
 grep -q "implausible.*read in m (from --units)" "$work/over.err" || fail "no implausible-speed warning naming the unit: $(cat "$work/over.err")"
 # An empty usable band (a resolution given in the wrong unit: 10 mm for 10 um) is warned about
 # with its cause when the floor lies above the spectrum everywhere.
@@ -269,6 +271,63 @@ expect_refused force-compare "drive = spring" analyze "$basalt" --observable for
 expect_refused force-resolution "displacement sensor" analyze "$basalt" --window 11608:11674 --observable force --contact-area 25cm2 --resolution 0.1um $out
 printf 't,Displ(km)\n0,1\n1,2\n2,3\n' > "$work/km.csv"
 expect_refused unknown-length-unit "not a length unit analyze knows (m, cm, mm" analyze "$work/km.csv" $out
+
+# Headers as labs write them, read with no column option: a biaxial rig's (Penn State-style:
+# Time(sec), LP_disp(micron), stresses in MPa, mu, effns_mpa) and an instrument's export with a
+# preamble and a units row (CETR/Bruker UMT: forces in gram-force, positions in mm, time in sec).
+/usr/bin/python3 -c "
+import random
+random.seed(5)
+print('Time(sec)\tLP_disp(micron)\tShr_stress(MPa)\tNor_disp(micron)\tNor_stress(MPa)\tmu\teffns_mpa')
+for k in range(3000):
+    print(f'{20000 + 0.1 * k:.1f}\t{0.5 * k + random.gauss(0, 0.2):.3f}\t{12 + random.gauss(0, 0.01):.4f}\t300\t20\t0.6\t19.5')" > "$work/rig.txt"
+"$bin" analyze "$work/rig.txt" --no-plot --out "$work/rig" 2> "$work/rig.err" || fail "biaxial rig's headers: $(cat "$work/rig.err")"
+grep -q "^# observable = displacement  # C_x \[m^2 s\] of column LP_disp(micron)$" "$work/rig.tsv" || fail "rig: $(grep observable "$work/rig.tsv")"
+grep -q "^# units = um  # of the displacement column, from header" "$work/rig.tsv" || fail "rig: $(grep units "$work/rig.tsv")"
+grep -q "v = 5e-06 " "$work/rig.err" || fail "rig: the speed of 0.5 um per 0.1 s: $(cat "$work/rig.err")"
+/usr/bin/python3 -c "
+print('Created by CETR UMT ver.1.136.257 12 May 2022 12:21:50')
+print('Run # 1')
+print('Velocity     = 240')
+print()
+print('Fx,Fz,Z,X,V1,T,Ff,COF')
+print('g,g,mm,mm,mm/sec,sec,g,')
+print()
+for k in range(2000):
+    f = 100 + (k * 7919 % 13) / 13
+    print(f'{f:.4f},-200,-0.69,{0.01 * k + 1e-4 * (k * 104729 % 17):.5f},1,{0.01 * k:.2f},{f:.4f},{f / 200:.5f}')" > "$work/umt.csv"
+"$bin" analyze "$work/umt.csv" --no-plot --out "$work/umt" 2> "$work/umt.err" || fail "instrument export: $(cat "$work/umt.err")"
+grep -q "^# observable = displacement  # C_x \[m^2 s\] of column X (mm)$" "$work/umt.tsv" || fail "umt: $(grep observable "$work/umt.tsv")"
+grep -q "note: lines 1-3 above the header (line 5) are the file's preamble, not read" "$work/umt.err" || fail "umt: preamble not said: $(cat "$work/umt.err")"
+grep -q "v = 0.001 " "$work/umt.err" || fail "umt: the speed of 0.01 mm per 0.01 s: $(cat "$work/umt.err")"
+"$bin" analyze "$work/umt.csv" --observable force --no-plot --out "$work/umtf" 2> "$work/umtf.err" || fail "instrument export, force: $(cat "$work/umtf.err")"
+grep -q "^# observable = force  # C_F \[N^2 s\] of force Fx (g)$" "$work/umtf.tsv" || fail "umt force: $(grep observable "$work/umtf.tsv")"
+# A time unit analyze does not know is refused, as a length unit is: never read as seconds.
+printf 't (days),x (um)\n0,1\n1,2\n2,3\n' > "$work/days.csv"
+expect_refused unknown-time-unit "column t (days): 'days' is not a time unit analyze knows (s (sec), ms" analyze "$work/days.csv" $out
+printf 'T (days),x (um)\n0,1\n1,2\n2,3\n' > "$work/days.csv"
+expect_refused unknown-time-unit-named "time column T (days): 'days' is not a time unit" analyze "$work/days.csv" --time-column T $out
+# Unit options that contradict the header: refused naming both, before any work.
+expect_refused units-contradict "--units mm contradicts the header of column LP_disp(micron), which gives um" analyze "$work/rig.txt" --units mm $out
+expect_refused force-units-stress "--force-units kN contradicts the header of column Shr_stress(MPa), which gives MPa" analyze "$work/rig.txt" --observable force --force-units kN --contact-area 25cm2 $out
+expect_refused force-units-mu "--force-units MPa contradicts the header of column mu, which names a friction coefficient" analyze "$work/rig.txt" --force-column mu --force-units MPa --contact-area 25cm2 $out
+expect_refused force-units-friction "--force-units MPa contradicts the header of column Friction, which names a friction coefficient" analyze "$basalt" --observable force --force-units MPa --contact-area 25cm2 $out
+printf 't (s),x (um),Friction [uN]\n0,1,70\n1,2,71\n2,3,72\n' > "$work/micro.csv"
+expect_refused force-units-micro "--force-units N contradicts the header of column Friction \[uN\], which gives uN" analyze "$work/micro.csv" --observable force --force-units N $out
+# A power law stuck at the edge of its slope's search (a record whose lowest point towers
+# over a white rest): FAILED, ok false, exit 3, as a model fit there.
+/usr/bin/python3 -c "
+import math, random
+random.seed(1)
+print('t,x (um)')
+for k in range(400): print(f'{0.1 * k:.1f},{0.05 * k + 2 * math.sin(2 * math.pi * 3 * k / 400) + random.gauss(0, 0.05):.5f}')" > "$work/cliff.csv"
+"$bin" analyze "$work/cliff.csv" --fit power-law --no-plot --out "$work/cliff" 2> "$work/cliff.err"
+status=$?
+[ $status -eq 3 ] || fail "power law at the edge of its search: exit $status, expected 3"
+grep -q "power-law fit FAILED: the slope -10 ran to the edge of its search range" "$work/cliff.err" || fail "power law at the edge: $(cat "$work/cliff.err")"
+/usr/bin/python3 -c "
+import json; f = json.load(open('$work/cliff.json'))['power_law_fit']
+assert not f['ok'] and f['slope_at_search_edge'] and 'edge of its search range' in f['failure'], f" || fail "power law at the edge: JSON"
 
 [ $failures -eq 0 ] && echo "cli_analyze: all checks passed"
 exit $((failures > 0))
