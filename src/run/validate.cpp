@@ -271,7 +271,7 @@ void validate_request(const Parameters& p, const RunRequest& r) {
     const double time = lowest.warm_up + lowest.duration;
     const double speed = p.v + speed_excursion(p, time);
     std::ostringstream drive;
-    drive.precision(12);
+    drive.precision(15);
     drive << p.F_drive;
     throw InputError("parameter F_drive: " + drive.str() + " N lies only " + text(p.F_drive - p.F_kin) +
                      " N above F_kin, so the random forces (spread " + text(random_force_spread(p)) +
