@@ -193,7 +193,7 @@ struct Stepper::Impl {
   // A piece's target time [s], far below the second a stop may take, far above a kernel
   // call's overhead.
   static constexpr double kPieceSeconds = 0.05;
-  std::int64_t piece_steps = 1;    // steps per piece, grown or shrunk to take about kPieceSeconds
+  std::int64_t piece_steps = 1;     // steps per piece, grown or shrunk to take about kPieceSeconds
   std::vector<PathState> paths;     // the block's, then its shadow's if asked for
   std::vector<double> xi_at_start;  // [lane], after a warm-up
   double steady_origin = 0;         // v t where the warm-up ended [m]
