@@ -386,6 +386,9 @@ for F in 8 8.1 8.2 8.3; do
   not_claimed "partial stall F_drive=$F" run $stall --set F_drive=$F --omega-min 1 --omega-max 10 --realizations 32
 done
 not_claimed "short stall-capable" run $stall --set F_drive=8 --set a=3e-4 --omega-min 1000 --omega-max 10000 --precision 0.3
+# A block that stalls and creeps back at 14 v (F_drive - F_kin = 0.01 N): its precision out of
+# reach, the sub-band's cap (its renewals counted) ends it in seconds, exit 3.
+not_claimed "creeping stall F_drive=5.01" run --set F_drive=5.01 --omega-min 10 --omega-max 100 --no-plot --quiet
 for omega in 1e-300 1e-200 1e-100 5e-324 2.8e-80; do
   attack refuse "theory --omega $omega" theory --omega "$omega,1"
 done
@@ -588,6 +591,30 @@ if in_part refusals; then
   done
   attack refuse "theory alpha=0" theory --set alpha=0 --omega 1
   attack refuse "theory alpha=1e-310" theory --set alpha=1e-310 --omega 1
+  # Refusals that must name their cause (the parameter, its value, the limit): else unclear.
+  refuse_naming() {  # NAME WORDS ARGS...
+    local name=$1 words=$2; shift 2
+    attack refuse "$name" "$@"
+    if ! grep -q -- "$words" "$logs/stderr"; then
+      other=$((other + 1)); report UNCLEAR "$name: does not name '$words': $(head -c 200 "$logs/stderr")"
+    fi
+  }
+  # A block coasting near the stall under a constant force: its renewals are work, refused
+  # before any (a late refusal shows as a hang), naming F_drive.
+  refuse_naming "F_drive=5.000001, default band" "parameter F_drive: 5.000001 N" run --set F_drive=5.000001 --no-plot
+  refuse_naming "F_drive=5.000001 at 10..100, a budget" "parameter F_drive: 5.000001 N" \
+    run --set F_drive=5.000001 --omega-min 10 --omega-max 100 --work-budget 1e10 --no-plot
+  refuse_naming "F_drive=5+1e-12, default band" "parameter F_drive" run --set F_drive=5.000000000001 --no-plot
+  refuse_naming "F_drive=5.000001 at 1..10" "parameter F_drive" run --set F_drive=5.000001 --omega-min 1 --omega-max 10 \
+    --no-plot
+  # A spring's omega_s sets the step: the messages name k_drive (and omega_s), not an omega option.
+  for k in 1e16 1e40 1e90 1.5e15; do
+    refuse_naming "spring k_drive=$k" "parameter k_drive: .* omega_s" run --set drive=spring --set k_drive=$k --no-plot
+  done
+  refuse_naming "spring near the stall" "parameter k_drive: 200 N/m puts omega_s" \
+    run --set drive=spring --set k_drive=200 --set F_drive=5.000001 --no-plot
+  refuse_naming "spring near the stall in a sweep" "omega_s" \
+    sweep k_drive=200,1e3 --set drive=spring --set F_drive=5.000001 --no-plot
 fi
 if in_part results; then
   # A write the system refuses is a failure (1): standard output, a file-size limit, a figure.
@@ -636,11 +663,34 @@ time.sleep(0.5)' > /dev/null 2> "$logs/stderr"
   fi
 fi
 if in_part signals; then
-  # An interrupt in a sweep's last run is an interrupt (130/143), as in an earlier run.
+  # A signal inside one long realization (a block coasting near the stall, its warm-up or
+  # its steps) ends the run within about a second, saving its state: else a hang.
+  for sig in INT TERM; do
+    for delay in 0.3 2; do
+      attacks=$((attacks + 1))
+      rm -f coast.*
+      "$bin" run --set F_drive=5.000001 --omega-min 10 --omega-max 100 --out coast --no-plot --quiet 2> /dev/null &
+      pid=$!
+      sleep $delay
+      kill -s $sig $pid 2> /dev/null
+      waited=0
+      while kill -0 $pid 2> /dev/null && [ $waited -lt 30 ]; do sleep 0.1; waited=$((waited + 1)); done
+      if kill -0 $pid 2> /dev/null; then
+        hangs=$((hangs + 1)); report HANG "SIG$sig after $delay s inside a long realization: still running 3 s later"
+        kill -KILL $pid 2> /dev/null
+      fi
+      wait $pid 2> /dev/null
+      status=$?
+      [ $status -ge 128 ] || { nonsense=$((nonsense + 1)); report NONSENSE "SIG$sig in a long realization: exit $status"; }
+      [ -e coast.state ] || { work_lost=$((work_lost + 1)); report LOST "SIG$sig in a long realization: no state"; }
+    done
+  done
+  # An interrupt in a sweep's last run is an interrupt (130/143), as in an earlier run (at
+  # 0.3%, so that the last run lasts seconds: at 1% the whole sweep takes half a second).
   for sig in INT TERM; do
     attacks=$((attacks + 1))
     rm -f lsw*
-    "$bin" sweep alpha=1,0.9 --omega-min 0.1 --omega-max 1e4 --precision 0.01 --out lsw --no-plot 2> "$logs/stderr" &
+    "$bin" sweep alpha=1,0.9 --omega-min 0.1 --omega-max 1e4 --precision 0.003 --out lsw --no-plot 2> "$logs/stderr" &
     pid=$!
     for _ in $(seq 400); do grep -q "sweep 2/2" "$logs/stderr" && break; sleep 0.05; done
     sleep 0.3

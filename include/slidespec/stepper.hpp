@@ -3,6 +3,7 @@
 // the random forces fused into the same loop. See docs/numerics.md for why it is exact.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -31,7 +32,14 @@ struct StepperConfig {
   /// each force renewed when the nominal place v t, not the block, passes its mark. Its
   /// spectrum is exactly the first-order theory's, and it follows the block closely.
   bool shadow = false;
+  /// Heard between pieces of the steps, the warm-up's included, each piece short enough to
+  /// end well within a second however many renewals its steps hold: once set, the stepper
+  /// throws StepperStopped. Pieces change no number (a lane's steps are the same sequence).
+  const std::atomic<bool>* stop = nullptr;
 };
+
+/// What a stepper throws when its config's stop is set.
+struct StepperStopped {};
 
 /// What one realization did, for diagnostics and tests.
 struct RealizationSummary {

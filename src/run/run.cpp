@@ -47,7 +47,8 @@ constexpr double kSegmentsPerRealization = 2;
 constexpr double kRenewalsPerRealization = 15;
 constexpr double kMostLengthening = 10;
 // Precision-driven runs stop growing at kMaxRealizationsPerBand (session.hpp) or 2e9
-// realization-steps per sub-band (about a minute on two cores), whichever comes first, and
+// realization-steps per sub-band (about a minute on two cores; a block coasting near the
+// stall counts its extra renewals too, validate.cpp), whichever comes first, and
 // report the precision they reached. Where the random forces stall the block the spectrum
 // collapses and its scatter can keep any precision out of reach.
 constexpr double kMaxStepsPerBand = 2e9;
@@ -88,14 +89,6 @@ namespace {
 // Below this many realizations the scatter between them is too coarse for the control
 // variate; the estimator's own (segment-scatter) error bars are used instead.
 constexpr std::uint64_t kMinimumForControl = 8;
-
-/// Renewals of one realization per second of steady sliding: every touching contact's v/a.
-double renewals_per_second(const Parameters& p) {
-  double rate = 0;
-  for (int l = 1; l <= p.levels; ++l)
-    if (p.touches(l)) rate += static_cast<double>(p.blocks(l)) * p.renewal_rate(l);
-  return rate;
-}
 
 }  // namespace
 
@@ -285,9 +278,11 @@ std::vector<BatchRecord> run_batches_of(const Parameters& p, const SubBand& band
   std::map<std::uint64_t, std::shared_ptr<SpectrumEstimator>> estimators, shadows;  // by first realization
   std::atomic<std::int64_t> lane_steps_done{0};
   const double lane_steps_planned = static_cast<double>(count) * static_cast<double>(steps);
+  StepperConfig stoppable = stepper_config;
+  stoppable.stop = stop;  // heard inside a realization too, its warm-up included
   try {
     run_batches(
-        p, stepper_config, first, count, steps, request.threads, kBatchRealizations,
+        p, stoppable, first, count, steps, request.threads, kBatchRealizations,
         [&](std::uint64_t batch_first, int batch_count) -> BatchSinks {
           auto estimator = std::make_shared<SpectrumEstimator>(config, batch_count, request.simd);
           estimators[batch_first] = estimator;
@@ -328,6 +323,7 @@ std::vector<BatchRecord> run_batches_of(const Parameters& p, const SubBand& band
           estimators.erase(batch_first);
         });
   } catch (const Interrupted&) {
+  } catch (const StepperStopped&) {
   } catch (const RanAway&) {
     ran_away = true;
   }
@@ -626,6 +622,7 @@ std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& reque
     band.omega_low = omegas[first];
     band.omega_high = omegas[last];
     band.dt = std::min(kOmegaDtMax / step_frequency(p, band), kRenewalsPerStepMax / renewals_per_second(p));
+    check_step(p, band);
     const double segment =
         SpectrumEstimator(estimator_config(band, request.points_per_decade), 1).segment_duration(band.omega_low);
     band.duration = request.duration > 0 ? request.duration * omegas.front() / band.omega_low
@@ -733,7 +730,8 @@ BandWork band_work(const RunSession::Impl& s, std::size_t b, SimdPath simd) {
   work.most_realizations = std::max<std::uint64_t>(
       first_round_realizations(s.params, s.request, band),
       std::min<std::uint64_t>(kMaxRealizationsPerBand,
-                              static_cast<std::uint64_t>(kMaxStepsPerBand / static_cast<double>(work.steps))));
+                              static_cast<std::uint64_t>(kMaxStepsPerBand / (static_cast<double>(work.steps) +
+                                                                             renewal_excess_work(s.params, band)))));
   return work;
 }
 

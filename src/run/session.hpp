@@ -28,6 +28,8 @@ constexpr std::uint64_t kInitialRealizations = 64;
 constexpr std::uint64_t kFewestFirstRound = 32;
 constexpr double kFirstRoundRenewals = 32 * 15;
 constexpr double kInitialRoundReach = 0.025;
+/// Renewals of one realization per second of steady sliding: every touching contact's v/a.
+double renewals_per_second(const Parameters& params);
 /// The first round's realizations of a sub-band of `params` under `request`.
 std::uint64_t first_round_realizations(const Parameters& params, const RunRequest& request, const SubBand& band);
 // Bump whenever a change alters any number a run produces (stepper, renewal, estimator):
@@ -40,6 +42,12 @@ constexpr std::uint64_t kMaxRealizationsPerBand = std::uint64_t{1} << 16;
 void check_request_fields(const RunRequest& request);
 /// Every sub-band's time step and step count finite and representable.
 void check_plan(const Parameters& params, const std::vector<SubBand>& plan);
+/// A sub-band's time step resolvable against the renewal time, naming what sets it
+/// (validate.cpp); checked while planning, before the band's estimator exists.
+void check_step(const Parameters& params, const SubBand& band);
+/// The work a realization of `band` adds beyond its steps, in realization-steps: renewals
+/// of a block that slides faster than its plan foresaw (0 wherever the forces cannot stall it).
+double renewal_excess_work(const Parameters& params, const SubBand& band);
 /// The estimator of a sub-band's realizations (run.cpp).
 EstimatorConfig estimator_config(const SubBand& band, int points_per_decade);
 

@@ -9,6 +9,13 @@
 
 namespace slidespec {
 
+double run_detail::renewals_per_second(const Parameters& p) {
+  double rate = 0;
+  for (int l = 1; l <= p.levels; ++l)
+    if (p.touches(l)) rate += static_cast<double>(p.blocks(l)) * p.renewal_rate(l);
+  return rate;
+}
+
 using namespace run_detail;
 
 namespace {
@@ -32,6 +39,36 @@ std::string text(double x) {
   return out.str();
 }
 
+// A renewal inside a step costs about six steps: a step serving the plan's 16 renewals runs
+// about a hundred times slower than one serving none (reference case, one thread, 8e5
+// against 8e7 realization-steps per second).
+constexpr double kRenewalWork = 6;
+// The plan's time steps hold the renewals of sliding at up to this many times v. A block
+// whose forces cannot stall it stays within 1 + eps/sqrt(2) < 1.6 of v with its forces
+// frozen, so only near the stall can a block pass marks faster than its plan foresaw.
+constexpr double kPlannedSpeedRatio = 2;
+
+/// The spread of the touching contacts' sum of random forces [N].
+double random_force_spread(const Parameters& p) {
+  double variance = 0;
+  for (int l = 1; l <= p.levels; ++l)
+    if (p.touches(l)) variance += static_cast<double>(p.blocks(l)) * p.random_force_variance(l);
+  return std::sqrt(variance);
+}
+
+/// How far the block's speed wanders from v under a constant force over `time` [m/s]: the
+/// random forces' spread against the drag (F_drive - F_kin)/v, or, where that drag is too
+/// weak to hold the block within `time`, what the spread accelerates the whole mass to.
+/// Next to the stall the second holds: F_drive = 5.000001 N at 10..100 rad/s coasts at
+/// about +-20 m/s (this gives 29). A spring holds the block near its load point instead.
+double speed_excursion(const Parameters& p, double time) {
+  if (p.drive != Drive::force) return 0;
+  double mass = p.M;
+  for (int l = 1; l <= p.levels; ++l) mass += static_cast<double>(p.blocks(l)) * p.level(l).m;
+  const double spread = random_force_spread(p);
+  return std::min(p.v * spread / (p.F_drive - p.F_kin), spread * time / mass);
+}
+
 double block_weight(const Parameters& p) {
   double blocks = 0;
   for (int level = 1; level <= p.levels; ++level) blocks += static_cast<double>(p.blocks(level));
@@ -41,6 +78,30 @@ double block_weight(const Parameters& p) {
 }  // namespace
 
 namespace run_detail {
+
+double renewal_excess_work(const Parameters& p, const SubBand& band) {
+  const double time = band.warm_up + band.duration;
+  const double beyond = 1 + speed_excursion(p, time) / p.v - kPlannedSpeedRatio;
+  return beyond > 0 ? kRenewalWork * beyond * renewals_per_second(p) * time : 0.0;
+}
+
+void check_step(const Parameters& p, const SubBand& band) {
+  const double renewal_time = 1 / p.renewal_rate();
+  const double finest = kFinestStepOfRenewalTime * renewal_time;
+  if (std::isnormal(band.dt) && band.dt >= finest) return;
+  const Landmarks l = landmarks(p);
+  const std::string why = " is below " + text(kFinestStepOfRenewalTime) +
+                          " of the renewal time a/v = " + text(renewal_time) +
+                          " s (the block's position would not resolve it)";
+  // Under a spring the step follows omega_s wherever that lies above the band.
+  if (p.drive == Drive::spring && l.omega_s > band.omega_high)
+    throw InputError("parameter k_drive: " + text(p.k_drive) + " N/m puts omega_s = k_drive v / (F_drive - F_kin) at " +
+                     text(l.omega_s) + " rad/s, whose time step 0.3/omega_s = " + text(band.dt) + " s" + why +
+                     "; give k_drive at most " + text(p.k_drive * band.dt / finest) +
+                     " N/m, or move F_drive further from F_kin");
+  throw InputError("--omega-max: sub-band " + text(band.omega_low) + ".." + text(band.omega_high) +
+                   " rad/s needs a time step of " + text(band.dt) + " s" + why);
+}
 
 void check_request_fields(const RunRequest& r) {
   // A sub-band's 512-sample segments resolve 1/512 of their band: finer points than this
@@ -71,23 +132,28 @@ void check_request_fields(const RunRequest& r) {
 }
 
 void check_plan(const Parameters& p, const std::vector<SubBand>& plan) {
-  const double renewal_time = 1 / p.renewal_rate();
   for (const SubBand& band : plan) {
     const std::string where = "sub-band " + text(band.omega_low) + ".." + text(band.omega_high) + " rad/s";
-    if (!std::isnormal(band.dt) || !(band.dt >= kFinestStepOfRenewalTime * renewal_time))
-      throw InputError("--omega-max: " + where + " needs a time step of " + text(band.dt) + " s, below " +
-                       text(kFinestStepOfRenewalTime) + " of the renewal time a/v = " + text(renewal_time) +
-                       " s (the block's position would not resolve it)");
+    check_step(p, band);
     const double steps = band.duration / band.dt;
     const double warm_steps = band.warm_up > 0 ? band.warm_up / band.warm_up_dt : 0.0;
     if (!std::isfinite(warm_steps) || warm_steps > kMostSteps)
       throw InputError("parameters: " + where + " plans " + text(warm_steps) +
                        " warm-up steps per realization (at most " + text(kMostSteps) +
                        "): the renewals or the spring are too slow against the band");
-    if (!std::isfinite(steps) || steps > kMostSteps)
+    if (!std::isfinite(steps) || steps > kMostSteps) {
+      const std::string too_many =
+          where + " plans " + text(steps) + " time steps per realization (at most " + text(kMostSteps) + ")";
+      const double omega_s = p.drive == Drive::spring ? landmarks(p).omega_s : 0.0;
+      if (omega_s > band.omega_high)
+        throw InputError("parameter k_drive: " + text(p.k_drive) +
+                         " N/m puts omega_s = k_drive v / (F_drive - F_kin) at " + text(omega_s) +
+                         " rad/s, whose time step 0.3/omega_s = " + text(band.dt) + " s: " + too_many +
+                         "; give k_drive at most " + text(p.k_drive * kMostSteps / steps) +
+                         " N/m, move F_drive further from F_kin, or raise --omega-min");
       throw InputError((band.omega_low == plan.front().omega_low ? "--omega-min/--duration: " : "--omega-max: ") +
-                       where + " plans " + text(steps) + " time steps per realization (at most " + text(kMostSteps) +
-                       ")");
+                       too_many);
+    }
   }
 }
 
@@ -95,13 +161,32 @@ void check_plan(const Parameters& p, const std::vector<SubBand>& plan) {
 
 namespace {
 
+/// The work of a run's first round, every sub-band's first-round realizations together, in
+/// realization-steps, split by what drives it.
+struct FirstRoundWork {
+  double steps = 0;     // steps and warm-up steps, each counting its blocks (block_weight)
+  double renewals = 0;  // renewals beyond those the steps were planned for
+  double spring = 0;    // the part of `steps` in sub-bands whose step omega_s sets
+};
+
+FirstRoundWork first_round(const Parameters& p, const RunRequest& r, const std::vector<SubBand>& plan) {
+  FirstRoundWork work;
+  const double omega_s = p.drive == Drive::spring ? landmarks(p).omega_s : 0.0;
+  const double weight = block_weight(p);
+  for (const SubBand& band : plan) {
+    const double realizations = static_cast<double>(first_round_realizations(p, r, band));
+    const double steps =
+        std::ceil(band.duration / band.dt) + (band.warm_up > 0 ? std::ceil(band.warm_up / band.warm_up_dt) : 0.0);
+    work.steps += realizations * steps * weight;
+    if (omega_s > band.omega_high) work.spring += realizations * steps * weight;
+    work.renewals += realizations * renewal_excess_work(p, band);
+  }
+  return work;
+}
+
 double first_round_work(const Parameters& p, const RunRequest& r, const std::vector<SubBand>& plan) {
-  double steps = 0;
-  for (const SubBand& band : plan)
-    steps +=
-        static_cast<double>(first_round_realizations(p, r, band)) *
-        (std::ceil(band.duration / band.dt) + (band.warm_up > 0 ? std::ceil(band.warm_up / band.warm_up_dt) : 0.0));
-  return steps * block_weight(p);
+  const FirstRoundWork work = first_round(p, r, plan);
+  return work.steps + work.renewals;
 }
 
 // A duration is rounded up to whole time steps: far below this.
@@ -165,19 +250,47 @@ void validate_request(const Parameters& p, const RunRequest& r) {
   check_plan(p, plan);
   check_duration_not_raised(r, plan);
   check_realizations_give_segments(r, plan);
-  const double work = first_round_work(p, r, plan);
+  const FirstRoundWork each = first_round(p, r, plan);
+  const double work = each.steps + each.renewals;
   const double budget = r.work_budget > 0 ? r.work_budget : kDefaultWorkBudget;
-  if (work > budget) {
-    // Name the option that drives the work: the realization count, else the band's bottom.
-    const std::string option = r.realizations > 0 ? "--realizations" : r.duration > 0 ? "--duration" : "--omega-min";
-    const double weight = block_weight(p);
-    const std::string blocks =
-        weight > 1 ? " (its " + text(100 * weight) + " blocks count " + text(weight) + " per step)" : "";
-    throw InputError(option + ": the run plans " + text(work) + " realization-steps" + blocks +
-                     " before its first result, over the work budget of " + text(budget) +
-                     (r.work_budget > 0 ? "" : " (the default: about an hour on two cores)") + "; change " + option +
-                     " or raise --work-budget");
+  if (work <= budget) return;
+  const std::string plans = "the run plans " + text(work) + " realization-steps";
+  const std::string over = " before its first result, over the work budget of " + text(budget) +
+                           (r.work_budget > 0 ? "" : " (the default: about an hour on two cores)");
+  const std::string option = r.realizations > 0 ? "--realizations" : r.duration > 0 ? "--duration" : "--omega-min";
+  // Name what drives most of the work: a block coasting near the stall, a stiff spring's
+  // omega_s, else the option that sets how much is simulated.
+  if (each.renewals > each.steps) {
+    const SubBand& lowest = plan.front();
+    const double time = lowest.warm_up + lowest.duration;
+    const double speed = p.v + speed_excursion(p, time);
+    std::ostringstream drive;
+    drive.precision(15);
+    drive << p.F_drive;
+    throw InputError("parameter F_drive: " + drive.str() + " N lies only " + text(p.F_drive - p.F_kin) +
+                     " N above F_kin, so the random forces (spread " + text(random_force_spread(p)) +
+                     " N) can drive the block at about " + text(speed) + " m/s (" + text(speed / p.v) +
+                     " v) through realizations of " + text(time) + " s, each passing about " +
+                     text(speed * time * renewals_per_second(p) / p.v) + " renewals: " + plans + over +
+                     "; move F_drive further from F_kin, raise --omega-min (shorter realizations) or raise "
+                     "--work-budget");
   }
+  if (each.spring > each.steps - each.spring) {
+    const Landmarks l = landmarks(p);
+    // The spring's share of the work scales with omega_s; the rest stays.
+    const double rest = each.steps - each.spring + each.renewals;
+    const double most_k = rest < budget ? p.k_drive * (budget - rest) / each.spring : 0.0;
+    throw InputError("parameter k_drive: " + text(p.k_drive) + " N/m puts omega_s = k_drive v / (F_drive - F_kin) at " +
+                     text(l.omega_s) + " rad/s (F_drive - F_kin = " + text(p.F_drive - p.F_kin) +
+                     " N), whose time step 0.3/omega_s = " + text(plan.front().dt) +
+                     " s serves every sub-band below it: " + plans + over + "; " +
+                     (most_k > 0 ? "give k_drive at most about " + text(most_k) + " N/m, " : "") +
+                     "move F_drive further from F_kin, raise " + option + " or raise --work-budget");
+  }
+  const double weight = block_weight(p);
+  const std::string blocks =
+      weight > 1 ? " (its " + text(100 * weight) + " blocks count " + text(weight) + " per step)" : "";
+  throw InputError(option + ": " + plans + blocks + over + "; change " + option + " or raise --work-budget");
 }
 
 }  // namespace slidespec

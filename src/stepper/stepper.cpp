@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <atomic>
+#include <chrono>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -88,9 +89,10 @@ struct Stepper::Impl {
     return s;
   }
 
-  /// Runs the kernel of `exact` on `s` for `steps` (at most a chunk) after `done` of them,
-  /// from the load's position `origin`.
-  void run_kernel(PathState& s, const stepper::ExactStep& exact, double origin, std::int64_t done, std::int64_t steps) {
+  /// Runs the kernel of `exact` on `s` for `steps` after `done` of them, from the load's
+  /// position `origin`, its increments from row `row` of the chunk's.
+  void run_kernel(PathState& s, const stepper::ExactStep& exact, double origin, std::int64_t done, std::int64_t steps,
+                  std::int64_t row) {
     stepper::KernelArgs args{};
     args.step = &exact;
     args.steady_origin = origin;
@@ -102,12 +104,32 @@ struct Stepper::Impl {
     args.xi = s.xi.data();
     args.offset_sum = s.offset_sum.data();
     args.renewal = &s.renewal.lanes_view();
-    args.increments = s.increments.data();
+    args.increments = s.increments.data() + row * padded;
     args.first_step = done;
     args.steps = steps;
     args.lane0 = 0;
     args.lanes = padded;
     kernel(args);
+  }
+
+  /// run_kernel over `steps` (at most a chunk), in pieces when a stop can be asked for: a
+  /// step passes every mark the block reaches, and near the stall the block can coast
+  /// thousands of renewal distances in one, so a piece is sized by its own time.
+  void run_stoppable(PathState& s, const stepper::ExactStep& exact, double origin, std::int64_t done,
+                     std::int64_t steps) {
+    if (!config.stop) return run_kernel(s, exact, origin, done, steps, 0);
+    for (std::int64_t row = 0; row < steps;) {
+      if (config.stop->load(std::memory_order_relaxed)) throw StepperStopped{};
+      const std::int64_t piece = std::min(steps - row, piece_steps);
+      const auto start = std::chrono::steady_clock::now();
+      run_kernel(s, exact, origin, done + row, piece, row);
+      row += piece;
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (seconds < 0.25 * kPieceSeconds)
+        piece_steps = std::min(2 * piece_steps, chunk_steps);
+      else if (seconds > kPieceSeconds)
+        piece_steps = std::max<std::int64_t>(1, piece_steps / 2);
+    }
   }
 
   /// Every path's chunks of `steps` steps of `exact` after `done`, in turn, so that each
@@ -117,7 +139,7 @@ struct Stepper::Impl {
                  const ChunkDone& chunk_done) {
     while (steps > 0) {
       const std::int64_t chunk = std::min(steps, chunk_steps);
-      for (PathState& s : paths) run_kernel(s, exact, origin, done, chunk);
+      for (PathState& s : paths) run_stoppable(s, exact, origin, done, chunk);
       chunk_done(chunk);
       done += chunk;
       steps -= chunk;
@@ -168,6 +190,10 @@ struct Stepper::Impl {
   stepper::ExactStep step;
   stepper::GroupKernel kernel;
   std::int64_t chunk_steps = 0;
+  // A piece's target time [s], far below the second a stop may take, far above a kernel
+  // call's overhead.
+  static constexpr double kPieceSeconds = 0.05;
+  std::int64_t piece_steps = 1;     // steps per piece, grown or shrunk to take about kPieceSeconds
   std::vector<PathState> paths;     // the block's, then its shadow's if asked for
   std::vector<double> xi_at_start;  // [lane], after a warm-up
   double steady_origin = 0;         // v t where the warm-up ended [m]

@@ -164,6 +164,47 @@ grep -q "^# k_drive = 10000" kept.tsv && grep -q "^# drive = spring" kept.tsv \
 expect_refused "a machine stiffness far too small" "--machine-stiffness 1e-300 N/m: the slip's F/K reaches" \
   analyze "$sepiolite" --window 21350:22319 --machine-stiffness 1e-300 --contact-area 25cm2 --out out --no-plot
 
+# --- Near the stall under a constant force the block coasts (F_drive - F_kin = 1e-6 N leaves
+# eta1 too weak to hold it): its renewals are work. Refused before any work, naming F_drive,
+# over the default budget (the default band) and over a given one (10..100 rad/s).
+expect_refused "a block coasting near the stall" "parameter F_drive: 5.000001 N lies only 1e-06 N above F_kin" \
+  run --set F_drive=5.000001 --out out --no-plot
+expect_refused "a block coasting near the stall, a budget" "can drive the block at about .* m/s" \
+  run --set F_drive=5.000001 --omega-min 10 --omega-max 100 --work-budget 1e10 --out out --no-plot
+# Where the block stalls and creeps back (F_drive - F_kin = 0.01 N), its estimated renewals
+# count against the sub-band's cap: the precision out of reach, it stops within a few
+# thousand realizations, not at the 61035 that 2e9 bare steps allowed.
+"$bin" run --set F_drive=5.01 --omega-min 10 --omega-max 100 --out creep --quiet --no-plot 2> /dev/null
+[ $? -eq 3 ] || fail "a creeping stalled run: exit status, expected 3"
+python3 -c "import json, sys; n = json.load(open('creep.json'))['sub_bands'][0]['realizations']; sys.exit(n > 20000)" \
+  || fail "a creeping stalled run went on past its renewals' cap"
+# A stop is heard inside a realization, its warm-up included: a coasting block's realization
+# lasts minutes, and SIGTERM must end the run well before its first realization would (an
+# interrupt was heard only between realizations: about 30 s here).
+rm -f coast.*
+start_in_background run --set F_drive=5.000001 --omega-min 10 --omega-max 100 --out coast --quiet --no-plot
+sleep 1
+kill -TERM $pid
+waited=0
+while kill -0 $pid 2> /dev/null && [ $waited -lt 100 ]; do sleep 0.1; waited=$((waited + 1)); done
+kill -0 $pid 2> /dev/null && { kill -KILL $pid; fail "SIGTERM inside a long realization not heard within 10 s"; }
+wait $pid
+[ $? -eq 143 ] || fail "SIGTERM inside a long realization: exit status, expected 143"
+[ -e coast.state ] || fail "SIGTERM inside a long realization: no state saved"
+
+# --- Messages name the cause: a stiff spring's omega_s sets the step, not --omega-max or the
+# estimator; a spring near the stall puts omega_s high, not --omega-min.
+expect_refused "a spring whose omega_s needs a step below the renewals' resolution" \
+  "parameter k_drive: 1e+16 N/m puts omega_s = k_drive v / (F_drive - F_kin) at 1e+12 rad/s.*give k_drive at most" \
+  run --set drive=spring --set k_drive=1e16 --out out --no-plot
+expect_refused "a spring far too stiff for the estimator" "parameter k_drive: 1e+40 N/m puts omega_s" \
+  run --set drive=spring --set k_drive=1e40 --out out --no-plot
+expect_refused "the advised stiffness, its steps too many" "parameter k_drive: 1.5e+15 N/m .* plans .* time steps" \
+  run --set drive=spring --set k_drive=1.5e15 --out out --no-plot
+expect_refused "a spring near the stall over the budget" \
+  "parameter k_drive: 200 N/m puts omega_s .* at 1e+05 rad/s.*give k_drive at most about" \
+  run --set drive=spring --set k_drive=200 --set F_drive=5.000001 --out out --no-plot
+
 [ $failures -eq 0 ] && echo "reliability: failed writes, file-size limits, state files, interrupted sweeps," \
   "spectra of nothing, file formats and ignored options"
 exit $((failures > 0))

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -113,6 +114,44 @@ TEST(Stepper, AWarmedUpRealizationIsTheSameOnEverySimdPath) {
       stepper_test::expect_every_path_matches_scalar(builder.build(), config, 1500,
                                                      std::string(renewal) + " " + drive + " warmed up");
     }
+}
+
+// A stop that can be asked for splits the steps into pieces timed as they run (the warm-up's
+// too): every path must keep its bits, whatever the pieces. A stop asked for is heard.
+TEST(Stepper, StepsInPiecesKeepEveryBitAndHearAStop) {
+  for (const char* drive : {"drive=force", "drive=spring"}) {
+    ParameterBuilder builder;
+    builder.set(drive).set("a=1e-5");
+    if (std::string(drive) == "drive=spring") builder.set("k_drive=1e4");
+    const Parameters p = builder.build();
+    StepperConfig config;
+    config.seed = 11;
+    config.dt = 1e-4;
+    config.warm_up = 0.1;
+    config.warm_up_dt = 3e-3;
+    config.shadow = true;
+    for (SimdPath path : available_simd_paths()) {
+      config.simd = path;
+      config.stop = nullptr;
+      const stepper_test::Trajectories whole = stepper_test::simulate(p, config, 3, 9, 20000);
+      std::atomic<bool> stop{false};
+      config.stop = &stop;
+      const stepper_test::Trajectories pieces = stepper_test::simulate(p, config, 3, 9, 20000);
+      ASSERT_EQ(whole.increments.size(), pieces.increments.size());
+      ASSERT_EQ(whole.shadow_increments.size(), pieces.shadow_increments.size());
+      std::size_t differing = 0;
+      for (std::size_t i = 0; i < whole.increments.size(); ++i)
+        differing += !stepper_test::same_bits(whole.increments[i], pieces.increments[i]) +
+                     !stepper_test::same_bits(whole.shadow_increments[i], pieces.shadow_increments[i]);
+      EXPECT_EQ(differing, 0u) << to_string(path) << " " << drive;
+      for (int k = 0; k < 9; ++k) {
+        EXPECT_TRUE(stepper_test::same_bits(whole.summaries[k].xi_end, pieces.summaries[k].xi_end));
+        EXPECT_EQ(whole.summaries[k].renewals, pieces.summaries[k].renewals);
+      }
+      stop = true;
+      EXPECT_THROW(stepper_test::simulate(p, config, 3, 9, 20000), StepperStopped);
+    }
+  }
 }
 
 // After a warm-up the realization continues where it left the block: the summaries count
