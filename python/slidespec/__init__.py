@@ -917,14 +917,8 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
     if x is None and force is None:
         raise ValueError("x: no positions given; give x [units], or force= (with force_units=) for a record "
                          "of a force alone")
-    names = None
-    if fit is not None and fit not in ("alpha", "power-law"):
-        names = _core.parse_fit_parameters(",".join(fit) if isinstance(fit, (list, tuple)) else str(fit))
-        fit = ",".join(names)
-    if fit not in (None, "power-law") and compare is None:
-        raise ValueError(f"fit={fit!r} needs compare=Parameters(...)")
-    if fit == "power-law" and fit_slope is not None:
-        raise ValueError("fit='power-law' and fit_slope both fit a power law; give one (fit_band sets the band)")
+    if isinstance(fit, (list, tuple)):
+        fit = ",".join(str(name) for name in fit)
     for name, value in (("units", units), ("estimator", estimator)):
         if not isinstance(value, str):
             raise TypeError(f"{name}: expected a word (str), got {type(value).__name__} {value!r}")
@@ -953,94 +947,24 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
               "normal_stress_units": str(normal_stress_units), "contact_area": float(contact_area),
               "normal_force": float(normal_force), "machine_stiffness": float(machine_stiffness),
               "observable": str(observable)}
-    request = {"omega_min": float(omega_min), "omega_max": float(omega_max), "points_per_decade": int(points),
-               "resolution": float(resolution), "sensor_noise": float(sensor_noise), "estimator": str(estimator)}
-    spectrum = _core.Spectrum(time, samples, record, request)
-    data = spectrum.to_dict()
-    usable = (data["usable_band"]["omega_low"], data["usable_band"]["omega_high"])
-    band = usable if fit_band is None else (float(fit_band[0]), float(fit_band[1]))
-    fits = []
-    if fit_slope is not None:
-        data["slope_fit"] = spectrum.fit_slope(float(fit_slope[0]), float(fit_slope[1]))
-        fits.append(data["slope_fit"])
-    if fit == "power-law":
-        every = (data["points"][0]["omega"], data["points"][-1]["omega"])
-        data["power_law_fit"] = spectrum.fit_power_law(*(every if fit_band is None else band))
-        fits.append(data["power_law_fit"])
-    if compare is not None:
-        p = _as_parameters(compare)
-        p = _rebuild_parameters(p.case, spectrum.record_terms(*p._args()))
-        if fit == "alpha":
-            if fit_band is None:
-                band = spectrum.default_alpha_band(*p._args())
-            data["alpha_fit"] = spectrum.fit_alpha(*p._args(), float(band[0]), float(band[1]), int(theory_order))
-            fits.append(data["alpha_fit"])
-            p = p.replace(alpha=data["alpha_fit"]["alpha"])
-        elif names:
-            data["model_fit"] = spectrum.fit_model(*p._args(), names, float(band[0]), float(band[1]),
-                                                   int(theory_order))
-            fits.append(data["model_fit"])
-            p = p.replace(**{name: data["model_fit"]["parameters"][name]["value"] for name in names})
-        data["compare_case"] = p.case
-        data["model_parameters"] = p.to_dict()
-        data["theory_order"] = spectrum.model_order(*p._args(), int(theory_order))
-        for point, value in zip(data["points"], spectrum.model(*p._args(), int(theory_order))):
-            point["theory"] = float(value)
-    for result in fits:
-        for point, value, residual in zip(data["points"], result.pop("fit", []), result.pop("residual", [])):
-            point["fit"], point["residual"] = float(value), float(residual)
-    data["ok"] = data["spectrum_ok"] and all(result["ok"] for result in fits)
-    _warn_as_analyze_does(data, units)
-    return Analysis(data)
-
-
-# The command line's thresholds (include/slidespec/analysis.hpp): below this share of the white
-# floor at the top of the band the floor line misleads; above this speed [m/s] the unit is the
-# likely cause.
-_WHITE_FLOOR_SHORTFALL = _core.white_floor_shortfall
-_IMPLAUSIBLE_SPEED = _core.implausible_speed
-
-
-def _warn_as_analyze_does(data, units):
-    """The warnings and failed fits `slidespec analyze` prints, read from the result's fields."""
-    def warn(text, kind=RecordWarning):
-        _warnings.warn(text, kind, stacklevel=4)
-
-    speed = _value(data.get("measured_mean_speed"))
-    if data["observable"]["name"] != "force" and speed is not None and abs(speed) > _IMPLAUSIBLE_SPEED:
-        warn(f"mean speed {speed:.6g} m/s is implausible for friction; likely cause: x read in units={units!r}; "
-             "give units='mm', 'um', ...")
-    band = data["usable_band"]
-    if not band["omega_high"] > band["omega_low"] and band["floor_above_spectrum"]:
-        warn("no usable band: the sensor floor lies above the spectrum everywhere; likely cause: resolution or "
-             f"sensor_noise in the wrong unit (both in metres whatever units={units!r}: 0.5 um is 0.5e-6)")
-    elif not band["omega_high"] > band["omega_low"]:
-        lowest = data["points"][0]
-        warn("no usable band: at the lowest point, where the band starts, the spectrum does not clear the sensor "
-             f"floor by the factor the usable band needs (the floor at most 10% of {data['observable']['spectrum']}; "
-             f"it is {100 * lowest['floor'] / lowest[data['observable']['spectrum']]:.3g}% there)")
-    if leaky := data["estimator"].get("leaky_points", 0):
-        warn(f"{leaky} points may be biased high by the window's leakage (the spectrum is steeper than a "
-             "prewhitened Hann window allows there; column leaky)")
-    if 0 < data["top_to_floor"] < _WHITE_FLOOR_SHORTFALL:
-        top = f"the highest point lies at {data['top_to_floor']:.6g}"
-        if data["readings_off_grid"]:
-            warn(f"{top} of the white floor: the record's steps are not whole multiples of the resolution given, "
-                 "its sensor reads finer, so the floor line lies too high")
-        elif data["quantization_variance"] == 0:
-            warn(f"{top} of the white sigma^2 floor: the record holds less noise there than the sensor_noise given, "
-                 "so the floor line lies too high")
+    compared = None if compare is None else _as_parameters(compare)
+    plan = {"omega_min": float(omega_min), "omega_max": float(omega_max), "points_per_decade": int(points),
+            "resolution": float(resolution), "sensor_noise": float(sensor_noise), "estimator": str(estimator),
+            "fit_slope": None if fit_slope is None else (float(fit_slope[0]), float(fit_slope[1])),
+            "compare_case": "" if compared is None else compared.case,
+            "overrides": [] if compared is None else compared._args()[1],
+            "fit": "" if fit is None else str(fit),
+            "fit_band": None if fit_band is None else (float(fit_band[0]), float(fit_band[1])),
+            "theory_order": int(theory_order)}
+    data, messages = _core.analyze(time, samples, record, plan)
+    for kind, _, text in messages:
+        if kind == "warning":
+            _warnings.warn(text, RecordWarning, stacklevel=2)
+        elif kind == "failed_fit":
+            _warnings.warn(text, ModelWarning, stacklevel=2)
         else:
-            warn(f"{top} of the white q^2/12 floor: the quantization error is not white (a steady ramp read "
-                 "without noise to dither it; docs/analysis.md), so the floor line is only a guide")
-    if data.get("slope_fit", {}).get("reaches_floor"):
-        warn("the slope band reaches beyond the usable band, where the sensor floor bends the spectrum")
-    for name, key in (("slope", "slope_fit"), ("alpha", "alpha_fit"), ("power-law", "power_law_fit"),
-                      ("model", "model_fit")):
-        if key in data and not data[key]["ok"]:
-            warn(f"{name} fit FAILED: {data[key]['failure']}", ModelWarning)
-    if not data.get("spectrum_ok", True):
-        warn(f"not a spectrum (ok False): {data['spectrum_failure']}", ModelWarning)
+            _warnings.warn(f"not a spectrum (ok False): {text}", ModelWarning, stacklevel=2)
+    return Analysis(data)
 
 
 def synth(params="reference", *, sample_interval=_SENSOR["sample_interval"], duration=_SENSOR["duration"],

@@ -154,7 +154,7 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
     while (first < last && time[first] < t0) ++first;
     while (last > first && time[last - 1] > t1) --last;
     if (last - first < std::min(kFewestSamples, time.size()))
-      throw InputError("--window " + shortest(t0) + ":" + shortest(t1) + ": holds " + std::to_string(last - first) +
+      throw InputError("{window} " + shortest(t0) + ":" + shortest(t1) + ": holds " + std::to_string(last - first) +
                        " samples, fewer than the " + std::to_string(kFewestSamples) +
                        " a spectrum needs; the record runs from " + shortest(time.front()) + " to " +
                        shortest(time.back()) + " s (record time)");
@@ -172,8 +172,8 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
   const bool forced = format.resample == Resampling::median || format.resample == Resampling::interval;
   if (parts.size() > 1 && !forced) {
     if (format.window)
-      throw InputError(source + ": the sampling rate changes inside --window (parts: " + describe_parts(t, parts) +
-                       "); give a --window inside one part, or --resample DT (or median) to interpolate");
+      throw InputError(source + ": the sampling rate changes inside {window} (parts: " + describe_parts(t, parts) +
+                       "); give a {window} inside one part, or {resample} DT (or median) to interpolate");
     // The longest part in time (docs/analysis.md: the length sets the lowest omega and the
     // scatter at every omega), said so; the others are listed in the note, and the part with
     // the most samples named when it is another.
@@ -190,11 +190,11 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
                        " s: the length sets the lowest omega and the scatter at every omega); ";
     if (most != longest)
       note += "the part " + span(*most) + " holds the most samples (" + std::to_string(most->second - most->first) +
-              ") and reaches higher omega: --window " + seconds(t[most->first]) + ":" + seconds(t[most->second - 1]) +
+              ") and reaches higher omega: {window} " + seconds(t[most->first]) + ":" + seconds(t[most->second - 1]) +
               " picks it";
     else
-      note += "--window T0:T1 picks another";
-    record.notes.push_back(note + ", --resample DT interpolates the whole record");
+      note += "{window} T0:T1 picks another";
+    record.notes.push_back(note + ", {resample} DT interpolates the whole record");
     t = {t.begin() + std::ptrdiff_t(longest->first), t.begin() + std::ptrdiff_t(longest->second)};
     keep_samples(record, longest->first, longest->second);
     offset += longest->first;
@@ -222,7 +222,7 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
     // in memory, and one coarser than the record holds no spectrum.
     const double count = std::floor((t.back() - t.front()) / grid) + 1;
     if (!(count >= double(kFewestSamples)) || count > double(kMostResampledSamples))
-      throw InputError("--resample " + shortest(grid) + ": a grid every " + shortest(grid) + " s over the record's " +
+      throw InputError("{resample} " + shortest(grid) + ": a grid every " + shortest(grid) + " s over the record's " +
                        shortest(t.back() - t.front()) + " s gives " + shortest(count) + " samples; it needs " +
                        std::to_string(kFewestSamples) + " to " + shortest(double(kMostResampledSamples)) +
                        " (the record's median interval is " + shortest(typical) + " s)");
@@ -254,19 +254,19 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
   if (jittered) {
     // Only what would be accepted: a tolerance below the limit, and for a gap the longest
     // stretch without one.
-    std::string advice = "give --resample median to interpolate onto a uniform grid";
+    std::string advice = "give {resample} median to interpolate onto a uniform grid";
     if (gap) {
       const auto [from, to] = longest_without_gap(t, typical);
       if (to - from >= kFewestSamples)
-        advice = "give --window " + seconds(t[from]) + ":" + seconds(t[to - 1]) +
+        advice = "give {window} " + seconds(t[from]) + ":" + seconds(t[to - 1]) +
                  " to analyze the longest stretch without a gap (" + std::to_string(to - from) +
-                 " samples), or --resample median to interpolate across the gap";
+                 " samples), or {resample} median to interpolate across the gap";
       else
         advice += " (across the gap)";
     }
     const double accepting = std::ceil(jitter * 100 + 1e-9) / 100;
     if (accepting < kLoosestTimeTolerance)
-      advice += ", or --time-tolerance " + shortest(accepting) + " to treat it as uniform";
+      advice += ", or {time_tolerance} " + shortest(accepting) + " to treat it as uniform";
     throw InputError(at(offset + worst) + "sampling is not uniform: interval " + shortest(d[worst - 1]) +
                      " s where the median is " + shortest(typical) + " s (intervals " +
                      shortest(*std::min_element(d.begin(), d.end())) + ".." +
@@ -278,7 +278,7 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
   if (jitter > RecordFormat{}.time_tolerance)
     record.notes.push_back("treated as uniform every " + shortest(record.dt) +
                            " s although intervals deviate by up to " + shortest(jitter * 100) +
-                           "% (--time-tolerance); the jitter adds noise at high omega");
+                           "% ({time_tolerance}); the jitter adds noise at high omega");
 }
 
 void apply_window(Record& record, const RecordFormat& format, const std::string& source) {
@@ -288,7 +288,7 @@ void apply_window(Record& record, const RecordFormat& format, const std::string&
   const double a = std::max(0.0, std::ceil((t0 - record.start_time) / record.dt - 1e-9));
   const double b = std::min(double(record.samples() - 1), std::floor((t1 - record.start_time) / record.dt + 1e-9));
   if (!(b >= a) || b - a + 1 < double(kFewestSamples))
-    throw InputError(source + ": --window " + shortest(t0) + ":" + shortest(t1) + " holds " +
+    throw InputError(source + ": {window} " + shortest(t0) + ":" + shortest(t1) + " holds " +
                      std::to_string(b >= a ? std::size_t(b - a + 1) : 0) + " samples, fewer than the " +
                      std::to_string(kFewestSamples) + " a spectrum needs; the record runs from " +
                      shortest(record.start_time) + " to " + shortest(end) + " s (record time)");

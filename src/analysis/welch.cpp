@@ -144,7 +144,7 @@ std::size_t welch_segment_samples(std::size_t samples, double dt, double omega_m
     const std::size_t longest = fft_friendly(2 * differences / (kFewestSegments + 1));
     if (wanted > static_cast<double>(longest)) {
       const double reachable = kLowestBin * 2 * std::numbers::pi / (static_cast<double>(longest) * dt);
-      throw InputError("--omega-min " + util::format_number(omega_min) + ": the record (" + std::to_string(samples) +
+      throw InputError("{omega_min} " + util::format_number(omega_min) + ": the record (" + std::to_string(samples) +
                        " samples, T = " + util::format_number(static_cast<double>(samples) * dt) +
                        " s) reaches down to " + util::format_number(reachable) + " rad/s (bin 2 of " +
                        std::to_string(kFewestSegments) +
@@ -233,7 +233,7 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
   const double bin_spacing = 2 * std::numbers::pi / (double(length) * dt);
   const double nyquist = std::numbers::pi / dt;
   if (request.omega_max > nyquist * (1 + 1e-12))
-    throw InputError("--omega-max " + util::format_number(request.omega_max) + ": above the Nyquist frequency " +
+    throw InputError("{omega_max} " + util::format_number(request.omega_max) + ": above the Nyquist frequency " +
                      util::format_number(nyquist) + " rad/s of the sampling");
   const double ratio = std::pow(10.0, 1.0 / request.points_per_decade);
   std::size_t first = kLowestBin;

@@ -13,6 +13,7 @@
 #include "cli/sweep.hpp"
 #include "io/atomic_file.hpp"
 #include "io/tables.hpp"
+#include "slidespec/options.hpp"
 #include "util/numbers.hpp"
 
 namespace slidespec::cli {
@@ -92,7 +93,7 @@ bool write_outputs(const Context& context, const RunSession& session, const RunR
     }
     outputs.commit();
   } catch (const std::exception& e) {
-    std::cerr << "slidespec: error: " << e.what() << "\n";
+    std::cerr << "slidespec: error: " << worded(e.what(), FrontEnd::command_line) << "\n";
     return false;
   }
   if (options.quiet) return true;

@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "slidespec/analysis.hpp"
+#include "slidespec/options.hpp"
 
 namespace slidespec {
 namespace {
@@ -86,8 +87,8 @@ TEST(Resampling, GapsAreRefusedNamingTheOptionAndJitterCanBeRefused) {
     record_from_samples(t, x, {});
     FAIL() << "a gap of 3 intervals was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--resample median"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("gap"), std::string::npos) << e.what();
+    EXPECT_NE(worded(e.what(), FrontEnd::command_line).find("--resample median"), std::string::npos) << e.what();
+    EXPECT_NE(worded(e.what(), FrontEnd::command_line).find("gap"), std::string::npos) << e.what();
   }
   RecordFormat median;
   median.resample = Resampling::median;
@@ -114,7 +115,7 @@ std::string follow_the_advice(const std::vector<double>& t, const std::vector<do
     ADD_FAILURE() << "accepted";
     return message;
   } catch (const InputError& e) {
-    message = e.what();
+    message = worded(e.what(), FrontEnd::command_line);
   }
   if (const auto at = message.find("--time-tolerance "); at != std::string::npos) {
     RecordFormat loose = format;
@@ -165,7 +166,7 @@ TEST(Resampling, ARefusalSuggestsOnlyWhatWouldBeAccepted) {
     record_from_samples(t, x, wide);
     ADD_FAILURE() << "a time tolerance of 0.61 was accepted";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("--time-tolerance:", 0), 0u) << e.what();
+    EXPECT_EQ(worded(e.what(), FrontEnd::command_line).rfind("--time-tolerance:", 0), 0u) << e.what();
   }
 }
 
