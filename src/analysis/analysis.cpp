@@ -343,6 +343,83 @@ SlopeFit fit_slope(const RecordSpectrum& spectrum, double omega_low, double omeg
   return fit;
 }
 
+namespace {
+
+struct PowerLawSolution {
+  double amplitude, floor, chi2;
+};
+
+/// For a slope the power law is linear in (amplitude, floor): their weighted least squares,
+/// the floor held at 0 where it would fall below, and the chi2 there.
+PowerLawSolution power_law_at(double slope, const RecordSpectrum& spectrum, const std::vector<std::size_t>& inside,
+                              const std::vector<double>& sigma, double pivot, bool floor_given) {
+  double saa = 0, saf = 0, sff = 0, sac = 0, sfc = 0;
+  for (std::size_t k : inside) {
+    const AnalysisPoint& p = spectrum.points[k];
+    const double w = 1 / (sigma[k] * sigma[k]), a = std::pow(p.omega / pivot, slope);
+    const double c = floor_given ? p.C_x - p.noise_floor : p.C_x;
+    saa += w * a * a, saf += w * a, sff += w, sac += w * a * c, sfc += w * c;
+  }
+  PowerLawSolution best{sac / saa, 0, 0};
+  if (!floor_given) {
+    const double det = saa * sff - saf * saf;
+    const double amplitude = (sac * sff - saf * sfc) / det, floor = (saa * sfc - saf * sac) / det;
+    if (floor > 0) best = {amplitude, floor, 0};  // a floor below zero is no floor: held at 0
+  }
+  for (std::size_t k : inside) {
+    const AnalysisPoint& p = spectrum.points[k];
+    const double model = best.amplitude * std::pow(p.omega / pivot, slope) + (floor_given ? p.noise_floor : best.floor);
+    best.chi2 += std::pow((p.C_x - model) / sigma[k], 2);
+  }
+  return best;
+}
+
+/// The errors and correlations of (amplitude, slope, floor) from the Jacobian at the optimum,
+/// scaled by chi2/dof when the scatter says so.
+void power_law_errors(const RecordSpectrum& spectrum, const std::vector<std::size_t>& inside,
+                      const std::vector<double>& sigma, int parameters, PowerLawFit& fit) {
+  Eigen::MatrixXd jacobian(fit.points, parameters);
+  for (int i = 0; i < fit.points; ++i) {
+    const AnalysisPoint& p = spectrum.points[inside[std::size_t(i)]];
+    const double a = std::pow(p.omega / fit.pivot, fit.slope), s = sigma[inside[std::size_t(i)]];
+    jacobian(i, 0) = a / s;
+    jacobian(i, 1) = fit.amplitude * a * std::log(p.omega / fit.pivot) / s;
+    if (!fit.floor_given) jacobian(i, 2) = 1 / s;
+  }
+  const Eigen::MatrixXd covariance = (jacobian.transpose() * jacobian).inverse() * std::max(1.0, fit.chi2_per_dof);
+  fit.amplitude_error = std::sqrt(covariance(0, 0));
+  fit.slope_error = std::sqrt(covariance(1, 1));
+  fit.floor_error = fit.floor_given ? 0 : std::sqrt(covariance(2, 2));
+  for (int i = 0; i < parameters; ++i)
+    for (int j = 0; j < parameters; ++j)
+      fit.correlation[i][j] = covariance(i, j) / std::sqrt(covariance(i, i) * covariance(j, j));
+}
+
+/// Each point's model and residual inside the band, and what the band leaves open.
+void power_law_model(const RecordSpectrum& spectrum, const std::vector<std::size_t>& inside,
+                     const std::vector<double>& sigma, PowerLawFit& fit) {
+  fit.model.assign(spectrum.points.size(), std::numeric_limits<double>::quiet_NaN());
+  fit.residuals = fit.model;
+  for (std::size_t k : inside) {
+    const AnalysisPoint& p = spectrum.points[k];
+    fit.model[k] = fit.amplitude * std::pow(p.omega / fit.pivot, fit.slope) + fit.floor;
+    fit.residuals[k] = (p.C_x - fit.model[k]) / sigma[k];
+  }
+  std::string undetermined;
+  if (!fit.floor_given && !(fit.floor > 2 * fit.floor_error)) {
+    char bound[32];
+    std::snprintf(bound, sizeof bound, "%.3g", fit.floor + 2 * fit.floor_error);
+    undetermined = std::string("the white floor is not determined (below the spectrum across the band; at most ") +
+                   bound + " " + spectrum_unit(spectrum.observable) + "); ";
+  }
+  fit.undetermined = undetermined +
+                     "a power law and a white floor say nothing of the model's alpha, N and a, which enter only "
+                     "through the amplitude and the corner frequencies: fit them with {compare_case} and {fit} "
+                     "alpha,a (a machine-driven record through its spring with {machine_stiffness})";
+}
+
+}  // namespace
+
 PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, double omega_high) {
   if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("{fit_band}: need 0 < LO < HI in rad/s");
   PowerLawFit fit;
@@ -369,42 +446,20 @@ PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, doub
   // For a slope s the model is linear in (amplitude, floor): solve it, keep the best s.
   std::vector<double> sigma(spectrum.points.size()), shape(spectrum.points.size());
   for (std::size_t k : inside) sigma[k] = spectrum.points[k].standard_error;
-  struct Solution {
-    double amplitude, floor, chi2;
-  };
   const auto solve = [&](double slope) {
-    double saa = 0, saf = 0, sff = 0, sac = 0, sfc = 0;
-    for (std::size_t k : inside) {
-      const AnalysisPoint& p = spectrum.points[k];
-      const double w = 1 / (sigma[k] * sigma[k]), a = std::pow(p.omega / fit.pivot, slope);
-      const double c = fit.floor_given ? p.C_x - p.noise_floor : p.C_x;
-      saa += w * a * a, saf += w * a, sff += w, sac += w * a * c, sfc += w * c;
-    }
-    Solution best{sac / saa, 0, 0};
-    if (!fit.floor_given) {
-      const double det = saa * sff - saf * saf;
-      const double amplitude = (sac * sff - saf * sfc) / det, floor = (saa * sfc - saf * sac) / det;
-      if (floor > 0) best = {amplitude, floor, 0};  // a floor below zero is no floor: held at 0
-    }
-    for (std::size_t k : inside) {
-      const AnalysisPoint& p = spectrum.points[k];
-      const double model =
-          best.amplitude * std::pow(p.omega / fit.pivot, slope) + (fit.floor_given ? p.noise_floor : best.floor);
-      best.chi2 += std::pow((p.C_x - model) / sigma[k], 2);
-    }
-    return best;
+    return power_law_at(slope, spectrum, inside, sigma, fit.pivot, fit.floor_given);
   };
   constexpr double kSteepest = -10, kFlattest = 2, kScanStep = 0.01;
-  Solution best{0, 0, std::numeric_limits<double>::infinity()};
+  PowerLawSolution best{0, 0, std::numeric_limits<double>::infinity()};
   for (int iteration = 0; iteration < 4; ++iteration) {
     best.chi2 = std::numeric_limits<double>::infinity();
     for (double slope = kSteepest; slope <= kFlattest; slope += kScanStep) {
-      const Solution trial = solve(slope);
+      const PowerLawSolution trial = solve(slope);
       if (trial.chi2 < best.chi2) best = trial, fit.slope = slope;
     }
     for (double step = kScanStep / 2; step > 1e-6; step /= 2)  // refine about the grid's best
       for (const double slope : {fit.slope - step, fit.slope + step}) {
-        const Solution trial = solve(slope);
+        const PowerLawSolution trial = solve(slope);
         if (trial.chi2 < best.chi2) best = trial, fit.slope = slope;
       }
     // Weights from the model's level, as for alpha: a point that happens to be low has a
@@ -421,41 +476,8 @@ PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, doub
   fit.floor = fit.floor_given ? spectrum.points[inside.front()].noise_floor : best.floor;
   fit.chi2_per_dof = best.chi2 / fit.dof;
 
-  // Covariance from the Jacobian at the optimum, scaled by chi2/dof when the scatter says so.
-  Eigen::MatrixXd jacobian(fit.points, parameters);
-  for (int i = 0; i < fit.points; ++i) {
-    const AnalysisPoint& p = spectrum.points[inside[std::size_t(i)]];
-    const double a = std::pow(p.omega / fit.pivot, fit.slope), s = sigma[inside[std::size_t(i)]];
-    jacobian(i, 0) = a / s;
-    jacobian(i, 1) = fit.amplitude * a * std::log(p.omega / fit.pivot) / s;
-    if (!fit.floor_given) jacobian(i, 2) = 1 / s;
-  }
-  const Eigen::MatrixXd covariance = (jacobian.transpose() * jacobian).inverse() * std::max(1.0, fit.chi2_per_dof);
-  fit.amplitude_error = std::sqrt(covariance(0, 0));
-  fit.slope_error = std::sqrt(covariance(1, 1));
-  fit.floor_error = fit.floor_given ? 0 : std::sqrt(covariance(2, 2));
-  for (int i = 0; i < parameters; ++i)
-    for (int j = 0; j < parameters; ++j)
-      fit.correlation[i][j] = covariance(i, j) / std::sqrt(covariance(i, i) * covariance(j, j));
-
-  fit.model.assign(spectrum.points.size(), std::numeric_limits<double>::quiet_NaN());
-  fit.residuals = fit.model;
-  for (std::size_t k : inside) {
-    const AnalysisPoint& p = spectrum.points[k];
-    fit.model[k] = fit.amplitude * std::pow(p.omega / fit.pivot, fit.slope) + fit.floor;
-    fit.residuals[k] = (p.C_x - fit.model[k]) / sigma[k];
-  }
-  std::string undetermined;
-  if (!fit.floor_given && !(fit.floor > 2 * fit.floor_error)) {
-    char bound[32];
-    std::snprintf(bound, sizeof bound, "%.3g", fit.floor + 2 * fit.floor_error);
-    undetermined = std::string("the white floor is not determined (below the spectrum across the band; at most ") +
-                   bound + " " + spectrum_unit(spectrum.observable) + "); ";
-  }
-  fit.undetermined = undetermined +
-                     "a power law and a white floor say nothing of the model's alpha, N and a, which enter only "
-                     "through the amplitude and the corner frequencies: fit them with {compare_case} and {fit} "
-                     "alpha,a (a machine-driven record through its spring with {machine_stiffness})";
+  power_law_errors(spectrum, inside, sigma, parameters, fit);
+  power_law_model(spectrum, inside, sigma, fit);
   return fit;
 }
 

@@ -165,6 +165,84 @@ std::size_t welch_segment_samples(std::size_t samples, double dt, double omega_m
   return length;
 }
 
+namespace {
+
+/// The mean Hann-windowed periodogram of the first differences of `x` over `segments`
+/// segments `hop` apart, each segment's mean difference removed, normalised as C (docs/model.md §3).
+std::vector<double> difference_periodogram(const std::vector<double>& x, double dt, const std::vector<double>& window,
+                                           double window_power, std::size_t hop, std::size_t segments) {
+  const std::size_t length = window.size(), bins = length / 2 + 1;
+  const std::unique_ptr<double, FftwFree> in(fftw_alloc_real(length));
+  const std::unique_ptr<fftw_complex, FftwFree> spectrum(fftw_alloc_complex(bins));
+  const fftw_plan plan = r2c_plan(length);
+  std::vector<double> periodogram(bins, 0.0);
+  for (std::size_t s = 0; s < segments; ++s) {
+    const double* segment = x.data() + s * hop;
+    // The segment's mean difference is its mean slope: removing it removes each segment's trend.
+    double mean = 0;
+    for (std::size_t j = 0; j < length; ++j) mean += segment[j + 1] - segment[j];
+    mean /= double(length);
+    for (std::size_t j = 0; j < length; ++j) in.get()[j] = window[j] * (segment[j + 1] - segment[j] - mean);
+    fftw_execute_dft_r2c(plan, in.get(), spectrum.get());
+    for (std::size_t k = 0; k < bins; ++k)
+      periodogram[k] += spectrum.get()[k][0] * spectrum.get()[k][0] + spectrum.get()[k][1] * spectrum.get()[k][1];
+  }
+  // docs/model.md §3: C = dt / (2 pi) |sum w x e^{-i omega t}|^2 / sum w^2, of the differences.
+  const double scale = dt / (2 * std::numbers::pi * window_power * double(segments));
+  for (double& p : periodogram) p *= scale;
+  return periodogram;
+}
+
+/// Variance of a point relative to C^2: segments overlapping by half share rho_s of their
+/// power; neighbouring bins of one window share rho_b(d) (Hann: 4/9, 1/36).
+struct PointVariance {
+  double segment_factor = 0;
+  std::vector<double> rho_b;
+};
+
+PointVariance point_variance(const std::vector<double>& window, double window_power, std::size_t hop,
+                             std::size_t segments) {
+  const std::size_t length = window.size();
+  const auto overlap = [&](std::size_t shift) {
+    double sum = 0;
+    for (std::size_t j = 0; j + shift < length; ++j) sum += window[j] * window[j + shift];
+    return sum * sum / (window_power * window_power);
+  };
+  const double rho_s = overlap(hop);
+  const double segment_factor = (1 + 2 * rho_s * double(segments - 1) / double(segments)) / double(segments);
+  std::vector<double> rho_b(4, 0.0);
+  for (std::size_t d = 0; d < rho_b.size(); ++d) {
+    // The phase advanced by multiplication: no sine or cosine per sample.
+    const std::complex<double> step = std::polar(1.0, -2 * std::numbers::pi * double(d) / double(length));
+    std::complex<double> sum = 0, phase = 1;
+    for (std::size_t j = 0; j < length; ++j, phase *= step) sum += window[j] * window[j] * phase;
+    rho_b[d] = std::norm(sum) / (window_power * window_power);
+  }
+  return {segment_factor, rho_b};
+}
+
+/// Power the window cannot see (trends inside a segment) leaks with the side lobes' own
+/// omega^-6 and hides from each point's leakage sum; it shows as a difference spectrum as steep
+/// as that. Flags such points and an octave above them.
+void flag_steep(std::vector<WelchPoint>& points, const std::vector<double>& point_differences) {
+  std::vector<bool> steep(points.size(), false);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    std::size_t low = k, high = k;
+    while (low > 0 && points[low].omega > points[k].omega / 2) --low;
+    while (high + 1 < points.size() && points[high].omega < 2 * points[k].omega) ++high;
+    if (high == low || !(point_differences[low] > 0 && point_differences[high] > 0)) continue;
+    const double slope =
+        std::log(point_differences[high] / point_differences[low]) / std::log(points[high].omega / points[low].omega);
+    steep[k] = slope < kSteepestDifferenceSlope;
+  }
+  // The leaked power reaches past the steep part: an octave above a steep point is suspect too.
+  for (std::size_t k = 0; k < points.size(); ++k)
+    for (std::size_t j = k + 1; j-- > 0 && points[j].omega >= points[k].omega / 2;)
+      points[k].leaky = points[k].leaky || steep[j];
+}
+
+}  // namespace
+
 WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const WelchRequest& request) {
   if (!(dt > 0)) throw InputError("welch: the sampling interval must be > 0");
   constexpr std::size_t kFewestSamples = 64;
@@ -190,42 +268,9 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
     window_power += window[j] * window[j];
   }
 
-  const std::unique_ptr<double, FftwFree> in(fftw_alloc_real(length));
-  const std::unique_ptr<fftw_complex, FftwFree> spectrum(fftw_alloc_complex(bins));
-  const fftw_plan plan = r2c_plan(length);
-  std::vector<double> periodogram(bins, 0.0);
-  for (std::size_t s = 0; s < segments; ++s) {
-    const double* segment = x.data() + s * hop;
-    // The segment's mean difference is its mean slope: removing it removes each segment's trend.
-    double mean = 0;
-    for (std::size_t j = 0; j < length; ++j) mean += segment[j + 1] - segment[j];
-    mean /= double(length);
-    for (std::size_t j = 0; j < length; ++j) in.get()[j] = window[j] * (segment[j + 1] - segment[j] - mean);
-    fftw_execute_dft_r2c(plan, in.get(), spectrum.get());
-    for (std::size_t k = 0; k < bins; ++k)
-      periodogram[k] += spectrum.get()[k][0] * spectrum.get()[k][0] + spectrum.get()[k][1] * spectrum.get()[k][1];
-  }
-  // docs/model.md §3: C = dt / (2 pi) |sum w x e^{-i omega t}|^2 / sum w^2, of the differences.
-  const double scale = dt / (2 * std::numbers::pi * window_power * double(segments));
-  for (double& p : periodogram) p *= scale;
+  std::vector<double> periodogram = difference_periodogram(x, dt, window, window_power, hop, segments);
 
-  // Variance of a point relative to C^2: segments overlapping by half share rho_s of their
-  // power; neighbouring bins of one window share rho_b(d) (Hann: 4/9, 1/36).
-  const auto overlap = [&](std::size_t shift) {
-    double sum = 0;
-    for (std::size_t j = 0; j + shift < length; ++j) sum += window[j] * window[j + shift];
-    return sum * sum / (window_power * window_power);
-  };
-  const double rho_s = overlap(hop);
-  const double segment_factor = (1 + 2 * rho_s * double(segments - 1) / double(segments)) / double(segments);
-  std::vector<double> rho_b(4, 0.0);
-  for (std::size_t d = 0; d < rho_b.size(); ++d) {
-    // The phase advanced by multiplication: no sine or cosine per sample.
-    const std::complex<double> step = std::polar(1.0, -2 * std::numbers::pi * double(d) / double(length));
-    std::complex<double> sum = 0, phase = 1;
-    for (std::size_t j = 0; j < length; ++j, phase *= step) sum += window[j] * window[j] * phase;
-    rho_b[d] = std::norm(sum) / (window_power * window_power);
-  }
+  const auto [segment_factor, rho_b] = point_variance(window, window_power, hop, segments);
   std::vector<double> point_differences;  // each point's mean difference spectrum
   std::vector<double> kernel(bins);
   for (std::size_t d = 0; d < bins; ++d) kernel[d] = hann_bin_kernel(d);
@@ -279,22 +324,7 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
     out.points.push_back(p);
     k = end;
   }
-  // Power the window cannot see (trends inside a segment) leaks with the side lobes' own
-  // omega^-6 and hides from the sum above; it shows as a difference spectrum as steep as that.
-  std::vector<bool> steep(out.points.size(), false);
-  for (std::size_t k = 0; k < out.points.size(); ++k) {
-    std::size_t low = k, high = k;
-    while (low > 0 && out.points[low].omega > out.points[k].omega / 2) --low;
-    while (high + 1 < out.points.size() && out.points[high].omega < 2 * out.points[k].omega) ++high;
-    if (high == low || !(point_differences[low] > 0 && point_differences[high] > 0)) continue;
-    const double slope = std::log(point_differences[high] / point_differences[low]) /
-                         std::log(out.points[high].omega / out.points[low].omega);
-    steep[k] = slope < kSteepestDifferenceSlope;
-  }
-  // The leaked power reaches past the steep part: an octave above a steep point is suspect too.
-  for (std::size_t k = 0; k < out.points.size(); ++k)
-    for (std::size_t j = k + 1; j-- > 0 && out.points[j].omega >= out.points[k].omega / 2;)
-      out.points[k].leaky = out.points[k].leaky || steep[j];
+  flag_steep(out.points, point_differences);
   out.bin_spacing = bin_spacing;
   return out;
 }
