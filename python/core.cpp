@@ -17,6 +17,7 @@
 #include <string>
 #include <thread>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "io/atomic_file.hpp"
@@ -293,31 +294,14 @@ py::tuple analyze_record_dict(const Array& time, const Array& x, const py::dict&
 }
 
 py::dict landmarks_dict(const std::string& case_name, const Overrides& overrides) {
-  const Parameters p = build(case_name, overrides);
-  const Landmarks l = landmarks(p);
   py::dict d;
-  d["renewal_rate"] = l.renewal_rate;
-  d["omega_c"] = l.omega_c;
-  d["diffusion_D"] = l.diffusion;
-  d["eq1_prefactor"] = l.eq1_prefactor;
-  d["coupling_eps"] = l.coupling_eps;
-  d["forces_can_stall"] = l.forces_can_stall;
-  const TheoryChoice holds = best_theory(p);
-  // Under a spring best_theory names the first order exactly where it holds (its limits reach
-  // far beyond the constant force's); otherwise the first order's own eps limit.
-  d["outside_first_order"] =
-      p.drive == Drive::spring
-          ? holds.kind != TheoryKind::first_order
-          : l.forces_can_stall ||
-                l.coupling_eps > (p.renewal == Renewal::poisson ? kFirstOrderPoissonEpsMax : kFirstOrderPeriodicEpsMax);
-  d["theory_kind"] = theory_kind_name(holds.kind);
-  d["theory_kind_note"] = holds.reason;
-  d["omega_resonance"] = l.omega_resonance;
-  if (p.drive == Drive::spring) {
-    d["omega_s"] = l.omega_s;
-    d["C_x_zero"] = spring_low_frequency_limit(p);
-  }
+  for (const Landmark& mark : shown_landmarks(build(case_name, overrides), LandmarkOutput::python))
+    std::visit([&](const auto& value) { d[mark.row->key] = value; }, mark.value);
   return d;
+}
+
+const char* shown_name(LandmarkShown shown) {
+  return shown == LandmarkShown::always ? "always" : shown == LandmarkShown::with_spring ? "with_spring" : "never";
 }
 
 }  // namespace
@@ -377,6 +361,17 @@ void bind_parameters(py::module_& m) {
 /// The theory of a parameter set.
 void bind_theory(py::module_& m) {
   m.def("landmarks", &landmarks_dict, "The theory's landmarks of a parameter set, SI units.");
+  m.def(
+      "landmark_table",
+      [] {
+        py::list table;
+        for (const LandmarkRow& row : landmark_table())
+          table.append(py::dict(py::arg("key") = row.key, py::arg("unit") = row.unit,
+                                py::arg("tsv") = shown_name(row.tsv), py::arg("json") = shown_name(row.json),
+                                py::arg("python") = shown_name(row.python), py::arg("doc") = row.doc));
+        return table;
+      },
+      "The landmarks, one dict each: key, unit, when the table, the JSON and Python show it, doc.");
   m.def(
       "log_spaced_omegas",
       [](double low, double high, int per_decade) { return to_array(log_spaced_omegas(low, high, per_decade)); },

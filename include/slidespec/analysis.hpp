@@ -21,8 +21,8 @@ namespace slidespec {
 enum class LengthUnit { m, cm, mm, um, nm, inch };
 
 /// Parses m|cm|mm|um|nm|in (µm, μm, micron(s), micrometre(s) for um; inch(es) for in);
-/// throws InputError naming `option` and the known units.
-LengthUnit parse_length_unit(const std::string& name, const std::string& option = "--units");
+/// throws InputError naming `option` (an option id in braces, slidespec/options.hpp) and the known units.
+LengthUnit parse_length_unit(const std::string& name, const std::string& option = "{units}");
 /// A length such as "0.5", "0.5um" or "5e-7 m" in metres; a bare number is in
 /// `bare_unit`. Throws InputError naming `option` when it is not a finite length >= 0.
 double parse_length(const std::string& text, LengthUnit bare_unit, const std::string& option);
@@ -34,7 +34,7 @@ double metres_per(LengthUnit unit);
 /// contact area) or a friction coefficient (a force once multiplied by the normal force).
 enum class ForceUnit { N, kN, MPa, kPa, mu };
 /// Parses N|kN|MPa|kPa|mu (friction for mu); throws InputError naming `option` and the known units.
-ForceUnit parse_force_unit(const std::string& name, const std::string& option = "--force-units");
+ForceUnit parse_force_unit(const std::string& name, const std::string& option = "{force_units}");
 const char* to_string(ForceUnit unit);
 
 /// A force such as "1000", "1000N" or "1.5kN" in newtons (a bare number in N); throws

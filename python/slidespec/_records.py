@@ -13,9 +13,8 @@ from ._parameters import Parameters
 from ._results import Result
 
 
-# The landmarks PREFIX.json holds, in its order (a spring's last four only with drive="spring").
-_LANDMARK_KEYS = ("renewal_rate", "omega_c", "diffusion_D", "eq1_prefactor", "coupling_eps", "forces_can_stall",
-                  "omega_s", "omega_resonance", "d0", "C_x_zero")
+# The landmarks PREFIX.json holds, in its order (some only with drive="spring").
+_LANDMARK_KEYS = tuple(row["key"] for row in _core.landmark_table() if row["json"] != "never")
 _PARAMETER_KEY = _re.compile(r"^(%s)(_\d+)?$" % "|".join(_re.escape(k.removesuffix("_l"))
                                                         for k in _core.parameter_keys()))
 # A key is one word; prose with " = " in it (the "# columns:" line) is not a KEY = VALUE line.
