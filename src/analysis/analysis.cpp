@@ -407,10 +407,9 @@ void power_law_model(const RecordSpectrum& spectrum, const std::vector<std::size
   }
   std::string undetermined;
   if (!fit.floor_given && !(fit.floor > 2 * fit.floor_error)) {
-    char bound[32];
-    std::snprintf(bound, sizeof bound, "%.3g", fit.floor + 2 * fit.floor_error);
-    undetermined = std::string("the white floor is not determined (below the spectrum across the band; at most ") +
-                   bound + " " + spectrum_unit(spectrum.observable) + "); ";
+    undetermined = "the white floor is not determined (below the spectrum across the band; at most " +
+                   util::short_number(fit.floor + 2 * fit.floor_error) + " " + spectrum_unit(spectrum.observable) +
+                   "); ";
   }
   fit.undetermined = undetermined +
                      "a power law and a white floor say nothing of the model's alpha, N and a, which enter only "

@@ -13,11 +13,7 @@ namespace slidespec::cli {
 
 namespace {
 
-std::string short_number(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", x);
-  return text;
-}
+using util::short_number;
 
 std::string number(double x) { return util::format_number(x); }
 

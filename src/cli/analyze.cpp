@@ -58,11 +58,7 @@ namespace {
 
 using Options = AnalysisCommands::Options;
 
-std::string short_number(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", x);
-  return text;
-}
+using util::short_number;
 
 /// A record time [s] as a user reads it off the file.
 std::string seconds(double t) {

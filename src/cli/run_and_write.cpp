@@ -60,7 +60,7 @@ void warn_if_not_stationary(const RunResult& result, const std::string& out) {
 int exit_status(const RunOutcome& outcome) {
   if (stopped_by_signal(outcome.result)) return stopped_status();
   if (!outcome.written) return kNotWritten;
-  return outcome.result.stationary ? 0 : kNotStationary;
+  return outcome.result.stationary ? 0 : kNotWhatItClaims;
 }
 
 void mark_if_not_numbers(RunResult& result) {
