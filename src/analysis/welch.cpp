@@ -167,6 +167,16 @@ std::size_t welch_segment_samples(std::size_t samples, double dt, double omega_m
 
 namespace {
 
+/// The Hann window of `length` samples, and its power, the sum of its squares.
+std::vector<double> hann_window(std::size_t length, double& power) {
+  std::vector<double> window(length);
+  for (std::size_t j = 0; j < length; ++j) {
+    window[j] = 0.5 - 0.5 * std::cos(2 * std::numbers::pi * double(j) / double(length));
+    power += window[j] * window[j];
+  }
+  return window;
+}
+
 /// The mean Hann-windowed periodogram of the first differences of `x` over `segments`
 /// segments `hop` apart, each segment's mean difference removed, normalised as C (docs/model.md §3).
 std::vector<double> difference_periodogram(const std::vector<double>& x, double dt, const std::vector<double>& window,
@@ -198,6 +208,16 @@ std::vector<double> difference_periodogram(const std::vector<double>& x, double 
 struct PointVariance {
   double segment_factor = 0;
   std::vector<double> rho_b;
+
+  /// Of a point over m bins: sum over i, j < m of rho_b(|i - j|), each offset d occurring
+  /// m - d times either way.
+  double relative(std::size_t bins) const {
+    const double m = double(bins);
+    double bin_factor = m * rho_b[0];
+    for (std::size_t d = 1; d < rho_b.size() && d < bins; ++d) bin_factor += 2 * (m - double(d)) * rho_b[d];
+    bin_factor /= m * m;
+    return segment_factor * bin_factor;
+  }
 };
 
 PointVariance point_variance(const std::vector<double>& window, double window_power, std::size_t hop,
@@ -261,16 +281,11 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
   out.segments = segments;
   const std::size_t bins = length / 2 + 1;
 
-  std::vector<double> window(length);
   double window_power = 0;
-  for (std::size_t j = 0; j < length; ++j) {
-    window[j] = 0.5 - 0.5 * std::cos(2 * std::numbers::pi * double(j) / double(length));
-    window_power += window[j] * window[j];
-  }
-
+  const std::vector<double> window = hann_window(length, window_power);
   std::vector<double> periodogram = difference_periodogram(x, dt, window, window_power, hop, segments);
 
-  const auto [segment_factor, rho_b] = point_variance(window, window_power, hop, segments);
+  const PointVariance variance = point_variance(window, window_power, hop, segments);
   std::vector<double> point_differences;  // each point's mean difference spectrum
   std::vector<double> kernel(bins);
   for (std::size_t d = 0; d < bins; ++d) kernel[d] = hann_bin_kernel(d);
@@ -305,11 +320,7 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
     p.omega = sum_omega / m;
     if (request.omega_max > 0 && p.omega > request.omega_max) break;
     p.C = sum_c / m;
-    // sum over i, j < m of rho_b(|i - j|): each offset d occurs m - d times either way.
-    double bin_factor = m * rho_b[0];
-    for (std::size_t d = 1; d < rho_b.size() && d < p.bins; ++d) bin_factor += 2 * (m - double(d)) * rho_b[d];
-    bin_factor /= m * m;
-    const double relative_variance = segment_factor * bin_factor;
+    const double relative_variance = variance.relative(p.bins);
     p.dof = 2 / relative_variance;
     p.standard_error = p.C * std::sqrt(relative_variance);
     p.lower = p.C * p.dof / chi_square_quantile(p.dof, kBarSigmas);
