@@ -68,10 +68,7 @@ std::vector<std::string> record_terms(const std::vector<std::string>& overrides,
 
 Parameters record_model(const std::string& case_name, const std::vector<std::string>& overrides, double measured_speed,
                         double machine_stiffness, std::vector<std::string>& notes) {
-  ParameterBuilder builder(case_name);
-  for (const auto& assignment : record_terms(overrides, measured_speed, machine_stiffness, notes))
-    builder.set(assignment);
-  return builder.build();
+  return build_case(case_name, record_terms(overrides, measured_speed, machine_stiffness, notes));
 }
 
 double measured_speed(const Record& record, const RecordSpectrum& s) {

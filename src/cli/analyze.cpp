@@ -228,11 +228,7 @@ int command_analyze(Options o) {
 int command_synth(const Options& o) {
   io::check_output_prefix(o.synth_out);
   const LengthUnit unit = parse_length_unit(o.synth_units);
-  ParameterBuilder builder(o.synth_case);
-  if (!o.synth_params.empty())
-    for (const auto& assignment : read_parameter_file(o.synth_params)) builder.set(assignment);
-  for (const auto& assignment : o.synth_overrides) builder.set(assignment);
-  const Parameters p = builder.build();
+  const Parameters p = build_case(o.synth_case, o.synth_params, o.synth_overrides);
   SensorRequest sensor = o.sensor;
   if (!o.synth_resolution.empty()) sensor.resolution = parse_length(o.synth_resolution, LengthUnit::m, "--resolution");
   if (!o.synth_sensor_noise.empty())
