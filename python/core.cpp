@@ -17,12 +17,14 @@
 #include <string>
 #include <thread>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "io/atomic_file.hpp"
 #include "io/tables.hpp"
 #include "analysis/report.hpp"
 #include "slidespec/analysis.hpp"
+#include "slidespec/options.hpp"
 #include "slidespec/parameters.hpp"
 #include "slidespec/run.hpp"
 #include "slidespec/theory.hpp"
@@ -49,97 +51,6 @@ Array to_array(const std::vector<double>& values) {
 
 std::vector<double> to_vector(const Array& values) {
   return std::vector<double>(values.data(), values.data() + values.size());
-}
-
-/// The command line's options in a library message, as the Python keywords that set the same
-/// thing ("--omega-max" -> "omega_max", "--column" -> "x"): the one place Python's messages
-/// are worded for Python.
-std::string python_names(const std::string& message) {
-  // Options named as their keyword with '_' for '-', and those named otherwise; the rest
-  // (--out, --resume, ...) Python does not have, and they are left as they are.
-  static const std::vector<std::string> same = {"omega-min",
-                                                "omega-max",
-                                                "points",
-                                                "precision",
-                                                "duration",
-                                                "realizations",
-                                                "seed",
-                                                "control-variate",
-                                                "threads",
-                                                "simd",
-                                                "order",
-                                                "dt",
-                                                "units",
-                                                "window",
-                                                "resample",
-                                                "time-tolerance",
-                                                "observable",
-                                                "force-units",
-                                                "contact-area",
-                                                "normal-force",
-                                                "machine-stiffness",
-                                                "resolution",
-                                                "sensor-noise",
-                                                "estimator",
-                                                "fit",
-                                                "fit-band",
-                                                "fit-slope",
-                                                "theory-order",
-                                                "sample-interval"};
-  static const std::vector<std::pair<std::string, std::string>> renamed = {{"column", "x"},
-                                                                           {"time-column", "t"},
-                                                                           {"force-column", "force"},
-                                                                           {"compare-case", "compare"},
-                                                                           {"normal-stress-column", "normal_stress"},
-                                                                           {"case", "the case"},
-                                                                           {"set", "Parameters(KEY=VALUE)"},
-                                                                           {"params", "Parameters(KEY=VALUE)"}};
-  const auto keyword = [](const std::string& option) -> std::optional<std::string> {
-    if (std::find(same.begin(), same.end(), option) != same.end()) {
-      std::string name = option;
-      std::replace(name.begin(), name.end(), '-', '_');
-      return name;
-    }
-    const auto other = std::find_if(renamed.begin(), renamed.end(), [&](const auto& r) { return r.first == option; });
-    return other == renamed.end() ? std::nullopt : std::optional<std::string>(other->second);
-  };
-  // Options given with their value's form, in the words of a Python call.
-  static const std::vector<std::pair<std::string, std::string>> phrases = {
-      {"--window T0:T1", "window=(T0, T1)"}, {"--resample DT", "resample=DT"}, {"--segments", "the field segments"}};
-  std::string text = message;
-  for (const auto& [option, call] : phrases)
-    for (std::size_t found = text.find(option); found != std::string::npos;
-         found = text.find(option, found + call.size()))
-      text.replace(found, option.size(), call);
-  std::string out;
-  std::size_t at = 0;
-  while (at < text.size()) {
-    const std::size_t dashes = text.find("--", at);
-    const bool starts_word =
-        dashes != std::string::npos && (dashes == 0 || !std::isalnum(static_cast<unsigned char>(text[dashes - 1])));
-    if (dashes == std::string::npos) {
-      out += text.substr(at);
-      break;
-    }
-    std::size_t end = dashes + 2;
-    while (end < text.size() &&
-           (std::isalnum(static_cast<unsigned char>(text[end])) ||
-            (text[end] == '-' && end + 1 < text.size() && std::isalpha(static_cast<unsigned char>(text[end + 1])))))
-      ++end;
-    const std::string option = text.substr(dashes + 2, end - dashes - 2);
-    const std::optional<std::string> known = starts_word ? keyword(option) : std::nullopt;
-    out += text.substr(at, dashes - at);
-    if (!known) {
-      out += text.substr(dashes, end - dashes);
-    } else if (option == "set" && end + 1 < text.size() && text[end] == ' ' &&
-               text.find('=', end) < text.find_first_of(" ,;)", end + 1)) {
-      ++end;  // "--set k_drive=K" reads as the keyword "k_drive=K"
-    } else {
-      out += *known;
-    }
-    at = end;
-  }
-  return out;
 }
 
 /// A run advanced by its own thread, so that the caller's thread keeps the interpreter
@@ -266,228 +177,139 @@ std::unique_ptr<Run> new_run(const std::string& case_name, const Overrides& over
   return std::make_unique<Run>(RunSession(params, r, io::run_label(case_name, params)));
 }
 
-/// A record's spectrum (analyze_record), kept for the fits that read it.
-class Spectrum {
- public:
-  Spectrum(const Array& time, const Array& x, const py::dict& format, const py::dict& request) {
-    RecordFormat f;
-    f.dt = format["dt"].cast<double>();
-    f.unit = parse_length_unit(format["units"].cast<std::string>());
-    f.time_tolerance = format["time_tolerance"].cast<double>();
-    if (!format["window"].is_none()) {
-      const auto window = format["window"].cast<std::pair<double, double>>();
-      if (!(window.second > window.first)) throw InputError("window: need (t0, t1) with t0 < t1 [s]");
-      f.window = window;
-    }
-    const std::string resample = format["resample"].cast<std::string>();
-    if (resample == "auto")
-      f.resample = Resampling::automatic;
-    else if (resample == "off")
-      f.resample = Resampling::off;
-    else if (resample == "median")
-      f.resample = Resampling::median;
-    else {
-      f.resample = Resampling::interval;
-      f.resample_interval = format["resample_interval"].cast<double>();
-      if (!(f.resample_interval > 0)) throw InputError("resample: 'auto', 'off', 'median' or an interval > 0 [s]");
-    }
-    AnalysisRequest r;
-    r.omega_min = request["omega_min"].cast<double>();
-    r.omega_max = request["omega_max"].cast<double>();
-    r.points_per_decade = request["points_per_decade"].cast<int>();
-    r.resolution = request["resolution"].cast<double>();
-    r.sensor_noise = request["sensor_noise"].cast<double>();
-    r.estimator = parse_estimator(request["estimator"].cast<std::string>());
-    // Channels as named columns, read as a file with that header is (units from the format).
-    f.observable = parse_observable(format["observable"].cast<std::string>());
-    if (!format["force_units"].is_none()) f.force_unit = parse_force_unit(format["force_units"].cast<std::string>());
-    f.contact_area = format["contact_area"].cast<double>();
-    f.normal_force = format["normal_force"].cast<double>();
-    f.machine_stiffness = format["machine_stiffness"].cast<double>();
-    std::vector<std::string> names;
-    std::vector<std::vector<double>> columns;
-    if (time.size() > 0) names.push_back("t"), columns.push_back(to_vector(time));
-    if (x.size() > 0) names.push_back("x"), columns.push_back(to_vector(x));
-    if (!format["force"].is_none())
-      names.push_back("channel"), columns.push_back(to_vector(format["force"].cast<Array>()));
-    if (!format["normal_stress"].is_none()) {
-      names.push_back("normal_stress (" + format["normal_stress_units"].cast<std::string>() + ")");
-      columns.push_back(to_vector(format["normal_stress"].cast<Array>()));
-    }
-    if (f.observable != Observable::displacement || f.machine_stiffness > 0)
-      f.force_column = format["force"].is_none() ? "" : "channel";
+/// The record a format dict describes: its channels as named columns, read as a file with
+/// that header is (units from the format).
+Record record_of(const Array& time, const Array& x, const py::dict& format) {
+  RecordFormat f;
+  f.dt = format["dt"].cast<double>();
+  f.unit = parse_length_unit(format["units"].cast<std::string>());
+  f.time_tolerance = format["time_tolerance"].cast<double>();
+  if (!format["window"].is_none()) {
+    const auto window = format["window"].cast<std::pair<double, double>>();
+    if (!(window.second > window.first)) throw InputError("window: need (t0, t1) with t0 < t1 [s]");
+    f.window = window;
+  }
+  const std::string resample = format["resample"].cast<std::string>();
+  const std::optional<Resampling> named = resample == "auto"     ? std::optional(Resampling::automatic)
+                                          : resample == "off"    ? std::optional(Resampling::off)
+                                          : resample == "median" ? std::optional(Resampling::median)
+                                                                 : std::nullopt;
+  f.resample = named.value_or(Resampling::interval);
+  if (!named) {
+    f.resample_interval = format["resample_interval"].cast<double>();
+    if (!(f.resample_interval > 0)) throw InputError("resample: 'auto', 'off', 'median' or an interval > 0 [s]");
+  }
+  f.observable = parse_observable(format["observable"].cast<std::string>());
+  if (!format["force_units"].is_none()) f.force_unit = parse_force_unit(format["force_units"].cast<std::string>());
+  f.contact_area = format["contact_area"].cast<double>();
+  f.normal_force = format["normal_force"].cast<double>();
+  f.machine_stiffness = format["machine_stiffness"].cast<double>();
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> columns;
+  if (time.size() > 0) names.push_back("t"), columns.push_back(to_vector(time));
+  if (x.size() > 0) names.push_back("x"), columns.push_back(to_vector(x));
+  if (!format["force"].is_none())
+    names.push_back("channel"), columns.push_back(to_vector(format["force"].cast<Array>()));
+  if (!format["normal_stress"].is_none()) {
+    names.push_back("normal_stress (" + format["normal_stress_units"].cast<std::string>() + ")");
+    columns.push_back(to_vector(format["normal_stress"].cast<Array>()));
+  }
+  if (f.observable != Observable::displacement || f.machine_stiffness > 0)
+    f.force_column = format["force"].is_none() ? "" : "channel";
+  py::gil_scoped_release release;
+  return record_from_columns(names, columns, f);
+}
+
+std::optional<std::pair<double, double>> band_of(const py::handle& band) {
+  if (band.is_none()) return std::nullopt;
+  return band.cast<std::pair<double, double>>();
+}
+
+/// The plan a dict asks for; lengths in metres whatever the record's unit.
+AnalysisPlan plan_of(const py::dict& plan, bool windowed) {
+  AnalysisPlan p;
+  p.request.omega_min = plan["omega_min"].cast<double>();
+  p.request.omega_max = plan["omega_max"].cast<double>();
+  p.request.points_per_decade = plan["points_per_decade"].cast<int>();
+  p.request.resolution = plan["resolution"].cast<double>();
+  p.request.sensor_noise = plan["sensor_noise"].cast<double>();
+  p.request.estimator = parse_estimator(plan["estimator"].cast<std::string>());
+  p.windowed = windowed;
+  p.slope_band = band_of(plan["fit_slope"]);
+  p.compare_case = plan["compare_case"].cast<std::string>();
+  for (const auto& [key, value] : plan["overrides"].cast<Overrides>()) p.overrides.push_back(key + "=" + value);
+  p.fit = plan["fit"].cast<std::string>();
+  p.fit_band = band_of(plan["fit_band"]);
+  const int order = plan["theory_order"].cast<int>();
+  if (order != 1 && order != 2) throw InputError("theory_order: 1 or 2");
+  p.order = order == 2 ? ModelOrder::best : ModelOrder::first;
+  p.bare_lengths_in_record_unit = false;
+  return p;
+}
+
+const char* kind_name(AnalysisMessage::Kind kind) {
+  switch (kind) {
+    case AnalysisMessage::Kind::note:
+      return "note";
+    case AnalysisMessage::Kind::warning:
+      return "warning";
+    case AnalysisMessage::Kind::failed_fit:
+      return "failed_fit";
+    case AnalysisMessage::Kind::no_spectrum:
+      return "no_spectrum";
+  }
+  return "?";
+}
+
+/// `slidespec analyze`'s JSON as a dict, with the record's steady segments and each point's
+/// fit and residual, and the warnings as (kind, topic, text) worded for Python.
+py::tuple analyze_record_dict(const Array& time, const Array& x, const py::dict& format, const py::dict& plan) {
+  Record record = record_of(time, x, format);
+  const AnalysisPlan p = plan_of(plan, !format["window"].is_none());
+  AnalysisReport report;
+  {
     py::gil_scoped_release release;
-    Record record = record_from_columns(names, columns, f);
-    notes_ = record.notes;
-    const std::vector<SteadySegment> steady = steady_segments(record);
-    for (const SteadySegment& segment : steady)
-      segments_.push_back({segment.start, segment.end, segment.mean_speed, segment.hold});
-    if (!f.window) record = longest_steady(record, steady, notes_);
-    spectrum_ = analyze_record(record, r);
-    record_ = std::move(record);
-    request_ = r;
+    report = analyze(std::move(record), p);
   }
-
-  /// The fields of `slidespec analyze`'s JSON (the spectrum's from the same writer).
-  py::dict to_dict() const {
-    const RecordSpectrum& s = spectrum_;
-    nlohmann::ordered_json doc;
-    doc["slidespec_version"] = SLIDESPEC_VERSION;
-    doc["record"] = {{"samples", s.samples}, {"dt", s.dt}, {"duration", s.duration}};
-    doc.update(detail::spectrum_json(s));
-    doc["resolution"] = request_.resolution;
-    doc["sensor_noise"] = request_.sensor_noise;
-    doc["notes"] = nlohmann::ordered_json::array();
-    for (const std::string& note : notes_) doc["notes"].push_back(python_names(note));
-    doc["segments"] = nlohmann::ordered_json::array();
-    for (const auto& [start, end, speed, hold] : segments_)
-      doc["segments"].push_back({{"start", start}, {"end", end}, {"mean_speed", speed}, {"hold", hold}});
-    return as_dict(doc);
+  const nlohmann::ordered_json parameters = report.model ? io::parameters_json(*report.model) : nullptr;
+  nlohmann::ordered_json doc = analysis_json(report, "", p.compare_case, parameters, FrontEnd::python);
+  doc["segments"] = nlohmann::ordered_json::array();
+  for (const SteadySegment& s : report.segments)
+    doc["segments"].push_back({{"start", s.start}, {"end", s.end}, {"mean_speed", s.mean_speed}, {"hold", s.hold}});
+  const std::vector<double>* fit = report.power_law   ? &report.power_law->model
+                                   : report.model_fit ? &report.model_fit->model
+                                                      : nullptr;
+  const std::vector<double>* residual = report.power_law   ? &report.power_law->residuals
+                                        : report.model_fit ? &report.model_fit->residuals
+                                                           : nullptr;
+  for (std::size_t k = 0; fit && k < fit->size(); ++k) {
+    doc["points"][k]["fit"] = (*fit)[k];
+    doc["points"][k]["residual"] = (*residual)[k];
   }
-
-  static py::dict as_dict(const nlohmann::ordered_json& doc) {
-    return py::module_::import("json").attr("loads")(doc.dump()).cast<py::dict>();
-  }
-
-  py::dict slope(double low, double high) const {
-    const SlopeFit f = fit_slope(spectrum_, low, high);
-    return as_dict(detail::slope_fit_json(f, detail::judge_chi2(f.chi2_per_dof, f.points - 2)));
-  }
-
-  py::dict power_law(double low, double high) const {
-    PowerLawFit f;
-    {
-      py::gil_scoped_release release;
-      f = fit_power_law(spectrum_, low, high);
-    }
-    py::dict d = as_dict(detail::power_law_json(f, detail::judge_power_law(f)));
-    d["fit"] = to_array(f.model);
-    d["residual"] = to_array(f.residuals);
-    return d;
-  }
-
-  /// The compared case on the record's terms (its measured v, a spring for a machine).
-  Overrides record_terms(const std::string& case_name, const Overrides& overrides) const {
-    build(case_name, overrides);  // refused before any change
-    std::vector<std::string> assignments, notes;
-    for (const auto& [key, value] : overrides) assignments.push_back(key + "=" + value);
-    Overrides terms;
-    for (const std::string& assignment :
-         slidespec::record_terms(assignments, measured_speed(record_, spectrum_), record_.machine_stiffness, notes)) {
-      const auto equals = assignment.find('=');
-      terms.emplace_back(assignment.substr(0, equals), assignment.substr(equals + 1));
-    }
-    return terms;
-  }
-
-  py::dict model_fit(const std::string& case_name, const Overrides& overrides, const std::vector<std::string>& names,
-                     double low, double high, int theory_order) const {
-    const Parameters p = build(case_name, overrides);
-    ModelFit f;
-    {
-      py::gil_scoped_release release;
-      f = fit_model(spectrum_, p, names, low, high, order_of(theory_order));
-    }
-    py::dict d = as_dict(detail::model_fit_json(f, detail::judge_model(f)));
-    d["fit"] = to_array(f.model);
-    d["residual"] = to_array(f.residuals);
-    return d;
-  }
-
-  py::dict alpha(const std::string& case_name, const Overrides& overrides, double low, double high,
-                 int theory_order) const {
-    const Parameters p = build(case_name, overrides);
-    AlphaFit f;
-    {
-      py::gil_scoped_release release;
-      f = fit_alpha(spectrum_, p, low, high, order_of(theory_order));
-    }
-    Parameters fitted = p;
-    fitted.alpha = f.alpha;
-    return as_dict(detail::alpha_fit_json(f, detail::judge_alpha(f, fitted)));
-  }
-
-  int model_order_of(const std::string& case_name, const Overrides& overrides, int theory_order) const {
-    return model_order(build(case_name, overrides), order_of(theory_order));
-  }
-
-  std::pair<double, double> alpha_band(const std::string& case_name, const Overrides& overrides) const {
-    return default_alpha_band(spectrum_, build(case_name, overrides));
-  }
-
-  Array model(const std::string& case_name, const Overrides& overrides, int theory_order) const {
-    const Parameters p = build(case_name, overrides);
-    std::vector<double> values;
-    {
-      py::gil_scoped_release release;
-      values = model_spectrum(spectrum_, p, order_of(theory_order));
-    }
-    return to_array(values);
-  }
-
- private:
-  static ModelOrder order_of(int theory_order) {
-    if (theory_order != 1 && theory_order != 2) throw InputError("theory_order: 1 or 2");
-    return theory_order == 2 ? ModelOrder::best : ModelOrder::first;
-  }
-
-  std::vector<std::string> notes_;
-  Record record_;  // the samples analyzed: their channels give the compared case's terms
-  std::vector<std::tuple<double, double, double, bool>> segments_;
-  RecordSpectrum spectrum_;
-  AnalysisRequest request_;
-};
+  py::list messages;
+  for (const AnalysisMessage& m : report.warnings)
+    messages.append(py::make_tuple(kind_name(m.kind), m.topic, worded(m.text, FrontEnd::python)));
+  const py::dict data = py::module_::import("json").attr("loads")(doc.dump()).cast<py::dict>();
+  return py::make_tuple(data, messages);
+}
 
 py::dict landmarks_dict(const std::string& case_name, const Overrides& overrides) {
-  const Parameters p = build(case_name, overrides);
-  const Landmarks l = landmarks(p);
   py::dict d;
-  d["renewal_rate"] = l.renewal_rate;
-  d["omega_c"] = l.omega_c;
-  d["diffusion_D"] = l.diffusion;
-  d["eq1_prefactor"] = l.eq1_prefactor;
-  d["coupling_eps"] = l.coupling_eps;
-  d["forces_can_stall"] = l.forces_can_stall;
-  const TheoryChoice holds = best_theory(p);
-  // Under a spring best_theory names the first order exactly where it holds (its limits reach
-  // far beyond the constant force's); otherwise the first order's own eps limit.
-  d["outside_first_order"] =
-      p.drive == Drive::spring
-          ? holds.kind != TheoryKind::first_order
-          : l.forces_can_stall ||
-                l.coupling_eps > (p.renewal == Renewal::poisson ? kFirstOrderPoissonEpsMax : kFirstOrderPeriodicEpsMax);
-  d["theory_kind"] = theory_kind_name(holds.kind);
-  d["theory_kind_note"] = holds.reason;
-  d["omega_resonance"] = l.omega_resonance;
-  if (p.drive == Drive::spring) {
-    d["omega_s"] = l.omega_s;
-    d["C_x_zero"] = spring_low_frequency_limit(p);
-  }
+  for (const Landmark& mark : shown_landmarks(build(case_name, overrides), LandmarkOutput::python))
+    std::visit([&](const auto& value) { d[mark.row->key] = value; }, mark.value);
   return d;
+}
+
+const char* shown_name(LandmarkShown shown) {
+  return shown == LandmarkShown::always ? "always" : shown == LandmarkShown::with_spring ? "with_spring" : "never";
 }
 
 }  // namespace
 
-PYBIND11_MODULE(_core, m) {
-  m.doc() = "slidespec's core library (use the slidespec package, not this module)";
-  py::register_exception_translator([](std::exception_ptr error) {
-    try {
-      if (error) std::rethrow_exception(error);
-    } catch (const FileError& e) {  // before InputError, which it is
-      PyErr_SetString(PyExc_OSError, python_names(e.what()).c_str());
-    } catch (const InputError& e) {
-      PyErr_SetString(PyExc_ValueError, python_names(e.what()).c_str());
-    } catch (const io::WriteError& e) {
-      PyErr_SetString(PyExc_OSError, python_names(e.what()).c_str());
-    } catch (const std::bad_alloc&) {
-      PyErr_SetString(PyExc_MemoryError, "out of memory: the work needs more than this machine has");
-    }
-  });
-  m.attr("version") = SLIDESPEC_VERSION;
-  m.attr("white_floor_shortfall") = kWhiteFloorShortfall;
-  m.attr("implausible_speed") = kImplausibleSpeed;
+namespace {
 
-  // The Python functions' keyword defaults, from the structs the command line starts from.
+/// The Python functions' keyword defaults, from the structs the command line starts from.
+void bind_defaults(py::module_& m) {
   const RunRequest run_default{};
   py::dict run_defaults;
   run_defaults["omega_min"] = run_default.omega_min;
@@ -504,7 +326,10 @@ PYBIND11_MODULE(_core, m) {
   sensor_defaults["sensor_noise"] = sensor_default.sensor_noise;
   sensor_defaults["seed"] = sensor_default.seed;
   m.attr("sensor_defaults") = sensor_defaults;
+}
 
+/// Cases and parameters.
+void bind_parameters(py::module_& m) {
   m.def(
       "cases",
       [] {
@@ -531,9 +356,22 @@ PYBIND11_MODULE(_core, m) {
       "describe",
       [](const std::string& case_name, const Overrides& overrides) { return describe(build(case_name, overrides)); },
       "Every (key, value text) of a case with overrides; ValueError names a bad key.");
-  m.def("parse_fit_parameters", &parse_fit_parameters,
-        "The model parameters a --fit list names, checked as the command line checks them.");
+}
+
+/// The theory of a parameter set.
+void bind_theory(py::module_& m) {
   m.def("landmarks", &landmarks_dict, "The theory's landmarks of a parameter set, SI units.");
+  m.def(
+      "landmark_table",
+      [] {
+        py::list table;
+        for (const LandmarkRow& row : landmark_table())
+          table.append(py::dict(py::arg("key") = row.key, py::arg("unit") = row.unit,
+                                py::arg("tsv") = shown_name(row.tsv), py::arg("json") = shown_name(row.json),
+                                py::arg("python") = shown_name(row.python), py::arg("doc") = row.doc));
+        return table;
+      },
+      "The landmarks, one dict each: key, unit, when the table, the JSON and Python show it, doc.");
   m.def(
       "log_spaced_omegas",
       [](double low, double high, int per_decade) { return to_array(log_spaced_omegas(low, high, per_decade)); },
@@ -596,7 +434,10 @@ PYBIND11_MODULE(_core, m) {
         return to_array(values);
       },
       "The paper's Eq. (1) asymptote [m^2 s] at omegas [rad/s].");
+}
 
+/// Runs, advanced on their own thread.
+void bind_run(py::module_& m) {
   py::class_<Run>(m, "Run", "A run advanced on its own thread; Python stays on the caller's.")
       .def("start", &Run::start, "Starts the run with threads (0 = all cores) and a SIMD path name.")
       .def("wait", &Run::wait, "Waits up to seconds without the GIL; True once the run has ended.")
@@ -611,19 +452,12 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "load_run", [](const py::bytes& state) { return std::make_unique<Run>(RunSession::load(state)); },
       "A run from its saved state (Run.save), to continue.");
+}
 
-  py::class_<Spectrum>(m, "Spectrum", "A record's spectrum: x in units at times t [s] (or every dt).")
-      .def(py::init<const Array&, const Array&, const py::dict&, const py::dict&>())
-      .def("default_alpha_band", &Spectrum::alpha_band, "The alpha fit's default band [rad/s].")
-      .def("to_dict", &Spectrum::to_dict, "The fields of `slidespec analyze`'s JSON.")
-      .def("fit_slope", &Spectrum::slope, "C_x ~ omega^slope over [low, high] rad/s.")
-      .def("fit_alpha", &Spectrum::alpha, "alpha of a case fitted over [low, high] rad/s.")
-      .def("fit_power_law", &Spectrum::power_law, "A (omega/pivot)^s + floor fitted over [low, high] rad/s.")
-      .def("fit_model", &Spectrum::model_fit, "Model parameters fitted jointly over [low, high] rad/s.")
-      .def("record_terms", &Spectrum::record_terms,
-           "A case's overrides with the record's measured v and, for a machine, its spring drive.")
-      .def("model", &Spectrum::model, "A case's spectrum seen through this estimator [m^2 s].")
-      .def("model_order", &Spectrum::model_order_of, "The theory order a comparison uses (1 or 2).");
+/// Measured records: their analysis, and synthetic ones.
+void bind_analysis(py::module_& m) {
+  m.def("analyze", &analyze_record_dict,
+        "`slidespec analyze` of a record: (the fields of its JSON, [(kind, topic, text) of each warning]).");
   m.def(
       "synthesize",
       [](const std::string& case_name, const Overrides& overrides, const py::dict& sensor) {
@@ -642,4 +476,30 @@ PYBIND11_MODULE(_core, m) {
         return py::make_tuple(record.dt, record.start_time, to_array(record.displacement));
       },
       "A synthetic sensor record of a case: (dt [s], t0 [s], x [m]).");
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "slidespec's core library (use the slidespec package, not this module)";
+  py::register_exception_translator([](std::exception_ptr error) {
+    try {
+      if (error) std::rethrow_exception(error);
+    } catch (const FileError& e) {  // before InputError, which it is
+      PyErr_SetString(PyExc_OSError, worded(e.what(), FrontEnd::python).c_str());
+    } catch (const InputError& e) {
+      PyErr_SetString(PyExc_ValueError, worded(e.what(), FrontEnd::python).c_str());
+    } catch (const io::WriteError& e) {
+      PyErr_SetString(PyExc_OSError, worded(e.what(), FrontEnd::python).c_str());
+    } catch (const std::bad_alloc&) {
+      PyErr_SetString(PyExc_MemoryError, "out of memory: the work needs more than this machine has");
+    }
+  });
+  m.attr("version") = SLIDESPEC_VERSION;
+
+  bind_defaults(m);
+  bind_parameters(m);
+  bind_theory(m);
+  bind_run(m);
+  bind_analysis(m);
 }

@@ -21,8 +21,8 @@ namespace slidespec {
 enum class LengthUnit { m, cm, mm, um, nm, inch };
 
 /// Parses m|cm|mm|um|nm|in (µm, μm, micron(s), micrometre(s) for um; inch(es) for in);
-/// throws InputError naming `option` and the known units.
-LengthUnit parse_length_unit(const std::string& name, const std::string& option = "--units");
+/// throws InputError naming `option` (an option id in braces, slidespec/options.hpp) and the known units.
+LengthUnit parse_length_unit(const std::string& name, const std::string& option = "{units}");
 /// A length such as "0.5", "0.5um" or "5e-7 m" in metres; a bare number is in
 /// `bare_unit`. Throws InputError naming `option` when it is not a finite length >= 0.
 double parse_length(const std::string& text, LengthUnit bare_unit, const std::string& option);
@@ -37,7 +37,7 @@ enum class ForceUnit { uN, mN, N, kN, MN, gf, kgf, lbf, Pa, kPa, MPa, psi, mu };
 /// Parses uN|mN|N|kN|MN|gf|kgf|lbf|Pa|kPa|MPa|psi|mu (µN for uN, g and kg for gf and kgf,
 /// lb for lbf, friction for mu); any case but mN and MN, which differ by 1e9. Throws
 /// InputError naming `option` and the known units.
-ForceUnit parse_force_unit(const std::string& name, const std::string& option = "--force-units");
+ForceUnit parse_force_unit(const std::string& name, const std::string& option = "{force_units}");
 const char* to_string(ForceUnit unit);
 
 /// A force such as "1000", "1000N", "1.5kN" or "200gf" in newtons (a bare number in N); throws
@@ -500,5 +500,94 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor);
 
 /// The record as CSV: '#' lines from `comments`, a header "t,x", time in s, x in `unit`.
 std::string record_csv(const Record& record, LengthUnit unit, const std::string& comments);
+
+// ---------------------------------------------------------------------------------------
+// An analysis as one call: what `slidespec analyze` and Python's ss.analyze both do.
+
+/// What is asked of a record beyond reading it: its spectrum, and the fits made to it.
+struct AnalysisPlan {
+  AnalysisRequest request;
+  /// The record was read through a window (RecordFormat::window): analyzed whole, with a note
+  /// when it holds several steady stretches; else its longest steady stretch is analyzed.
+  bool windowed = false;
+  std::optional<std::pair<double, double>> slope_band;  ///< fit C_x ~ omega^slope over LO HI [rad/s]
+  std::string compare_case;                             ///< a model case compared with the data; "" none
+  std::vector<std::string> overrides;                   ///< KEY=VALUE over compare_case
+  /// "" none, "alpha" (the compared case's), "power-law", or model parameters fitted jointly
+  /// ("alpha,a", any of fittable_parameters()).
+  std::string fit;
+  /// The fit's band [rad/s]; none: every point for a power law, the usable band for a model
+  /// fit, default_alpha_band() for alpha.
+  std::optional<std::pair<double, double>> fit_band;
+  ModelOrder order = ModelOrder::best;
+  double normal_mass = 0, driving_mass = 0;  ///< M and M' [kg] for mu = M'/M; 0: not given
+  /// How the front end read request.resolution and sensor_noise: a bare number in the
+  /// record's unit (the command line), else in metres always (Python); a warning says which.
+  bool bare_lengths_in_record_unit = true;
+};
+
+/// Refuses a plan no record can satisfy, naming the option, before any record is read: a
+/// band that is none, masses that give no mu, a fit of what none varies, a fit that needs a
+/// compared case without one, two power-law fits, a compared case that cannot be built (with
+/// a machine stiffness `machine_stiffness` [N/m] > 0, driven through it).
+void check_plan(const AnalysisPlan& plan, double machine_stiffness);
+
+/// Whether a fit (or the spectrum) describes the data (docs/analysis.md, "Judging a fit").
+struct Verdict {
+  bool ok = true;
+  std::string reason;  ///< why not, in words ("" when ok)
+};
+
+/// What an analysis tells its reader besides its numbers. The text names options as "{id}"
+/// (slidespec/options.hpp), which each front end words with worded().
+struct AnalysisMessage {
+  enum class Kind {
+    note,        ///< a choice made for the user (a window, a resampling, a model's terms)
+    warning,     ///< the numbers hold less than they seem (a floor, a unit, leakage)
+    failed_fit,  ///< a fit does not describe the data: the result is marked not ok
+    no_spectrum  ///< the spectrum is none (inf, nan or 0 everywhere): marked not ok
+  };
+  Kind kind = Kind::note;
+  /// What it is about, one word: "sampling", "window", "model_terms", "implausible_speed",
+  /// "no_usable_band", "floor_not_white", "leaky_points", "slope_reaches_floor", "slope",
+  /// "alpha", "power-law", "model", "spectrum".
+  std::string topic;
+  std::string text;
+  std::vector<std::pair<std::string, double>> fields;  ///< the numbers it is about, by name
+};
+
+/// A record analyzed: its spectrum, each fit asked for with its verdict, and the messages.
+struct AnalysisReport {
+  AnalysisRequest request;              ///< the plan's request
+  Record record;                        ///< the samples analyzed (a window or a steady stretch of the input)
+  std::vector<SteadySegment> segments;  ///< the input record's steady stretches
+  RecordSpectrum spectrum;
+  Verdict spectrum_verdict;  ///< whether the spectrum is one
+  std::optional<double> mu;  ///< M'/M when the masses were given
+  std::optional<SlopeFit> slope;
+  std::optional<PowerLawFit> power_law;
+  std::optional<ModelFit> model_fit;  ///< model parameters fitted jointly
+  std::optional<AlphaFit> alpha;
+  Verdict slope_verdict, power_law_verdict, model_fit_verdict, alpha_verdict;
+  std::optional<Parameters> model;        ///< the compared case on the record's terms, at the fitted values
+  std::vector<double> model_values;       ///< its theory seen through the estimator, per point
+  int model_order = 1;                    ///< the theory order of model_values
+  std::vector<AnalysisMessage> notes;     ///< the choices made, in order
+  std::vector<AnalysisMessage> warnings;  ///< warnings, then failed fits, then a spectrum that is none
+
+  /// The spectrum is one and every fit describes the data.
+  bool ok() const;
+  /// Why not ok, the first reason of: the spectrum, the model fit, the power law, alpha, the slope.
+  std::string failure() const;
+};
+
+/// The analysis of `record` as `plan` asks: its steady stretch (unless windowed), the
+/// spectrum, the fits with their verdicts, the compared model, notes and warnings. Throws
+/// InputError for a plan check_plan refuses or a record too short for the band.
+AnalysisReport analyze(Record record, const AnalysisPlan& plan);
+
+/// What sets the top of the usable band, in words: the sensor floor, the interpolation
+/// filter of a resampled record, the estimator's top or the omega_max asked for.
+std::string top_set_by(const RecordSpectrum& spectrum);
 
 }  // namespace slidespec

@@ -164,6 +164,14 @@ class ParameterBuilder {
   std::vector<std::vector<std::pair<std::string, std::string>>> level_keys_;
 };
 
+/// Case `case_name` with `assignments` ("KEY=VALUE") set over it in order, built. Throws
+/// InputError as ParameterBuilder does.
+Parameters build_case(const std::string& case_name, const std::vector<std::string>& assignments);
+/// The same with the overrides of a JSON file (read_parameter_file; "" for none) before
+/// `assignments`: what a command's --case, --params and --set come to.
+Parameters build_case(const std::string& case_name, const std::string& parameter_file,
+                      const std::vector<std::string>& assignments);
+
 /// Reads overrides from a JSON object file {"KEY": value, ...}; returns "KEY=VALUE" strings.
 std::vector<std::string> read_parameter_file(const std::string& path);
 

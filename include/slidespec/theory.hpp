@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "slidespec/parameters.hpp"
@@ -237,5 +238,32 @@ struct BeyondFirstOrder {
   bool quasi_static = false;          ///< which of the two C_x is
 };
 BeyondFirstOrder theory_beyond_first_order(const Parameters& p);
+
+/// Whether eps lies beyond the first order's measured limit, or the forces can stall the
+/// block; under a spring, beyond the spring's limits (where best_theory names no first order).
+bool outside_first_order(const Parameters& p);
+
+/// The outputs that show landmarks (slidespec/landmarks.def), and when each shows one.
+enum class LandmarkOutput { tsv, json, python };
+enum class LandmarkShown { always, with_spring, never };
+
+/// A row of slidespec/landmarks.def.
+struct LandmarkRow {
+  const char* key;
+  const char* unit;  ///< "" for none or for a word
+  LandmarkShown tsv, json, python;
+  const char* doc;
+};
+/// Every row, in the table's order.
+const std::vector<LandmarkRow>& landmark_table();
+
+/// A landmark's value at a parameter set: a number, a yes/no or a word.
+struct Landmark {
+  const LandmarkRow* row;
+  std::variant<double, bool, std::string> value;
+  std::string note;  ///< a word's KEY_note row, where the table has one ("" else)
+};
+/// The landmarks `output` shows for `p`, in the table's order; only those are computed.
+std::vector<Landmark> shown_landmarks(const Parameters& p, LandmarkOutput output);
 
 }  // namespace slidespec

@@ -110,9 +110,9 @@ std::vector<double> sliding_fluctuation(const Record& record, const SlidingFit& 
 
 double friction_coefficient(double normal_load_mass, double driving_mass) {
   if (!(normal_load_mass > 0 && std::isfinite(normal_load_mass)))
-    throw InputError("--normal-mass: must be a positive mass in kg");
+    throw InputError("{normal_mass}: must be a positive mass in kg");
   if (!(driving_mass > 0 && std::isfinite(driving_mass)))
-    throw InputError("--driving-mass: must be a positive mass in kg");
+    throw InputError("{driving_mass}: must be a positive mass in kg");
   return driving_mass / normal_load_mass;
 }
 
@@ -122,7 +122,7 @@ constexpr std::array<detail::Word<Estimator>, 3> kEstimatorWords{
 }  // namespace
 
 Estimator parse_estimator(const std::string& name) {
-  return detail::parse_word(kEstimatorWords, name, "--estimator", "estimator");
+  return detail::parse_word(kEstimatorWords, name, "{estimator}", "estimator");
 }
 
 const char* to_string(Estimator estimator) { return detail::name_of(kEstimatorWords, estimator); }
@@ -141,7 +141,7 @@ std::vector<AnalysisPoint> streaming_points(const Record& record, const Analysis
   const auto too_short = [&] {
     return InputError("the record (" + std::to_string(result.samples) +
                       " samples) is too short for the streaming estimator, whose lowest point needs 12 "
-                      "segments; use --estimator welch");
+                      "segments; use {estimator} welch");
   };
   if (request.omega_min <= 0 && config.omega_min >= full_rate_band_floor(record.dt)) throw too_short();
   SpectrumEstimator estimator(config, 1);
@@ -183,7 +183,7 @@ std::vector<AnalysisPoint> welch_points(const Record& record, const AnalysisRequ
     points.push_back(p);
   }
   if (points.empty())
-    throw InputError("no spectrum point between --omega-min and --omega-max (the record's bins are " +
+    throw InputError("no spectrum point between {omega_min} and {omega_max} (the record's bins are " +
                      util::format_number(result.welch.bin_spacing) + " rad/s apart)");
   return points;
 }
@@ -229,25 +229,25 @@ bool readings_on_grid(const std::vector<double>& x, double q) {
 
 void check_band(const AnalysisRequest& request) {
   for (const auto& [option, omega] :
-       {std::pair{"--omega-min", request.omega_min}, std::pair{"--omega-max", request.omega_max}})
+       {std::pair{"{omega_min}", request.omega_min}, std::pair{"{omega_max}", request.omega_max}})
     if (!(omega >= 0) || !std::isfinite(omega))
       throw InputError(std::string(option) + ": " + util::format_number(omega) +
                        " is not a frequency > 0 in rad/s (leave it out for what the record allows)");
   if (request.omega_min > 0 && request.omega_max > 0 && request.omega_min >= request.omega_max)
-    throw InputError("--omega-min " + util::format_number(request.omega_min) + " must be below --omega-max " +
+    throw InputError("{omega_min} " + util::format_number(request.omega_min) + " must be below {omega_max} " +
                      util::format_number(request.omega_max));
   if (request.points_per_decade < 1 || request.points_per_decade > 100)
-    throw InputError("--points: must be between 1 and 100 per decade");
+    throw InputError("{points}: must be between 1 and 100 per decade");
 }
 
 RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& request) {
   if (request.resolution < 0 || !std::isfinite(request.resolution))
-    throw InputError("--resolution: must be a length >= 0 in metres");
+    throw InputError("{resolution}: must be a length >= 0 in metres");
   if (request.sensor_noise < 0 || !std::isfinite(request.sensor_noise))
-    throw InputError("--sensor-noise: must be a length >= 0 in metres");
+    throw InputError("{sensor_noise}: must be a length >= 0 in metres");
   check_band(request);
   if (record.observable == Observable::force && request.resolution + request.sensor_noise > 0)
-    throw InputError(std::string(request.resolution > 0 ? "--resolution" : "--sensor-noise") +
+    throw InputError(std::string(request.resolution > 0 ? "{resolution}" : "{sensor_noise}") +
                      ": a displacement sensor's floor, and the observable is the force; leave it out");
   RecordSpectrum result;
   result.observable = record.observable;
@@ -268,7 +268,7 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
                                           : "automatic: up to " + std::to_string(kWelchLargestRecord) +
                                                 " samples, Welch reaches down to 9 x 2 pi / T";
   } else {
-    result.estimator_reason = "--estimator";
+    result.estimator_reason = "{estimator}";
   }
   AnalysisRequest band = request;
   if (record.interpolation_cut > 0 && !(request.omega_max > 0 && request.omega_max <= record.interpolation_cut)) {
@@ -316,7 +316,7 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
 }
 
 SlopeFit fit_slope(const RecordSpectrum& spectrum, double omega_low, double omega_high) {
-  if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("--fit-slope: need 0 < LO < HI in rad/s");
+  if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("{fit_slope}: need 0 < LO < HI in rad/s");
   SlopeFit fit;
   fit.omega_low = omega_low;
   fit.omega_high = omega_high;
@@ -333,7 +333,7 @@ SlopeFit fit_slope(const RecordSpectrum& spectrum, double omega_low, double omeg
   }
   fit.points = static_cast<int>(u.size());
   if (fit.points < 3)
-    throw InputError("--fit-slope: the band holds " + std::to_string(fit.points) +
+    throw InputError("{fit_slope}: the band holds " + std::to_string(fit.points) +
                      " points above the sensor floor; a slope and its error need at least 3");
   const WeightedLine line = weighted_line(u, y, sigma);
   fit.slope = line.b;
@@ -343,8 +343,84 @@ SlopeFit fit_slope(const RecordSpectrum& spectrum, double omega_low, double omeg
   return fit;
 }
 
+namespace {
+
+struct PowerLawSolution {
+  double amplitude, floor, chi2;
+};
+
+/// For a slope the power law is linear in (amplitude, floor): their weighted least squares,
+/// the floor held at 0 where it would fall below, and the chi2 there.
+PowerLawSolution power_law_at(double slope, const RecordSpectrum& spectrum, const std::vector<std::size_t>& inside,
+                              const std::vector<double>& sigma, double pivot, bool floor_given) {
+  double saa = 0, saf = 0, sff = 0, sac = 0, sfc = 0;
+  for (std::size_t k : inside) {
+    const AnalysisPoint& p = spectrum.points[k];
+    const double w = 1 / (sigma[k] * sigma[k]), a = std::pow(p.omega / pivot, slope);
+    const double c = floor_given ? p.C_x - p.noise_floor : p.C_x;
+    saa += w * a * a, saf += w * a, sff += w, sac += w * a * c, sfc += w * c;
+  }
+  PowerLawSolution best{sac / saa, 0, 0};
+  if (!floor_given) {
+    const double det = saa * sff - saf * saf;
+    const double amplitude = (sac * sff - saf * sfc) / det, floor = (saa * sfc - saf * sac) / det;
+    if (floor > 0) best = {amplitude, floor, 0};  // a floor below zero is no floor: held at 0
+  }
+  for (std::size_t k : inside) {
+    const AnalysisPoint& p = spectrum.points[k];
+    const double model = best.amplitude * std::pow(p.omega / pivot, slope) + (floor_given ? p.noise_floor : best.floor);
+    best.chi2 += std::pow((p.C_x - model) / sigma[k], 2);
+  }
+  return best;
+}
+
+/// The errors and correlations of (amplitude, slope, floor) from the Jacobian at the optimum,
+/// scaled by chi2/dof when the scatter says so.
+void power_law_errors(const RecordSpectrum& spectrum, const std::vector<std::size_t>& inside,
+                      const std::vector<double>& sigma, int parameters, PowerLawFit& fit) {
+  Eigen::MatrixXd jacobian(fit.points, parameters);
+  for (int i = 0; i < fit.points; ++i) {
+    const AnalysisPoint& p = spectrum.points[inside[std::size_t(i)]];
+    const double a = std::pow(p.omega / fit.pivot, fit.slope), s = sigma[inside[std::size_t(i)]];
+    jacobian(i, 0) = a / s;
+    jacobian(i, 1) = fit.amplitude * a * std::log(p.omega / fit.pivot) / s;
+    if (!fit.floor_given) jacobian(i, 2) = 1 / s;
+  }
+  const Eigen::MatrixXd covariance = (jacobian.transpose() * jacobian).inverse() * std::max(1.0, fit.chi2_per_dof);
+  fit.amplitude_error = std::sqrt(covariance(0, 0));
+  fit.slope_error = std::sqrt(covariance(1, 1));
+  fit.floor_error = fit.floor_given ? 0 : std::sqrt(covariance(2, 2));
+  for (int i = 0; i < parameters; ++i)
+    for (int j = 0; j < parameters; ++j)
+      fit.correlation[i][j] = covariance(i, j) / std::sqrt(covariance(i, i) * covariance(j, j));
+}
+
+/// Each point's model and residual inside the band, and what the band leaves open.
+void power_law_model(const RecordSpectrum& spectrum, const std::vector<std::size_t>& inside,
+                     const std::vector<double>& sigma, PowerLawFit& fit) {
+  fit.model.assign(spectrum.points.size(), std::numeric_limits<double>::quiet_NaN());
+  fit.residuals = fit.model;
+  for (std::size_t k : inside) {
+    const AnalysisPoint& p = spectrum.points[k];
+    fit.model[k] = fit.amplitude * std::pow(p.omega / fit.pivot, fit.slope) + fit.floor;
+    fit.residuals[k] = (p.C_x - fit.model[k]) / sigma[k];
+  }
+  std::string undetermined;
+  if (!fit.floor_given && !(fit.floor > 2 * fit.floor_error)) {
+    undetermined = "the white floor is not determined (below the spectrum across the band; at most " +
+                   util::short_number(fit.floor + 2 * fit.floor_error) + " " + spectrum_unit(spectrum.observable) +
+                   "); ";
+  }
+  fit.undetermined = undetermined +
+                     "a power law and a white floor say nothing of the model's alpha, N and a, which enter only "
+                     "through the amplitude and the corner frequencies: fit them with {compare_case} and {fit} "
+                     "alpha,a (a machine-driven record through its spring with {machine_stiffness})";
+}
+
+}  // namespace
+
 PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, double omega_high) {
-  if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("--fit-band: need 0 < LO < HI in rad/s");
+  if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("{fit_band}: need 0 < LO < HI in rad/s");
   PowerLawFit fit;
   fit.omega_low = omega_low, fit.omega_high = omega_high;
   fit.floor_given = spectrum.quantization_variance + spectrum.sensor_noise_variance > 0;
@@ -359,7 +435,7 @@ PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, doub
   const int parameters = fit.floor_given ? 2 : 3;
   fit.points = int(inside.size());
   if (fit.points < parameters + 1)
-    throw InputError("--fit power-law: the band " + util::format_number(omega_low) + " .. " +
+    throw InputError("{fit} power-law: the band " + util::format_number(omega_low) + " .. " +
                      util::format_number(omega_high) + " rad/s holds " + std::to_string(fit.points) +
                      " usable points; amplitude, slope" + (fit.floor_given ? "" : " and floor") + " need at least " +
                      std::to_string(parameters + 1));
@@ -369,42 +445,20 @@ PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, doub
   // For a slope s the model is linear in (amplitude, floor): solve it, keep the best s.
   std::vector<double> sigma(spectrum.points.size()), shape(spectrum.points.size());
   for (std::size_t k : inside) sigma[k] = spectrum.points[k].standard_error;
-  struct Solution {
-    double amplitude, floor, chi2;
-  };
   const auto solve = [&](double slope) {
-    double saa = 0, saf = 0, sff = 0, sac = 0, sfc = 0;
-    for (std::size_t k : inside) {
-      const AnalysisPoint& p = spectrum.points[k];
-      const double w = 1 / (sigma[k] * sigma[k]), a = std::pow(p.omega / fit.pivot, slope);
-      const double c = fit.floor_given ? p.C_x - p.noise_floor : p.C_x;
-      saa += w * a * a, saf += w * a, sff += w, sac += w * a * c, sfc += w * c;
-    }
-    Solution best{sac / saa, 0, 0};
-    if (!fit.floor_given) {
-      const double det = saa * sff - saf * saf;
-      const double amplitude = (sac * sff - saf * sfc) / det, floor = (saa * sfc - saf * sac) / det;
-      if (floor > 0) best = {amplitude, floor, 0};  // a floor below zero is no floor: held at 0
-    }
-    for (std::size_t k : inside) {
-      const AnalysisPoint& p = spectrum.points[k];
-      const double model =
-          best.amplitude * std::pow(p.omega / fit.pivot, slope) + (fit.floor_given ? p.noise_floor : best.floor);
-      best.chi2 += std::pow((p.C_x - model) / sigma[k], 2);
-    }
-    return best;
+    return power_law_at(slope, spectrum, inside, sigma, fit.pivot, fit.floor_given);
   };
   constexpr double kSteepest = kSteepestPowerLawSlope, kFlattest = kFlattestPowerLawSlope, kScanStep = 0.01;
-  Solution best{0, 0, std::numeric_limits<double>::infinity()};
+  PowerLawSolution best{0, 0, std::numeric_limits<double>::infinity()};
   for (int iteration = 0; iteration < 4; ++iteration) {
     best.chi2 = std::numeric_limits<double>::infinity();
     for (double slope = kSteepest; slope <= kFlattest; slope += kScanStep) {
-      const Solution trial = solve(slope);
+      const PowerLawSolution trial = solve(slope);
       if (trial.chi2 < best.chi2) best = trial, fit.slope = slope;
     }
     for (double step = kScanStep / 2; step > 1e-6; step /= 2)  // refine about the grid's best
       for (const double slope : {fit.slope - step, fit.slope + step}) {
-        const Solution trial = solve(slope);
+        const PowerLawSolution trial = solve(slope);
         if (trial.chi2 < best.chi2) best = trial, fit.slope = slope;
       }
     // Weights from the model's level, as for alpha: a point that happens to be low has a
@@ -424,41 +478,8 @@ PowerLawFit fit_power_law(const RecordSpectrum& spectrum, double omega_low, doub
   fit.floor = fit.floor_given ? spectrum.points[inside.front()].noise_floor : best.floor;
   fit.chi2_per_dof = best.chi2 / fit.dof;
 
-  // Covariance from the Jacobian at the optimum, scaled by chi2/dof when the scatter says so.
-  Eigen::MatrixXd jacobian(fit.points, parameters);
-  for (int i = 0; i < fit.points; ++i) {
-    const AnalysisPoint& p = spectrum.points[inside[std::size_t(i)]];
-    const double a = std::pow(p.omega / fit.pivot, fit.slope), s = sigma[inside[std::size_t(i)]];
-    jacobian(i, 0) = a / s;
-    jacobian(i, 1) = fit.amplitude * a * std::log(p.omega / fit.pivot) / s;
-    if (!fit.floor_given) jacobian(i, 2) = 1 / s;
-  }
-  const Eigen::MatrixXd covariance = (jacobian.transpose() * jacobian).inverse() * std::max(1.0, fit.chi2_per_dof);
-  fit.amplitude_error = std::sqrt(covariance(0, 0));
-  fit.slope_error = std::sqrt(covariance(1, 1));
-  fit.floor_error = fit.floor_given ? 0 : std::sqrt(covariance(2, 2));
-  for (int i = 0; i < parameters; ++i)
-    for (int j = 0; j < parameters; ++j)
-      fit.correlation[i][j] = covariance(i, j) / std::sqrt(covariance(i, i) * covariance(j, j));
-
-  fit.model.assign(spectrum.points.size(), std::numeric_limits<double>::quiet_NaN());
-  fit.residuals = fit.model;
-  for (std::size_t k : inside) {
-    const AnalysisPoint& p = spectrum.points[k];
-    fit.model[k] = fit.amplitude * std::pow(p.omega / fit.pivot, fit.slope) + fit.floor;
-    fit.residuals[k] = (p.C_x - fit.model[k]) / sigma[k];
-  }
-  std::string undetermined;
-  if (!fit.floor_given && !(fit.floor > 2 * fit.floor_error)) {
-    char bound[32];
-    std::snprintf(bound, sizeof bound, "%.3g", fit.floor + 2 * fit.floor_error);
-    undetermined = std::string("the white floor is not determined (below the spectrum across the band; at most ") +
-                   bound + " " + spectrum_unit(spectrum.observable) + "); ";
-  }
-  fit.undetermined = undetermined +
-                     "a power law and a white floor say nothing of the model's alpha, N and a, which enter only "
-                     "through the amplitude and the corner frequencies: fit them with --compare-case and --fit "
-                     "alpha,a (a machine-driven record through its spring with --machine-stiffness)";
+  power_law_errors(spectrum, inside, sigma, parameters, fit);
+  power_law_model(spectrum, inside, sigma, fit);
   return fit;
 }
 
@@ -468,9 +489,9 @@ std::pair<double, double> default_alpha_band(const RecordSpectrum& s, const Para
   const double high = std::min(s.usable_high, l.omega_c / 3);
   if (!(s.usable_high > s.usable_low)) throw InputError(detail::no_usable_band_for_fit("alpha"));
   if (!(high > low))
-    throw InputError("--fit alpha: the usable band " + util::format_number(s.usable_low) + " .. " +
+    throw InputError("{fit} alpha: the usable band " + util::format_number(s.usable_low) + " .. " +
                      util::format_number(s.usable_high) +
-                     " rad/s misses the model's omega^-4 band; give --fit-band LO HI");
+                     " rad/s misses the model's omega^-4 band; give {fit_band} LO HI");
   return {low, high};
 }
 
@@ -509,7 +530,7 @@ std::vector<double> model_spectrum(const RecordSpectrum& spectrum, const Paramet
     if (!(params.drive == Drive::spring && params.k_drive > 0))
       throw InputError(
           "the model's force spectrum is the spring's, k_drive^2 C_x: the compared case needs "
-          "drive = spring and k_drive > 0 (--set drive=spring --set k_drive=K)");
+          "drive = spring and k_drive > 0 ({set} drive=spring {set} k_drive=K)");
     for (double& value : values) value = spring_force_spectrum(params, value);
   }
   return values;
@@ -520,7 +541,7 @@ namespace {
 // nothing when the band gives no positive alpha^2.
 std::optional<AlphaFit> fit_alpha_to(const RecordSpectrum& spectrum, const std::vector<double>& template_spectrum,
                                      double omega_low, double omega_high) {
-  if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("--fit-band: need 0 < LO < HI in rad/s");
+  if (!(omega_low > 0 && omega_high > omega_low)) throw InputError("{fit_band}: need 0 < LO < HI in rad/s");
   std::vector<std::size_t> inside;
   for (std::size_t k = 0; k < spectrum.points.size(); ++k)
     if (spectrum.points[k].omega >= omega_low && spectrum.points[k].omega <= omega_high) inside.push_back(k);
@@ -528,7 +549,7 @@ std::optional<AlphaFit> fit_alpha_to(const RecordSpectrum& spectrum, const std::
   fit.omega_low = omega_low;
   fit.omega_high = omega_high;
   fit.points = static_cast<int>(inside.size());
-  if (inside.empty()) throw InputError("--fit-band: no spectrum point between LO and HI");
+  if (inside.empty()) throw InputError("{fit_band}: no spectrum point between LO and HI");
 
   // Weights from the model, not from each point's own error bar: an estimate that happens
   // to be high also has a high scatter, and 1/SE^2 weights would pull alpha down. The
@@ -568,7 +589,7 @@ AlphaFit fit_alpha(const RecordSpectrum& spectrum, const Parameters& params, dou
   unit_noise.alpha = 1;
   const std::optional<AlphaFit> first =
       fit_alpha_to(spectrum, model_spectrum(spectrum, unit_noise, ModelOrder::first), omega_low, omega_high);
-  if (!first) throw InputError("--fit alpha: the measured spectrum gives no positive alpha^2 in the band");
+  if (!first) throw InputError("{fit} alpha: the measured spectrum gives no positive alpha^2 in the band");
   AlphaFit fit = *first;
   // The second-order shape depends on alpha: refit at the alpha found until it settles
   // (the shape changes by O(eps^2) per step, so a few steps reach the rounding). Where no

@@ -10,16 +10,12 @@
 #include <vector>
 
 #include "slidespec/input_error.hpp"
+#include "util/numbers.hpp"
 #include "util/suggest.hpp"
 
 namespace slidespec::detail {
 
-/// A number to three significant digits, as messages and notes give it.
-inline std::string short_number(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", x);
-  return text;
-}
+using util::short_number;
 
 /// A word and the value it names; a table may give several words for one value, the first
 /// of them its name.

@@ -18,24 +18,27 @@ const std::string kNoUsableBand = std::string("none: ") + kFloorFromTheLowestPoi
 }  // namespace
 
 std::string no_usable_band_for_fit(const std::string& fit) {
-  return "--fit " + fit + ": no usable band (" + kFloorFromTheLowestPoint + "); give --fit-band LO HI";
+  return "{fit} " + fit + ": no usable band (" + kFloorFromTheLowestPoint + "); give {fit_band} LO HI";
 }
 
+}  // namespace slidespec::detail
+
+namespace slidespec {
+
 std::string top_set_by(const RecordSpectrum& s) {
-  if (!(s.usable_high > s.usable_low)) return kNoUsableBand;
+  if (!(s.usable_high > s.usable_low)) return detail::kNoUsableBand;
   if (s.usable_high_set_by_floor) return "the sensor floor reaching 10% of the spectrum";
   if (s.top_set_by_interpolation)
-    return "the interpolation filter of resampling samples " + short_number(s.interpolation_interval) + " s apart";
+    return "the interpolation filter of resampling samples " + detail::short_number(s.interpolation_interval) +
+           " s apart";
   if (s.top_set_by_omega_max) return "the omega_max asked for";
   if (s.estimator == Estimator::welch) return "the bin below Nyquist";
   return "half of Nyquist";
 }
 
-std::string usable_band_line(const RecordSpectrum& s) {
-  if (!(s.usable_high > s.usable_low)) return std::string("none  # ") + kNoUsableBand;
-  return util::format_number(s.usable_low) + " .. " + util::format_number(s.usable_high) + "  # [rad/s], top set by " +
-         top_set_by(s);
-}
+}  // namespace slidespec
+
+namespace slidespec::detail {
 
 nlohmann::ordered_json spectrum_json(const RecordSpectrum& s, const std::vector<double>& theory) {
   nlohmann::ordered_json doc;
@@ -151,7 +154,7 @@ Verdict judge_model(const ModelFit& fit) {
   for (const std::string& name : fit.at_search_edge)
     add_reason(verdict, name +
                             " ran to the edge of its search range (a factor 1e4 from the compared case's): the "
-                            "band does not bound it; fix it with --set and fit fewer parameters");
+                            "band does not bound it; fix it with {set} and fit fewer parameters");
   const TheoryChoice holds = best_theory(fit.fitted);
   if (holds.kind == TheoryKind::none) add_reason(verdict, "no theory holds at the fitted parameters: " + holds.reason);
   return verdict;
@@ -252,3 +255,56 @@ nlohmann::ordered_json model_fit_json(const ModelFit& m, const Verdict& verdict)
 }
 
 }  // namespace slidespec::detail
+
+namespace slidespec {
+
+nlohmann::ordered_json analysis_json(const AnalysisReport& r, const std::string& file, const std::string& compare_case,
+                                     const nlohmann::ordered_json& model_parameters, FrontEnd reader) {
+  const RecordSpectrum& s = r.spectrum;
+  nlohmann::ordered_json doc;
+  doc["slidespec_version"] = SLIDESPEC_VERSION;
+  doc["ok"] = r.ok();
+  if (!file.empty()) doc["record"]["file"] = file;
+  doc["record"].update({{"column", r.record.column},
+                        {"units", to_string(r.record.unit)},
+                        {"units_from", r.record.unit_source},
+                        {"samples", s.samples},
+                        {"dt", s.dt},
+                        {"duration", s.duration}});
+  nlohmann::ordered_json spectrum = detail::spectrum_json(s, r.model_values);
+  nlohmann::ordered_json points = std::move(spectrum["points"]);
+  spectrum.erase("points");
+  doc.update(spectrum);  // in the spectrum's order; its points come last, after the fits
+  if (s.observable != Observable::displacement) doc["observable"]["force_channel"] = r.record.force_channel;
+  if (s.observable == Observable::slip) doc["observable"]["machine_stiffness"] = r.record.machine_stiffness;
+  if (r.mu) doc["mu"] = *r.mu;
+  doc["resolution"] = r.request.resolution;
+  doc["sensor_noise"] = r.request.sensor_noise;
+  doc["notes"] = nlohmann::ordered_json::array();
+  for (const AnalysisMessage& note : r.notes) doc["notes"].push_back(worded(note.text, reader));
+  // The span analyzed, in record time; its last sample counted in displacement samples.
+  doc["record"]["start_time"] = r.record.start_time;
+  doc["record"]["end_time"] = r.record.start_time + double(r.record.displacement.size() - 1) * r.record.dt;
+  if (r.slope) doc["slope_fit"] = detail::slope_fit_json(*r.slope, r.slope_verdict);
+  if (r.power_law) doc["power_law_fit"] = detail::power_law_json(*r.power_law, r.power_law_verdict);
+  if (r.model_fit) doc["model_fit"] = detail::model_fit_json(*r.model_fit, r.model_fit_verdict);
+  if (r.model) {
+    doc["compare_case"] = compare_case;
+    doc["model_parameters"] = model_parameters;
+    doc["theory_order"] = r.model_order;
+  }
+  if (r.alpha) doc["alpha_fit"] = detail::alpha_fit_json(*r.alpha, r.alpha_verdict);
+  doc["points"] = std::move(points);
+  // The library's words that may name options, as the reader spells them.
+  const auto word = [reader](nlohmann::ordered_json& field) { field = worded(field.get<std::string>(), reader); };
+  word(doc["estimator"]["reason"]);
+  if (doc.contains("spectrum_failure")) word(doc["spectrum_failure"]);
+  for (const char* fit : {"slope_fit", "power_law_fit", "model_fit", "alpha_fit"})
+    if (doc.contains(fit)) {
+      word(doc[fit]["failure"]);
+      if (doc[fit].contains("undetermined")) word(doc[fit]["undetermined"]);
+    }
+  return doc;
+}
+
+}  // namespace slidespec

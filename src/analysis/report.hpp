@@ -1,5 +1,5 @@
-// The JSON of a record's spectrum: one writer for `slidespec analyze` and Python's ss.analyze,
-// so that both give the same fields under the same names.
+// The analysis document: one JSON writer for `slidespec analyze` and Python's ss.analyze, so
+// that both give the same fields under the same names; and the verdicts on each fit.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -7,20 +7,24 @@
 #include <vector>
 
 #include "slidespec/analysis.hpp"
+#include "slidespec/options.hpp"
+
+namespace slidespec {
+
+/// The analysis as `slidespec analyze` writes PREFIX.json: the record (`file` when not
+/// empty), the spectrum's fields, each fit with its verdict, the compared case (its
+/// parameters as `model_parameters` gives them) and every point; notes worded for `reader`.
+nlohmann::ordered_json analysis_json(const AnalysisReport& report, const std::string& file,
+                                     const std::string& compare_case, const nlohmann::ordered_json& model_parameters,
+                                     FrontEnd reader);
+
+}  // namespace slidespec
 
 namespace slidespec::detail {
-
-/// What sets the top of the usable band, in words: the sensor floor, the interpolation
-/// filter of a resampled record, the estimator's top or the omega_max asked for.
-std::string top_set_by(const RecordSpectrum& spectrum);
 
 /// The refusal of a fit over the default band, the usable one, when there is none: "--fit
 /// `fit`: no usable band (why); give --fit-band LO HI".
 std::string no_usable_band_for_fit(const std::string& fit);
-
-/// The usable band as the table's `# usable_band =` line gives it: "LO .. HI  # [rad/s], top set
-/// by ...", or "none  # ..." when the floor leaves no band.
-std::string usable_band_line(const RecordSpectrum& spectrum);
 
 /// The spectrum's own fields: observable, the mean motion (or force) removed, the floor's
 /// variance, usable band, estimator, whether it is a spectrum at all (`spectrum_ok`, and
@@ -30,10 +34,6 @@ nlohmann::ordered_json spectrum_json(const RecordSpectrum& spectrum, const std::
 /// Whether a fit describes the data (docs/analysis.md, "Judging a fit"): chi2/dof within a few
 /// of its standard deviations sqrt(2/dof) of 1, at least 3 allowed for correlated neighbours;
 /// an alpha or model fit also where a theory holds, and a model fit only once it settled.
-struct Verdict {
-  bool ok = true;
-  std::string reason;  ///< why not, in words ("" when ok)
-};
 Verdict judge_chi2(double chi2_per_dof, int dof);
 Verdict judge_alpha(const AlphaFit& fit, const Parameters& fitted);
 Verdict judge_model(const ModelFit& fit);

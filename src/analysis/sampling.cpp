@@ -145,20 +145,111 @@ std::string interpolation_cut_words(const Record& record) {
          " rad/s, where the band is cut (acos(0.85) / d, d " + interval + ")";
 }
 
-void make_uniform(Record& record, const std::vector<double>& time, const std::vector<int>& where,
-                  const std::string& source, const std::string& place, const RecordFormat& format) {
-  const auto at = [&](std::size_t i) { return source + ": " + place + " " + std::to_string(where[i]) + ": "; };
+/// The samples of `time` within the format's window, [first, last); all of them without one.
+std::pair<std::size_t, std::size_t> window_span(const std::vector<double>& time, const RecordFormat& format) {
   std::size_t first = 0, last = time.size();
   if (format.window) {
     const auto [t0, t1] = *format.window;
     while (first < last && time[first] < t0) ++first;
     while (last > first && time[last - 1] > t1) --last;
     if (last - first < std::min(kFewestSamples, time.size()))
-      throw InputError("--window " + shortest(t0) + ":" + shortest(t1) + ": holds " + std::to_string(last - first) +
+      throw InputError("{window} " + shortest(t0) + ":" + shortest(t1) + ": holds " + std::to_string(last - first) +
                        " samples, fewer than the " + std::to_string(kFewestSamples) +
                        " a spectrum needs; the record runs from " + shortest(time.front()) + " to " +
                        shortest(time.back()) + " s (record time)");
   }
+  return {first, last};
+}
+
+/// A record whose sampling rate changes: its longest part in time (docs/analysis.md: the
+/// length sets the lowest omega and the scatter at every omega), said so in a note that lists
+/// the others and names the part with the most samples when it is another. Returns the part.
+std::pair<std::size_t, std::size_t> longest_part(Record& record, const std::vector<double>& t,
+                                                 const std::vector<std::pair<std::size_t, std::size_t>>& parts) {
+  const auto duration = [&](const auto& p) { return t[p.second - 1] - t[p.first]; };
+  const auto longest = std::max_element(parts.begin(), parts.end(),
+                                        [&](const auto& p, const auto& q) { return duration(p) < duration(q); });
+  const auto most = std::max_element(
+      parts.begin(), parts.end(), [](const auto& p, const auto& q) { return p.second - p.first < q.second - q.first; });
+  const auto span = [&](const auto& p) { return seconds(t[p.first]) + ".." + seconds(t[p.second - 1]) + " s"; };
+  std::string note = "the sampling rate changes inside the record (parts: " + describe_parts(t, parts) +
+                     "); analyzing the longest part in time, " + span(*longest) + " (" + shortest(duration(*longest)) +
+                     " s: the length sets the lowest omega and the scatter at every omega); ";
+  if (most != longest)
+    note += "the part " + span(*most) + " holds the most samples (" + std::to_string(most->second - most->first) +
+            ") and reaches higher omega: {window} " + seconds(t[most->first]) + ":" + seconds(t[most->second - 1]) +
+            " picks it";
+  else
+    note += "{window} T0:T1 picks another";
+  record.notes.push_back(note + ", {resample} DT interpolates the whole record");
+  return *longest;
+}
+
+/// Every channel interpolated linearly onto a grid every `grid` seconds from t[0], said in a note.
+void resample(Record& record, const std::vector<double>& t, const std::vector<double>& d, double typical, double grid) {
+  // Checked before anything is allocated: a grid far finer than the record would not fit
+  // in memory, and one coarser than the record holds no spectrum.
+  const double count = std::floor((t.back() - t.front()) / grid) + 1;
+  if (!(count >= double(kFewestSamples)) || count > double(kMostResampledSamples))
+    throw InputError("{resample} " + shortest(grid) + ": a grid every " + shortest(grid) + " s over the record's " +
+                     shortest(t.back() - t.front()) + " s gives " + shortest(count) + " samples; it needs " +
+                     std::to_string(kFewestSamples) + " to " + shortest(double(kMostResampledSamples)) +
+                     " (the record's median interval is " + shortest(typical) + " s)");
+  const auto samples = static_cast<std::size_t>(count);
+  for (std::vector<double>* channel : {&record.displacement, &record.force}) {
+    if (channel->empty()) continue;
+    const std::vector<double>& x = *channel;
+    std::vector<double> resampled(samples);
+    std::size_t j = 0;
+    for (std::size_t k = 0; k < samples; ++k) {
+      const double tk = t.front() + double(k) * grid;
+      while (j + 2 < t.size() && t[j + 1] <= tk) ++j;
+      const double f = (tk - t[j]) / (t[j + 1] - t[j]);
+      resampled[k] = (1 - f) * x[j] + f * x[j + 1];
+    }
+    *channel = std::move(resampled);
+  }
+  record.dt = grid;
+  record.resampled = true;
+  // The loss is set by the input intervals (the offsets' spread), the grid's Nyquist by dt.
+  set_interpolation_cut(record);
+  record.notes.push_back(
+      "resampled onto a uniform grid every " + shortest(grid) + " s by linear interpolation (intervals " +
+      shortest(*std::min_element(d.begin(), d.end())) + ".." + shortest(*std::max_element(d.begin(), d.end())) +
+      " s, median " + shortest(typical) + " s); " + interpolation_cut_words(record) +
+      (grid > 1.5 * typical ? "; a grid coarser than the samples aliases what lies above its Nyquist" : ""));
+}
+
+/// Refuses sampling beyond the tolerance with only what would be accepted: a tolerance below
+/// the limit, and for a gap the longest stretch without one.
+[[noreturn]] void refuse_jitter(const std::string& where, const std::vector<double>& t, const std::vector<double>& d,
+                                double typical, std::size_t worst, double jitter, bool gap,
+                                const RecordFormat& format) {
+  const double longest_interval = *std::max_element(d.begin(), d.end());
+  std::string advice = "give {resample} median to interpolate onto a uniform grid";
+  if (gap) {
+    const auto [from, to] = longest_without_gap(t, typical);
+    if (to - from >= kFewestSamples)
+      advice = "give {window} " + seconds(t[from]) + ":" + seconds(t[to - 1]) +
+               " to analyze the longest stretch without a gap (" + std::to_string(to - from) +
+               " samples), or {resample} median to interpolate across the gap";
+    else
+      advice += " (across the gap)";
+  }
+  const double accepting = std::ceil(jitter * 100 + 1e-9) / 100;
+  if (accepting < kLoosestTimeTolerance)
+    advice += ", or {time_tolerance} " + shortest(accepting) + " to treat it as uniform";
+  throw InputError(where + "sampling is not uniform: interval " + shortest(d[worst - 1]) + " s where the median is " +
+                   shortest(typical) + " s (intervals " + shortest(*std::min_element(d.begin(), d.end())) + ".." +
+                   shortest(*std::max_element(d.begin(), d.end())) + " s, " + shortest(jitter * 100) +
+                   "% off; tolerance " + shortest(format.time_tolerance * 100) + "%" +
+                   (gap ? ", a gap of " + shortest(longest_interval / typical) + " intervals" : "") + "); " + advice);
+}
+
+void make_uniform(Record& record, const std::vector<double>& time, const std::vector<int>& where,
+                  const std::string& source, const std::string& place, const RecordFormat& format) {
+  const auto at = [&](std::size_t i) { return source + ": " + place + " " + std::to_string(where[i]) + ": "; };
+  const auto [first, last] = window_span(time, format);
   std::vector<double> t(time.begin() + std::ptrdiff_t(first), time.begin() + std::ptrdiff_t(last));
   keep_samples(record, first, last);
   std::size_t offset = first;  // of t[0] in `time`, for the messages
@@ -172,32 +263,12 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
   const bool forced = format.resample == Resampling::median || format.resample == Resampling::interval;
   if (parts.size() > 1 && !forced) {
     if (format.window)
-      throw InputError(source + ": the sampling rate changes inside --window (parts: " + describe_parts(t, parts) +
-                       "); give a --window inside one part, or --resample DT (or median) to interpolate");
-    // The longest part in time (docs/analysis.md: the length sets the lowest omega and the
-    // scatter at every omega), said so; the others are listed in the note, and the part with
-    // the most samples named when it is another.
-    const auto duration = [&](const auto& p) { return t[p.second - 1] - t[p.first]; };
-    const auto longest = std::max_element(parts.begin(), parts.end(),
-                                          [&](const auto& p, const auto& q) { return duration(p) < duration(q); });
-    const auto most = std::max_element(parts.begin(), parts.end(), [](const auto& p, const auto& q) {
-      return p.second - p.first < q.second - q.first;
-    });
-    const auto span = [&](const auto& p) { return seconds(t[p.first]) + ".." + seconds(t[p.second - 1]) + " s"; };
-    std::string note = "the sampling rate changes inside the record (parts: " + describe_parts(t, parts) +
-                       "); analyzing the longest part in time, " + span(*longest) + " (" +
-                       shortest(duration(*longest)) +
-                       " s: the length sets the lowest omega and the scatter at every omega); ";
-    if (most != longest)
-      note += "the part " + span(*most) + " holds the most samples (" + std::to_string(most->second - most->first) +
-              ") and reaches higher omega: --window " + seconds(t[most->first]) + ":" + seconds(t[most->second - 1]) +
-              " picks it";
-    else
-      note += "--window T0:T1 picks another";
-    record.notes.push_back(note + ", --resample DT interpolates the whole record");
-    t = {t.begin() + std::ptrdiff_t(longest->first), t.begin() + std::ptrdiff_t(longest->second)};
-    keep_samples(record, longest->first, longest->second);
-    offset += longest->first;
+      throw InputError(source + ": the sampling rate changes inside {window} (parts: " + describe_parts(t, parts) +
+                       "); give a {window} inside one part, or {resample} DT (or median) to interpolate");
+    const auto [from, to] = longest_part(record, t, parts);
+    t = {t.begin() + std::ptrdiff_t(from), t.begin() + std::ptrdiff_t(to)};
+    keep_samples(record, from, to);
+    offset += from;
   }
 
   const std::vector<double> d = intervals(t, 0, t.size());
@@ -213,72 +284,17 @@ void make_uniform(Record& record, const std::vector<double>& time, const std::ve
   }
   record.jitter = jitter;
   record.start_time = t.front();
-  const double longest_interval = *std::max_element(d.begin(), d.end());
-  const bool gap = longest_interval > kGap * typical;
+  const bool gap = *std::max_element(d.begin(), d.end()) > kGap * typical;
   const bool jittered = jitter > format.time_tolerance;
-  if (forced || (jittered && !gap && format.resample == Resampling::automatic)) {
-    const double grid = format.resample == Resampling::interval ? format.resample_interval : typical;
-    // Checked before anything is allocated: a grid far finer than the record would not fit
-    // in memory, and one coarser than the record holds no spectrum.
-    const double count = std::floor((t.back() - t.front()) / grid) + 1;
-    if (!(count >= double(kFewestSamples)) || count > double(kMostResampledSamples))
-      throw InputError("--resample " + shortest(grid) + ": a grid every " + shortest(grid) + " s over the record's " +
-                       shortest(t.back() - t.front()) + " s gives " + shortest(count) + " samples; it needs " +
-                       std::to_string(kFewestSamples) + " to " + shortest(double(kMostResampledSamples)) +
-                       " (the record's median interval is " + shortest(typical) + " s)");
-    const auto samples = static_cast<std::size_t>(count);
-    for (std::vector<double>* channel : {&record.displacement, &record.force}) {
-      if (channel->empty()) continue;
-      const std::vector<double>& x = *channel;
-      std::vector<double> resampled(samples);
-      std::size_t j = 0;
-      for (std::size_t k = 0; k < samples; ++k) {
-        const double tk = t.front() + double(k) * grid;
-        while (j + 2 < t.size() && t[j + 1] <= tk) ++j;
-        const double f = (tk - t[j]) / (t[j + 1] - t[j]);
-        resampled[k] = (1 - f) * x[j] + f * x[j + 1];
-      }
-      *channel = std::move(resampled);
-    }
-    record.dt = grid;
-    record.resampled = true;
-    // The loss is set by the input intervals (the offsets' spread), the grid's Nyquist by dt.
-    set_interpolation_cut(record);
-    record.notes.push_back(
-        "resampled onto a uniform grid every " + shortest(grid) + " s by linear interpolation (intervals " +
-        shortest(*std::min_element(d.begin(), d.end())) + ".." + shortest(*std::max_element(d.begin(), d.end())) +
-        " s, median " + shortest(typical) + " s); " + interpolation_cut_words(record) +
-        (grid > 1.5 * typical ? "; a grid coarser than the samples aliases what lies above its Nyquist" : ""));
-    return;
-  }
-  if (jittered) {
-    // Only what would be accepted: a tolerance below the limit, and for a gap the longest
-    // stretch without one.
-    std::string advice = "give --resample median to interpolate onto a uniform grid";
-    if (gap) {
-      const auto [from, to] = longest_without_gap(t, typical);
-      if (to - from >= kFewestSamples)
-        advice = "give --window " + seconds(t[from]) + ":" + seconds(t[to - 1]) +
-                 " to analyze the longest stretch without a gap (" + std::to_string(to - from) +
-                 " samples), or --resample median to interpolate across the gap";
-      else
-        advice += " (across the gap)";
-    }
-    const double accepting = std::ceil(jitter * 100 + 1e-9) / 100;
-    if (accepting < kLoosestTimeTolerance)
-      advice += ", or --time-tolerance " + shortest(accepting) + " to treat it as uniform";
-    throw InputError(at(offset + worst) + "sampling is not uniform: interval " + shortest(d[worst - 1]) +
-                     " s where the median is " + shortest(typical) + " s (intervals " +
-                     shortest(*std::min_element(d.begin(), d.end())) + ".." +
-                     shortest(*std::max_element(d.begin(), d.end())) + " s, " + shortest(jitter * 100) +
-                     "% off; tolerance " + shortest(format.time_tolerance * 100) + "%" +
-                     (gap ? ", a gap of " + shortest(longest_interval / typical) + " intervals" : "") + "); " + advice);
-  }
+  if (forced || (jittered && !gap && format.resample == Resampling::automatic))
+    return resample(record, t, d, typical,
+                    format.resample == Resampling::interval ? format.resample_interval : typical);
+  if (jittered) refuse_jitter(at(offset + worst), t, d, typical, worst, jitter, gap, format);
   record.dt = (t.back() - t.front()) / double(t.size() - 1);
   if (jitter > RecordFormat{}.time_tolerance)
     record.notes.push_back("treated as uniform every " + shortest(record.dt) +
                            " s although intervals deviate by up to " + shortest(jitter * 100) +
-                           "% (--time-tolerance); the jitter adds noise at high omega");
+                           "% ({time_tolerance}); the jitter adds noise at high omega");
 }
 
 void apply_window(Record& record, const RecordFormat& format, const std::string& source) {
@@ -288,7 +304,7 @@ void apply_window(Record& record, const RecordFormat& format, const std::string&
   const double a = std::max(0.0, std::ceil((t0 - record.start_time) / record.dt - 1e-9));
   const double b = std::min(double(record.samples() - 1), std::floor((t1 - record.start_time) / record.dt + 1e-9));
   if (!(b >= a) || b - a + 1 < double(kFewestSamples))
-    throw InputError(source + ": --window " + shortest(t0) + ":" + shortest(t1) + " holds " +
+    throw InputError(source + ": {window} " + shortest(t0) + ":" + shortest(t1) + " holds " +
                      std::to_string(b >= a ? std::size_t(b - a + 1) : 0) + " samples, fewer than the " +
                      std::to_string(kFewestSamples) + " a spectrum needs; the record runs from " +
                      shortest(record.start_time) + " to " + shortest(end) + " s (record time)");

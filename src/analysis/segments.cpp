@@ -119,8 +119,8 @@ Record longest_steady(const Record& record, const std::vector<SteadySegment>& se
                                         [](const auto& a, const auto& b) { return a.end - a.start < b.end - b.start; });
   char note[320];
   std::snprintf(note, sizeof note,
-                "the record holds %zu steady segment(s) (--segments lists them); analyzing the longest, %.10g:%.10g s "
-                "at %.3g m/s; --window T0:T1 picks another",
+                "the record holds %zu steady segment(s) ({segments} lists them); analyzing the longest, %.10g:%.10g s "
+                "at %.3g m/s; {window} T0:T1 picks another",
                 segments.size(), longest->start, longest->end, longest->mean_speed);
   notes.push_back(note);
   Record window = record_window(record, longest->start, longest->end);

@@ -17,17 +17,17 @@ constexpr double kMaxSamples = 1e8;
 
 Record synthesize_record(const Parameters& params, const SensorRequest& sensor) {
   if (!(sensor.sample_interval > 0 && std::isfinite(sensor.sample_interval)))
-    throw InputError("--sample-interval: must be a positive number of seconds");
+    throw InputError("{sample_interval}: must be a positive number of seconds");
   if (!(sensor.duration > 0 && std::isfinite(sensor.duration)))
-    throw InputError("--duration: must be a positive number of seconds");
+    throw InputError("{duration}: must be a positive number of seconds");
   if (!(sensor.resolution >= 0 && std::isfinite(sensor.resolution)))
-    throw InputError("--resolution: must be a length >= 0 in metres");
+    throw InputError("{resolution}: must be a length >= 0 in metres");
   if (!(sensor.sensor_noise >= 0 && std::isfinite(sensor.sensor_noise)))
-    throw InputError("--sensor-noise: must be a length >= 0 in metres");
+    throw InputError("{sensor_noise}: must be a length >= 0 in metres");
   const double samples = std::floor(sensor.duration / sensor.sample_interval) + 1;
   if (samples < 2 || samples > kMaxSamples) {
     std::ostringstream message;
-    message << "--duration / --sample-interval: " << samples << " samples; between 2 and 1e8 are allowed";
+    message << "{duration} / {sample_interval}: " << samples << " samples; between 2 and 1e8 are allowed";
     throw InputError(message.str());
   }
 

@@ -144,7 +144,7 @@ std::size_t welch_segment_samples(std::size_t samples, double dt, double omega_m
     const std::size_t longest = fft_friendly(2 * differences / (kFewestSegments + 1));
     if (wanted > static_cast<double>(longest)) {
       const double reachable = kLowestBin * 2 * std::numbers::pi / (static_cast<double>(longest) * dt);
-      throw InputError("--omega-min " + util::format_number(omega_min) + ": the record (" + std::to_string(samples) +
+      throw InputError("{omega_min} " + util::format_number(omega_min) + ": the record (" + std::to_string(samples) +
                        " samples, T = " + util::format_number(static_cast<double>(samples) * dt) +
                        " s) reaches down to " + util::format_number(reachable) + " rad/s (bin 2 of " +
                        std::to_string(kFewestSegments) +
@@ -165,31 +165,23 @@ std::size_t welch_segment_samples(std::size_t samples, double dt, double omega_m
   return length;
 }
 
-WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const WelchRequest& request) {
-  if (!(dt > 0)) throw InputError("welch: the sampling interval must be > 0");
-  constexpr std::size_t kFewestSamples = 64;
-  if (x.size() < kFewestSamples)
-    throw InputError("the record (" + std::to_string(x.size()) +
-                     " samples) is too short for a spectrum: need at least " + std::to_string(kFewestSamples));
-  WelchSpectrum out;
-  out.dt = dt;
-  const std::size_t length =
-      request.segment_samples > 0 ? request.segment_samples : welch_segment_samples(x.size(), dt, request.omega_min);
-  const std::size_t differences = x.size() - 1;
-  if (length < 8 || length > differences) throw InputError("welch: segment of " + std::to_string(length) + " samples");
-  const std::size_t hop = length / 2;
-  const std::size_t segments = (differences - length) / hop + 1;
-  out.segment_samples = length;
-  out.segments = segments;
-  const std::size_t bins = length / 2 + 1;
+namespace {
 
+/// The Hann window of `length` samples, and its power, the sum of its squares.
+std::vector<double> hann_window(std::size_t length, double& power) {
   std::vector<double> window(length);
-  double window_power = 0;
   for (std::size_t j = 0; j < length; ++j) {
     window[j] = 0.5 - 0.5 * std::cos(2 * std::numbers::pi * double(j) / double(length));
-    window_power += window[j] * window[j];
+    power += window[j] * window[j];
   }
+  return window;
+}
 
+/// The mean Hann-windowed periodogram of the first differences of `x` over `segments`
+/// segments `hop` apart, each segment's mean difference removed, normalised as C (docs/model.md §3).
+std::vector<double> difference_periodogram(const std::vector<double>& x, double dt, const std::vector<double>& window,
+                                           double window_power, std::size_t hop, std::size_t segments) {
+  const std::size_t length = window.size(), bins = length / 2 + 1;
   const std::unique_ptr<double, FftwFree> in(fftw_alloc_real(length));
   const std::unique_ptr<fftw_complex, FftwFree> spectrum(fftw_alloc_complex(bins));
   const fftw_plan plan = r2c_plan(length);
@@ -208,9 +200,29 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
   // docs/model.md §3: C = dt / (2 pi) |sum w x e^{-i omega t}|^2 / sum w^2, of the differences.
   const double scale = dt / (2 * std::numbers::pi * window_power * double(segments));
   for (double& p : periodogram) p *= scale;
+  return periodogram;
+}
 
-  // Variance of a point relative to C^2: segments overlapping by half share rho_s of their
-  // power; neighbouring bins of one window share rho_b(d) (Hann: 4/9, 1/36).
+/// Variance of a point relative to C^2: segments overlapping by half share rho_s of their
+/// power; neighbouring bins of one window share rho_b(d) (Hann: 4/9, 1/36).
+struct PointVariance {
+  double segment_factor = 0;
+  std::vector<double> rho_b;
+
+  /// Of a point over m bins: sum over i, j < m of rho_b(|i - j|), each offset d occurring
+  /// m - d times either way.
+  double relative(std::size_t bins) const {
+    const double m = double(bins);
+    double bin_factor = m * rho_b[0];
+    for (std::size_t d = 1; d < rho_b.size() && d < bins; ++d) bin_factor += 2 * (m - double(d)) * rho_b[d];
+    bin_factor /= m * m;
+    return segment_factor * bin_factor;
+  }
+};
+
+PointVariance point_variance(const std::vector<double>& window, double window_power, std::size_t hop,
+                             std::size_t segments) {
+  const std::size_t length = window.size();
   const auto overlap = [&](std::size_t shift) {
     double sum = 0;
     for (std::size_t j = 0; j + shift < length; ++j) sum += window[j] * window[j + shift];
@@ -226,6 +238,54 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
     for (std::size_t j = 0; j < length; ++j, phase *= step) sum += window[j] * window[j] * phase;
     rho_b[d] = std::norm(sum) / (window_power * window_power);
   }
+  return {segment_factor, rho_b};
+}
+
+/// Power the window cannot see (trends inside a segment) leaks with the side lobes' own
+/// omega^-6 and hides from each point's leakage sum; it shows as a difference spectrum as steep
+/// as that. Flags such points and an octave above them.
+void flag_steep(std::vector<WelchPoint>& points, const std::vector<double>& point_differences) {
+  std::vector<bool> steep(points.size(), false);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    std::size_t low = k, high = k;
+    while (low > 0 && points[low].omega > points[k].omega / 2) --low;
+    while (high + 1 < points.size() && points[high].omega < 2 * points[k].omega) ++high;
+    if (high == low || !(point_differences[low] > 0 && point_differences[high] > 0)) continue;
+    const double slope =
+        std::log(point_differences[high] / point_differences[low]) / std::log(points[high].omega / points[low].omega);
+    steep[k] = slope < kSteepestDifferenceSlope;
+  }
+  // The leaked power reaches past the steep part: an octave above a steep point is suspect too.
+  for (std::size_t k = 0; k < points.size(); ++k)
+    for (std::size_t j = k + 1; j-- > 0 && points[j].omega >= points[k].omega / 2;)
+      points[k].leaky = points[k].leaky || steep[j];
+}
+
+}  // namespace
+
+WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const WelchRequest& request) {
+  if (!(dt > 0)) throw InputError("welch: the sampling interval must be > 0");
+  constexpr std::size_t kFewestSamples = 64;
+  if (x.size() < kFewestSamples)
+    throw InputError("the record (" + std::to_string(x.size()) +
+                     " samples) is too short for a spectrum: need at least " + std::to_string(kFewestSamples));
+  WelchSpectrum out;
+  out.dt = dt;
+  const std::size_t length =
+      request.segment_samples > 0 ? request.segment_samples : welch_segment_samples(x.size(), dt, request.omega_min);
+  const std::size_t differences = x.size() - 1;
+  if (length < 8 || length > differences) throw InputError("welch: segment of " + std::to_string(length) + " samples");
+  const std::size_t hop = length / 2;
+  const std::size_t segments = (differences - length) / hop + 1;
+  out.segment_samples = length;
+  out.segments = segments;
+  const std::size_t bins = length / 2 + 1;
+
+  double window_power = 0;
+  const std::vector<double> window = hann_window(length, window_power);
+  std::vector<double> periodogram = difference_periodogram(x, dt, window, window_power, hop, segments);
+
+  const PointVariance variance = point_variance(window, window_power, hop, segments);
   std::vector<double> point_differences;  // each point's mean difference spectrum
   std::vector<double> kernel(bins);
   for (std::size_t d = 0; d < bins; ++d) kernel[d] = hann_bin_kernel(d);
@@ -233,7 +293,7 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
   const double bin_spacing = 2 * std::numbers::pi / (double(length) * dt);
   const double nyquist = std::numbers::pi / dt;
   if (request.omega_max > nyquist * (1 + 1e-12))
-    throw InputError("--omega-max " + util::format_number(request.omega_max) + ": above the Nyquist frequency " +
+    throw InputError("{omega_max} " + util::format_number(request.omega_max) + ": above the Nyquist frequency " +
                      util::format_number(nyquist) + " rad/s of the sampling");
   const double ratio = std::pow(10.0, 1.0 / request.points_per_decade);
   std::size_t first = kLowestBin;
@@ -260,11 +320,7 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
     p.omega = sum_omega / m;
     if (request.omega_max > 0 && p.omega > request.omega_max) break;
     p.C = sum_c / m;
-    // sum over i, j < m of rho_b(|i - j|): each offset d occurs m - d times either way.
-    double bin_factor = m * rho_b[0];
-    for (std::size_t d = 1; d < rho_b.size() && d < p.bins; ++d) bin_factor += 2 * (m - double(d)) * rho_b[d];
-    bin_factor /= m * m;
-    const double relative_variance = segment_factor * bin_factor;
+    const double relative_variance = variance.relative(p.bins);
     p.dof = 2 / relative_variance;
     p.standard_error = p.C * std::sqrt(relative_variance);
     p.lower = p.C * p.dof / chi_square_quantile(p.dof, kBarSigmas);
@@ -279,22 +335,7 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
     out.points.push_back(p);
     k = end;
   }
-  // Power the window cannot see (trends inside a segment) leaks with the side lobes' own
-  // omega^-6 and hides from the sum above; it shows as a difference spectrum as steep as that.
-  std::vector<bool> steep(out.points.size(), false);
-  for (std::size_t k = 0; k < out.points.size(); ++k) {
-    std::size_t low = k, high = k;
-    while (low > 0 && out.points[low].omega > out.points[k].omega / 2) --low;
-    while (high + 1 < out.points.size() && out.points[high].omega < 2 * out.points[k].omega) ++high;
-    if (high == low || !(point_differences[low] > 0 && point_differences[high] > 0)) continue;
-    const double slope = std::log(point_differences[high] / point_differences[low]) /
-                         std::log(out.points[high].omega / out.points[low].omega);
-    steep[k] = slope < kSteepestDifferenceSlope;
-  }
-  // The leaked power reaches past the steep part: an octave above a steep point is suspect too.
-  for (std::size_t k = 0; k < out.points.size(); ++k)
-    for (std::size_t j = k + 1; j-- > 0 && out.points[j].omega >= out.points[k].omega / 2;)
-      out.points[k].leaky = out.points[k].leaky || steep[j];
+  flag_steep(out.points, point_differences);
   out.bin_spacing = bin_spacing;
   return out;
 }

@@ -22,13 +22,7 @@ void ModelOptions::add_to(CLI::App& command) {
   command.add_option("--params", parameter_file, "JSON file of parameter overrides");
 }
 
-Parameters ModelOptions::build() const {
-  ParameterBuilder builder(case_name);
-  if (!parameter_file.empty())
-    for (const auto& assignment : read_parameter_file(parameter_file)) builder.set(assignment);
-  for (const auto& assignment : overrides) builder.set(assignment);
-  return builder.build();
-}
+Parameters ModelOptions::build() const { return build_case(case_name, parameter_file, overrides); }
 
 std::string ModelOptions::label(const Parameters& p) const { return io::run_label(case_name, p); }
 

@@ -17,6 +17,7 @@
 #endif
 #include "cli/suggest.hpp"
 #include "io/atomic_file.hpp"
+#include "slidespec/options.hpp"
 #include "slidespec/stepper.hpp"
 
 using namespace slidespec;
@@ -78,7 +79,7 @@ int main(int argc, char** argv) {
     if (speaks) std::cerr << "slidespec: error: " << (unknown.empty() ? e.what() : unknown) << "\n";
     return 2;
   } catch (const InputError& e) {
-    if (speaks) std::cerr << "slidespec: error: " << e.what() << "\n";
+    if (speaks) std::cerr << "slidespec: error: " << worded(e.what(), FrontEnd::command_line) << "\n";
     return 2;
   } catch (const std::exception& e) {
     // Every size is checked against its input first, so running out of memory is a
@@ -86,7 +87,7 @@ int main(int argc, char** argv) {
     if (dynamic_cast<const std::bad_alloc*>(&e))
       std::cerr << "slidespec: failed: out of memory: the work needs more than this machine has\n";
     else
-      std::cerr << "slidespec: failed: " << e.what() << "\n";
+      std::cerr << "slidespec: failed: " << worded(e.what(), FrontEnd::command_line) << "\n";
 #ifdef SLIDESPEC_MPI
     // The other ranks may be waiting in a collective this rank will never reach.
     if (mpi.size() > 1) mpi.abort(1);

@@ -109,9 +109,7 @@ class PaperCommand final : public Command {
     std::vector<Parameters> params;
     std::vector<double> work;
     for (const PaperRun& run : cases) {
-      ParameterBuilder builder(run.case_name);
-      for (const std::string& change : run.changes) builder.set(change);
-      params.push_back(builder.build());
+      params.push_back(build_case(run.case_name, run.changes));
       validate_request(params.back(), options.request);
       work.push_back(planned_work(params.back(), options.request));
     }

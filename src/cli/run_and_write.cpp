@@ -13,6 +13,7 @@
 #include "cli/sweep.hpp"
 #include "io/atomic_file.hpp"
 #include "io/tables.hpp"
+#include "slidespec/options.hpp"
 #include "util/numbers.hpp"
 
 namespace slidespec::cli {
@@ -59,7 +60,7 @@ void warn_if_not_stationary(const RunResult& result, const std::string& out) {
 int exit_status(const RunOutcome& outcome) {
   if (stopped_by_signal(outcome.result)) return stopped_status();
   if (!outcome.written) return kNotWritten;
-  return outcome.result.stationary ? 0 : kNotStationary;
+  return outcome.result.stationary ? 0 : kNotWhatItClaims;
 }
 
 void mark_if_not_numbers(RunResult& result) {
@@ -92,7 +93,7 @@ bool write_outputs(const Context& context, const RunSession& session, const RunR
     }
     outputs.commit();
   } catch (const std::exception& e) {
-    std::cerr << "slidespec: error: " << e.what() << "\n";
+    std::cerr << "slidespec: error: " << worded(e.what(), FrontEnd::command_line) << "\n";
     return false;
   }
   if (options.quiet) return true;

@@ -16,8 +16,6 @@
 
 namespace slidespec::cli {
 
-/// Exit status of a run that is not stationary: its outputs are written and say so.
-inline constexpr int kNotStationary = kNotWhatItClaims;
 /// Exit status of a run whose outputs could not all be written (its state is kept).
 inline constexpr int kNotWritten = 1;
 

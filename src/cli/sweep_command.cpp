@@ -121,7 +121,7 @@ class SweepCommand final : public Command {
     }
     if (interrupted) return stopped_status();
     if (!written) return kNotWritten;
-    const int done = stationary ? 0 : kNotStationary;
+    const int done = stationary ? 0 : kNotWhatItClaims;
     if (options.no_plot || !writes) return done;
     std::string swept;
     for (const SweepAxis& axis : axes) swept += (swept.empty() ? "" : ", ") + axis.key;

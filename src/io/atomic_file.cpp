@@ -216,7 +216,7 @@ OutputLock::OutputLock(const std::vector<std::string>& prefixes) {
       if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
         ::close(fd);
         throw InputError(prefix + ": another slidespec is writing this output prefix (" + path +
-                         " is locked); wait for it or choose another --out");
+                         " is locked); wait for it or choose another {out}");
       }
       struct stat opened {
       }, named{};
@@ -243,13 +243,13 @@ void remove_durably(const std::string& path) {
 }
 
 void check_output_prefix(const std::string& prefix) {
-  if (prefix.empty()) throw InputError("--out: empty output prefix");
+  if (prefix.empty()) throw InputError("{out}: empty output prefix");
   if (std::filesystem::is_directory(prefix))
-    throw InputError("--out " + prefix + ": is a directory; give a prefix such as " + prefix + "/spectrum");
+    throw InputError("{out} " + prefix + ": is a directory; give a prefix such as " + prefix + "/spectrum");
   const std::string dir = directory_of(prefix);
   if (!std::filesystem::is_directory(dir))
-    throw FileError("--out " + prefix + ": directory " + dir + " does not exist");
-  if (::access(dir.c_str(), W_OK) != 0) throw FileError("--out " + prefix + ": directory " + dir + " is not writable");
+    throw FileError("{out} " + prefix + ": directory " + dir + " does not exist");
+  if (::access(dir.c_str(), W_OK) != 0) throw FileError("{out} " + prefix + ": directory " + dir + " is not writable");
 }
 
 std::string read_file(const std::string& path, const std::string& what, std::size_t most_bytes) {

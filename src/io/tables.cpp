@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <variant>
 #include <xsimd/config/xsimd_config.hpp>
 
 #include "io/points.hpp"
@@ -57,6 +58,11 @@ std::string versions() {
   return out.str();
 }
 
+/// A landmark's value as the table writes it.
+std::string text(double value) { return util::format_number(value); }
+std::string text(bool value) { return value ? "true" : "false"; }
+std::string text(const std::string& value) { return value; }
+
 }  // namespace
 
 std::string metadata_lines(const Parameters& p, const std::string& case_name) {
@@ -64,27 +70,10 @@ std::string metadata_lines(const Parameters& p, const std::string& case_name) {
   out << "# slidespec " << SLIDESPEC_VERSION << "\n# case = " << case_of(case_name) << "\n";
   if (case_of(case_name) != case_name) out << "# label = " << case_name << "\n";
   for (const auto& [key, value] : describe(p)) out << "# " << key << " = " << value << "\n";
-  const Landmarks l = landmarks(p);
-  out << "# renewal_rate = " << util::format_number(l.renewal_rate) << "  # v/a [1/s]\n"
-      << "# omega_c = " << util::format_number(l.omega_c) << "  # sqrt(N k0/M) [rad/s]\n"
-      << "# diffusion_D = " << util::format_number(l.diffusion) << "  # [m^2/s], C_x -> D/(pi omega^2)\n"
-      << "# eq1_prefactor = " << util::format_number(l.eq1_prefactor)
-      << "  # [m^2 rad^4/s^3], C_x ~ prefactor/omega^4 for v/a << omega << omega_c\n"
-      << "# coupling_eps = " << util::format_number(l.coupling_eps)
-      << "  # alpha F_kin / ((F_drive - F_kin) sqrt(6 N)), for the theories' validity\n";
-  const TheoryChoice holds = best_theory(p);
-  out << "# theory_kind = " << theory_kind_name(holds.kind)
-      << "  # the best theory that holds here (docs/model.md §7.4)";
-  if (!holds.reason.empty()) out << "; " << holds.reason;
-  out << "\n";
-  if (p.drive == Drive::spring) {
-    out << "# omega_s = " << util::format_number(l.omega_s)
-        << "  # k_drive v/(F_drive - F_kin) [rad/s], C_x flattens below it\n"
-        << "# omega_resonance = " << util::format_number(l.omega_resonance) << "  # sqrt((N k0 + k_drive)/M) [rad/s]\n"
-        << "# d0 = " << util::format_number(l.spring_offset) << "  # F_drive/k_drive [m], the spring's mean stretch\n"
-        << "# C_x_zero = " << util::format_number(spring_low_frequency_limit(p))
-        << "  # C_x(0) [m^2 s] of the first-order theory\n"
-        << "# mean_speed = " << util::format_number(p.v) << "  # [m/s] the load point's v exactly; diffusion_D = 0\n";
+  for (const Landmark& mark : shown_landmarks(p, LandmarkOutput::tsv)) {
+    out << "# " << mark.row->key << " = ";
+    std::visit([&](const auto& value) { out << text(value); }, mark.value);
+    out << "  # " << mark.row->doc << (mark.note.empty() ? "" : "; " + mark.note) << "\n";
   }
   return out.str();
 }
@@ -186,17 +175,10 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
   doc["case"] = case_of(case_name);
   doc["label"] = case_name;
   doc["parameters"] = parameters_json(p);
-  const Landmarks l = landmarks(p);
-  doc["landmarks"] = {{"renewal_rate", l.renewal_rate}, {"omega_c", l.omega_c},
-                      {"diffusion_D", l.diffusion},     {"eq1_prefactor", l.eq1_prefactor},
-                      {"coupling_eps", l.coupling_eps}, {"forces_can_stall", l.forces_can_stall}};
   const bool spring = p.drive == Drive::spring;
-  if (spring) {
-    doc["landmarks"]["omega_s"] = l.omega_s;
-    doc["landmarks"]["omega_resonance"] = l.omega_resonance;
-    doc["landmarks"]["d0"] = l.spring_offset;
-    doc["landmarks"]["C_x_zero"] = spring_low_frequency_limit(p);
-  }
+  doc["landmarks"] = nlohmann::ordered_json::object();
+  for (const Landmark& mark : shown_landmarks(p, LandmarkOutput::json))
+    std::visit([&](const auto& value) { doc["landmarks"][mark.row->key] = value; }, mark.value);
   doc["request"] = {{"omega_min", request.omega_min},
                     {"omega_max", request.omega_max},
                     {"points_per_decade", request.points_per_decade},

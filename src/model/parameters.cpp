@@ -399,6 +399,19 @@ ParameterBuilder::ParameterBuilder(const std::string& case_name) {
                    ")");
 }
 
+Parameters build_case(const std::string& case_name, const std::vector<std::string>& assignments) {
+  return build_case(case_name, "", assignments);
+}
+
+Parameters build_case(const std::string& case_name, const std::string& parameter_file,
+                      const std::vector<std::string>& assignments) {
+  ParameterBuilder builder(case_name);
+  if (!parameter_file.empty())
+    for (const std::string& assignment : read_parameter_file(parameter_file)) builder.set(assignment);
+  for (const std::string& assignment : assignments) builder.set(assignment);
+  return builder.build();
+}
+
 ParameterBuilder& ParameterBuilder::set(const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)

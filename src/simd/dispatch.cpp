@@ -57,7 +57,7 @@ SimdPath parse_simd_path(const std::string& name) {
     if (name == p.name) return p.path;
     names += std::string(p.name) + ", ";
   }
-  throw InputError("--simd: '" + name + "' is not one of " + names + "auto");
+  throw InputError("{simd}: '" + name + "' is not one of " + names + "auto");
 }
 
 std::string simd_path_names() {
@@ -77,7 +77,7 @@ SimdPath resolve_simd_path(SimdPath requested) {
   const auto paths = available_simd_paths();
   if (requested == SimdPath::automatic) return paths.back();
   if (std::find(paths.begin(), paths.end(), requested) == paths.end())
-    throw InputError(std::string("--simd: this CPU cannot run the ") + to_string(requested) + " path");
+    throw InputError(std::string("{simd}: this CPU cannot run the ") + to_string(requested) + " path");
   return requested;
 }
 

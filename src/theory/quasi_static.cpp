@@ -32,6 +32,114 @@ double multiset_count(int size, int types) {
   return c;
 }
 
+/// The multisets of N contacts' forces over n nodes (counts per node, most of node 0 first),
+/// flattened, and their ranks.
+struct Multisets {
+  Multisets(int contacts, int nodes) : N(contacts), n(nodes), table(N + 1, std::vector<double>(n + 1)) {
+    for (int m = 0; m <= N; ++m)
+      for (int k = 0; k <= n; ++k) table[m][k] = multiset_count(m, k);
+    states = static_cast<std::size_t>(table[N][n]);
+    counts.resize(states * n);
+    std::vector<int> c(n, 0);
+    std::size_t index = 0;
+    // Recursive enumeration by an explicit odometer: c_0 from N down, then the rest.
+    const auto fill = [&](auto&& self, int type, int left) -> void {
+      if (type == n - 1) {
+        c[type] = left;
+        std::copy(c.begin(), c.end(), counts.begin() + static_cast<std::ptrdiff_t>(index * n));
+        ++index;
+        return;
+      }
+      for (int k = left; k >= 0; --k) {
+        c[type] = k;
+        self(self, type + 1, left - k);
+      }
+    };
+    fill(fill, 0, N);
+  }
+  /// The index of the multiset with counts c.
+  std::size_t rank(const int* c) const {
+    double r = 0;
+    int left = N;
+    for (int t = 0; t < n - 1; ++t) {
+      for (int k = c[t] + 1; k <= left; ++k) r += table[left - k][n - t - 1];
+      left -= c[t];
+    }
+    return static_cast<std::size_t>(r);
+  }
+
+  int N, n;
+  std::vector<std::vector<double>> table;  // multiset_count(m, k)
+  std::size_t states = 0;
+  std::vector<int> counts;
+};
+
+/// The symmetrised time-weighted generator A = u^(1/2) P^(1/2) L P^(-1/2) u^(1/2) (rates per a
+/// of distance) in compressed rows, its diagonal apart: a contact's force renewed from node k
+/// to node m.
+struct Generator {
+  Generator(const Multisets& sets, const std::vector<double>& u, const std::vector<double>& w)
+      : diagonal(sets.states), row_start(sets.states + 1, 0) {
+    const int n = sets.n;
+    std::vector<int> d(n);
+    for (std::size_t i = 0; i < sets.states; ++i) {
+      const int* c = &sets.counts[i * n];
+      double out = 0;
+      for (int k = 0; k < n; ++k) {
+        if (c[k] == 0) continue;
+        out += c[k] * (1 - w[k]);
+        for (int m = 0; m < n; ++m) {
+          if (m == k) continue;
+          std::copy(c, c + n, d.begin());
+          --d[k];
+          ++d[m];
+          const std::size_t j = sets.rank(d.data());
+          column.push_back(j);
+          value.push_back(std::sqrt(u[i] * u[j] * c[k] * w[m] * (c[m] + 1) * w[k]));
+        }
+      }
+      diagonal[i] = -u[i] * out;
+      row_start[i + 1] = column.size();
+    }
+  }
+  std::vector<double> diagonal;
+  std::vector<std::size_t> row_start, column;
+  std::vector<double> value;
+};
+
+/// Lanczos with full reorthogonalisation from q: K steps give a K-point Gauss rule for the
+/// spectral measure of A seen from q, exact for resolvents to high order in 1/z. Returns the
+/// tridiagonal matrix.
+Eigen::MatrixXd lanczos(const Generator& A, const Eigen::VectorXd& q) {
+  const auto states = static_cast<std::size_t>(q.size());
+  const int steps = static_cast<int>(std::min<std::size_t>(states, 60));
+  Eigen::MatrixXd basis(states, steps);
+  std::vector<double> alpha, beta;
+  Eigen::VectorXd v = q / std::sqrt(q.squaredNorm()), next(states);
+  for (int k = 0; k < steps; ++k) {
+    basis.col(k) = v;
+    for (std::size_t i = 0; i < states; ++i) {
+      double s = A.diagonal[i] * v[i];
+      for (std::size_t e = A.row_start[i]; e < A.row_start[i + 1]; ++e) s += A.value[e] * v[A.column[e]];
+      next[i] = s;
+    }
+    const double a = v.dot(next);
+    alpha.push_back(a);
+    for (int pass = 0; pass < 2; ++pass) next -= basis.leftCols(k + 1) * (basis.leftCols(k + 1).transpose() * next);
+    const double b = next.norm();
+    if (k + 1 == steps || b < 1e-13 * std::sqrt(std::fabs(a) + 1)) break;
+    beta.push_back(b);
+    v = next / b;
+  }
+  const int K = static_cast<int>(alpha.size());
+  Eigen::MatrixXd T = Eigen::MatrixXd::Zero(K, K);
+  for (int k = 0; k < K; ++k) {
+    T(k, k) = alpha[k];
+    if (k + 1 < K) T(k, k + 1) = T(k + 1, k) = beta[k];
+  }
+  return T;
+}
+
 }  // namespace
 
 struct QuasiStaticTheory::Impl {
@@ -71,48 +179,14 @@ struct QuasiStaticTheory::Impl {
     uniform_nodes(n, x, w);
     for (double& xi : x) xi *= half_width;
     const int N = contacts;
-    // Enumerate the multisets (counts per node), most of node 0 first, and rank them.
-    std::vector<std::vector<double>> table(N + 1, std::vector<double>(n + 1));
-    for (int m = 0; m <= N; ++m)
-      for (int k = 0; k <= n; ++k) table[m][k] = multiset_count(m, k);
-    const auto states = static_cast<std::size_t>(table[N][n]);
-    std::vector<int> counts(states * n);
-    {
-      std::vector<int> c(n, 0);
-      std::size_t index = 0;
-      // Recursive enumeration by an explicit odometer: c_0 from N down, then the rest.
-      const auto fill = [&](auto&& self, int type, int left) -> void {
-        if (type == n - 1) {
-          c[type] = left;
-          std::copy(c.begin(), c.end(), counts.begin() + static_cast<std::ptrdiff_t>(index * n));
-          ++index;
-          return;
-        }
-        for (int k = left; k >= 0; --k) {
-          c[type] = k;
-          self(self, type + 1, left - k);
-        }
-      };
-      fill(fill, 0, N);
-    }
-    const auto rank = [&](const int* c) {
-      double r = 0;
-      int left = N;
-      for (int t = 0; t < n - 1; ++t) {
-        for (int k = c[t] + 1; k <= left; ++k) r += table[left - k][n - t - 1];
-        left -= c[t];
-      }
-      return static_cast<std::size_t>(r);
-    };
-    // Per state: the speed u, the force G, the distance law pi, and the symmetrised
-    // time-weighted generator A = u^(1/2) P^(1/2) L P^(-1/2) u^(1/2) (rates per a of distance).
-    std::vector<double> u(states), G(states), pi(states), diagonal(states);
-    std::vector<std::size_t> row_start(states + 1, 0), column;
-    std::vector<double> value;
+    const Multisets sets(N, n);
+    const std::size_t states = sets.states;
+    // Per state: the speed u, the force G, the distance law pi.
+    std::vector<double> u(states), G(states), pi(states);
     std::vector<double> lgamma_count(N + 2);
     for (int k = 0; k <= N + 1; ++k) lgamma_count[k] = std::lgamma(k + 1.0);
     for (std::size_t i = 0; i < states; ++i) {
-      const int* c = &counts[i * n];
+      const int* c = &sets.counts[i * n];
       double g = 0, log_pi = lgamma_count[N];
       for (int k = 0; k < n; ++k) {
         g += c[k] * x[k];
@@ -122,26 +196,7 @@ struct QuasiStaticTheory::Impl {
       u[i] = 1 - g;
       pi[i] = std::exp(log_pi);
     }
-    std::vector<int> d(n);
-    for (std::size_t i = 0; i < states; ++i) {
-      const int* c = &counts[i * n];
-      double out = 0;
-      for (int k = 0; k < n; ++k) {
-        if (c[k] == 0) continue;
-        out += c[k] * (1 - w[k]);
-        for (int m = 0; m < n; ++m) {
-          if (m == k) continue;
-          std::copy(c, c + n, d.begin());
-          --d[k];
-          ++d[m];
-          const std::size_t j = rank(d.data());
-          column.push_back(j);
-          value.push_back(std::sqrt(u[i] * u[j] * c[k] * w[m] * (c[m] + 1) * w[k]));
-        }
-      }
-      diagonal[i] = -u[i] * out;
-      row_start[i + 1] = column.size();
-    }
+    const Generator A(sets, u, w);
     double mean_inverse = 0, mean_G = 0;
     for (std::size_t i = 0; i < states; ++i) mean_inverse += pi[i] / u[i], mean_G += pi[i] * G[i] / u[i];
     inverse_speed = mean_inverse;
@@ -149,33 +204,8 @@ struct QuasiStaticTheory::Impl {
     Eigen::VectorXd q(states);
     for (std::size_t i = 0; i < states; ++i) q[i] = std::sqrt(pi[i] / u[i]) * (G[i] - mean_G);
     const double norm2 = q.squaredNorm();
-    // Lanczos with full reorthogonalisation: K steps give a K-point Gauss rule for the
-    // spectral measure of A seen from q, exact for resolvents to high order in 1/z.
-    const int steps = static_cast<int>(std::min<std::size_t>(states, 60));
-    Eigen::MatrixXd basis(states, steps);
-    std::vector<double> alpha, beta;
-    Eigen::VectorXd v = q / std::sqrt(norm2), next(states);
-    for (int k = 0; k < steps; ++k) {
-      basis.col(k) = v;
-      for (std::size_t i = 0; i < states; ++i) {
-        double s = diagonal[i] * v[i];
-        for (std::size_t e = row_start[i]; e < row_start[i + 1]; ++e) s += value[e] * v[column[e]];
-        next[i] = s;
-      }
-      const double a = v.dot(next);
-      alpha.push_back(a);
-      for (int pass = 0; pass < 2; ++pass) next -= basis.leftCols(k + 1) * (basis.leftCols(k + 1).transpose() * next);
-      const double b = next.norm();
-      if (k + 1 == steps || b < 1e-13 * std::sqrt(std::fabs(a) + 1)) break;
-      beta.push_back(b);
-      v = next / b;
-    }
-    const int K = static_cast<int>(alpha.size());
-    Eigen::MatrixXd T = Eigen::MatrixXd::Zero(K, K);
-    for (int k = 0; k < K; ++k) {
-      T(k, k) = alpha[k];
-      if (k + 1 < K) T(k, k + 1) = T(k + 1, k) = beta[k];
-    }
+    const Eigen::MatrixXd T = lanczos(A, q);
+    const int K = static_cast<int>(T.rows());
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(T);
     double largest = 0;
     for (int k = 0; k < K; ++k) largest = std::max(largest, std::fabs(eigen.eigenvalues()[k]));

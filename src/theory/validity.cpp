@@ -5,16 +5,13 @@
 #include <utility>
 
 #include "slidespec/theory.hpp"
+#include "util/numbers.hpp"
 
 namespace slidespec {
 
 namespace {
 
-std::string eps_text(double eps) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", eps);
-  return text;
-}
+std::string eps_text(double eps) { return util::short_number(eps); }
 
 // With one touching level: the largest resistance of its forces, all at once, over
 // F_drive - F_kin (1 at the stall boundary, where it equals eps / eps_stall); 0 with several.

@@ -1,6 +1,7 @@
 #include "util/numbers.hpp"
 
 #include <charconv>
+#include <cstdio>
 #include <cmath>
 
 namespace slidespec::util {
@@ -9,6 +10,12 @@ std::string format_number(double x) {
   char text[32];
   const auto end = std::to_chars(text, text + sizeof text, x).ptr;
   return std::string(text, end);
+}
+
+std::string short_number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
 }
 
 std::optional<double> parse_number(const std::string& text) {

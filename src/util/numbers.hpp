@@ -8,6 +8,8 @@ namespace slidespec::util {
 
 /// The shortest text that reads back as the same double ("1e-05", "0.5", "548.2").
 std::string format_number(double x);
+/// To three significant digits ("0.0005", "1.23e+04"), as messages and summaries give a number.
+std::string short_number(double x);
 /// The finite double `text` spells, all of it ("0.5", "1e-05"), or nothing.
 std::optional<double> parse_number(const std::string& text);
 

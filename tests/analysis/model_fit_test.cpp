@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "slidespec/analysis.hpp"
+#include "slidespec/options.hpp"
 #include "slidespec/theory.hpp"
 
 namespace slidespec {
@@ -150,7 +151,7 @@ TEST(ModelFit, NoUsableBandIsSaidAsSuch) {
       fit_model(s, machine(), names, s.usable_low, s.usable_high);
       ADD_FAILURE() << "a fit over no usable band was made";
     } catch (const InputError& e) {
-      const std::string message = e.what();
+      const std::string message = worded(e.what(), FrontEnd::command_line);
       EXPECT_NE(message.find("no usable band (the sensor floor exceeds 10% of the spectrum"), std::string::npos)
           << message;
       EXPECT_EQ(message.find("need 0 < LO < HI"), std::string::npos) << message;
@@ -160,7 +161,7 @@ TEST(ModelFit, NoUsableBandIsSaidAsSuch) {
     default_alpha_band(s, machine());
     ADD_FAILURE() << "an alpha band over no usable band";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("--fit alpha: no usable band (", 0), 0u) << e.what();
+    EXPECT_EQ(worded(e.what(), FrontEnd::command_line).rfind("--fit alpha: no usable band (", 0), 0u) << e.what();
   }
   EXPECT_THROW(fit_model(s, machine(), {"alpha"}, 5, 3), InputError);  // a band given wrongly
 }

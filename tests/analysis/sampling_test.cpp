@@ -11,6 +11,7 @@
 
 #include "analysis/report.hpp"
 #include "slidespec/analysis.hpp"
+#include "slidespec/options.hpp"
 
 namespace slidespec {
 namespace {
@@ -88,8 +89,8 @@ TEST(Resampling, GapsAreRefusedNamingTheOptionAndJitterCanBeRefused) {
     record_from_samples(t, x, {});
     FAIL() << "a gap of 3 intervals was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--resample median"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("gap"), std::string::npos) << e.what();
+    EXPECT_NE(worded(e.what(), FrontEnd::command_line).find("--resample median"), std::string::npos) << e.what();
+    EXPECT_NE(worded(e.what(), FrontEnd::command_line).find("gap"), std::string::npos) << e.what();
   }
   RecordFormat median;
   median.resample = Resampling::median;
@@ -116,7 +117,7 @@ std::string follow_the_advice(const std::vector<double>& t, const std::vector<do
     ADD_FAILURE() << "accepted";
     return message;
   } catch (const InputError& e) {
-    message = e.what();
+    message = worded(e.what(), FrontEnd::command_line);
   }
   if (const auto at = message.find("--time-tolerance "); at != std::string::npos) {
     RecordFormat loose = format;
@@ -167,7 +168,7 @@ TEST(Resampling, ARefusalSuggestsOnlyWhatWouldBeAccepted) {
     record_from_samples(t, x, wide);
     ADD_FAILURE() << "a time tolerance of 0.61 was accepted";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("--time-tolerance:", 0), 0u) << e.what();
+    EXPECT_EQ(worded(e.what(), FrontEnd::command_line).rfind("--time-tolerance:", 0), 0u) << e.what();
   }
 }
 
@@ -317,7 +318,7 @@ TEST(PowerLawFit, ASlopeAtTheEdgeOfItsSearchFailsLoudly) {
   const PowerLawFit stuck = fit_power_law(cliff, 1, 30);
   EXPECT_LE(stuck.slope, kSteepestPowerLawSlope + 0.01);
   EXPECT_TRUE(stuck.slope_at_search_edge);
-  const detail::Verdict verdict = detail::judge_power_law(stuck);
+  const Verdict verdict = detail::judge_power_law(stuck);
   EXPECT_FALSE(verdict.ok);
   EXPECT_NE(verdict.reason.find("ran to the edge of its search range (-10 .. 2)"), std::string::npos) << verdict.reason;
   // An exact omega^-3 law over a floor is found, and judged a result.

@@ -1,0 +1,23 @@
+"""Numbers and counts as the command line takes them."""
+
+import numpy as _np
+
+
+_MOST_U64 = 2**64 - 1
+_MOST_INT = 2**31 - 1
+
+
+def _whole(name, value, largest):
+    """A count or seed as the command line takes it: an int (not bool, not float) in 0..largest."""
+    if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
+        raise TypeError(f"{name}: expected a whole number (int), got {type(value).__name__} {value!r}")
+    if not 0 <= int(value) <= largest:
+        raise ValueError(f"{name}: {value} is outside 0..{largest}")
+    return int(value)
+
+
+def _real(name, value):
+    """A real number as the command line takes it: int or float (not bool, not text)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, _np.integer, _np.floating)):
+        raise TypeError(f"{name}: expected a number, got {type(value).__name__} {value!r}")
+    return float(value)
