@@ -320,10 +320,10 @@ class Spectrum {
     Record record = record_from_columns(names, columns, f);
     notes_ = record.notes;
     const std::vector<SteadySegment> steady = steady_segments(record);
-    for (const SteadySegment& segment : steady)
-      segments_.push_back({segment.start, segment.end, segment.mean_speed, segment.hold});
-    if (!f.window) record = longest_steady(record, steady, notes_);
-    spectrum_ = analyze_record(record, r);
+    const std::optional<Strokes> strokes = f.window ? std::nullopt : find_strokes(steady, record.dt);
+    if (!f.window && !strokes) record = longest_steady(record, steady, notes_);
+    spectrum_ = strokes ? analyze_strokes(record, *strokes, r, notes_) : analyze_record(record, r);
+    spectrum_.segments = steady;
     record_ = std::move(record);
     request_ = r;
   }
@@ -339,9 +339,6 @@ class Spectrum {
     doc["sensor_noise"] = request_.sensor_noise;
     doc["notes"] = nlohmann::ordered_json::array();
     for (const std::string& note : notes_) doc["notes"].push_back(python_names(note));
-    doc["segments"] = nlohmann::ordered_json::array();
-    for (const auto& [start, end, speed, hold] : segments_)
-      doc["segments"].push_back({{"start", start}, {"end", end}, {"mean_speed", speed}, {"hold", hold}});
     return as_dict(doc);
   }
 
@@ -433,7 +430,6 @@ class Spectrum {
 
   std::vector<std::string> notes_;
   Record record_;  // the samples analyzed: their channels give the compared case's terms
-  std::vector<std::tuple<double, double, double, bool>> segments_;
   RecordSpectrum spectrum_;
   AnalysisRequest request_;
 };

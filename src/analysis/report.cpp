@@ -37,8 +37,35 @@ std::string usable_band_line(const RecordSpectrum& s) {
          top_set_by(s);
 }
 
+std::vector<std::string> segment_lines(const RecordSpectrum& s) {
+  std::vector<std::string> lines;
+  for (const SteadySegment& g : s.segments)
+    lines.push_back("# segment = " + util::format_number(g.start) + " " + util::format_number(g.end) + " " +
+                    to_string(g.kind) + " " + util::format_number(g.mean_speed) +
+                    "  # start [s], end [s], kind, mean speed [m/s]");
+  if (s.strokes)
+    lines.push_back("# strokes = " + std::to_string(s.strokes->middles.size()) + " " +
+                    util::format_number(s.strokes->speed) + " " + util::format_number(s.strokes->middle_duration) +
+                    " " + util::format_number(s.strokes->lowest_omega) +
+                    "  # strokes averaged, their mean |speed| [m/s], shortest middle analyzed [s], lowest omega a "
+                    "stroke allows [rad/s]");
+  return lines;
+}
+
 nlohmann::ordered_json spectrum_json(const RecordSpectrum& s, const std::vector<double>& theory) {
   nlohmann::ordered_json doc;
+  doc["segments"] = nlohmann::ordered_json::array();
+  for (const SteadySegment& g : s.segments)
+    doc["segments"].push_back({{"start", g.start},
+                               {"end", g.end},
+                               {"kind", to_string(g.kind)},
+                               {"mean_speed", g.mean_speed},
+                               {"hold", g.hold}});
+  if (s.strokes)
+    doc["strokes"] = {{"count", s.strokes->middles.size()},
+                      {"speed", s.strokes->speed},
+                      {"middle_duration", s.strokes->middle_duration},
+                      {"lowest_omega", s.strokes->lowest_omega}};
   const bool force = s.observable == Observable::force;
   const char* name = force ? "C_F" : "C_x";
   doc["observable"] = {{"name", to_string(s.observable)},

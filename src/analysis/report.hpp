@@ -22,6 +22,10 @@ std::string no_usable_band_for_fit(const std::string& fit);
 /// by ...", or "none  # ..." when the floor leaves no band.
 std::string usable_band_line(const RecordSpectrum& spectrum);
 
+/// The table's header lines on the record's segments and strokes: "# segment = START END KIND
+/// SPEED" per segment, "# strokes = ..." when the spectrum is of a reciprocating record's strokes.
+std::vector<std::string> segment_lines(const RecordSpectrum& spectrum);
+
 /// The spectrum's own fields: observable, the mean motion (or force) removed, the floor's
 /// variance, usable band, estimator, whether it is a spectrum at all (`spectrum_ok`, and
 /// `spectrum_failure` saying why not), and every point (with `theory` per point when given).

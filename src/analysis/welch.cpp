@@ -171,14 +171,37 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
   if (x.size() < kFewestSamples)
     throw InputError("the record (" + std::to_string(x.size()) +
                      " samples) is too short for a spectrum: need at least " + std::to_string(kFewestSamples));
+  WelchRequest fixed = request;
+  fixed.segment_samples =
+      request.segment_samples > 0 ? request.segment_samples : welch_segment_samples(x.size(), dt, request.omega_min);
+  return welch_spectrum(std::vector<std::vector<double>>{x}, dt, fixed);
+}
+
+WelchSpectrum welch_spectrum(const std::vector<std::vector<double>>& pieces, double dt, const WelchRequest& request) {
+  if (!(dt > 0)) throw InputError("welch: the sampling interval must be > 0");
+  if (pieces.empty()) throw InputError("welch: no piece of record to estimate a spectrum of");
+  std::size_t shortest = pieces.front().size();
+  for (const auto& piece : pieces) shortest = std::min(shortest, piece.size());
   WelchSpectrum out;
   out.dt = dt;
-  const std::size_t length =
-      request.segment_samples > 0 ? request.segment_samples : welch_segment_samples(x.size(), dt, request.omega_min);
-  const std::size_t differences = x.size() - 1;
-  if (length < 8 || length > differences) throw InputError("welch: segment of " + std::to_string(length) + " samples");
+  std::size_t length = request.segment_samples;
+  if (length == 0) {
+    // One segment of the shortest piece: the longest fast length that fits its differences.
+    length = shortest < 10 ? 0 : fft_friendly(shortest - 1);
+  }
+  if (length < 8 || length + 1 > shortest)
+    throw InputError("welch: segment of " + std::to_string(length) + " samples in a piece of " +
+                     std::to_string(shortest));
   const std::size_t hop = length / 2;
-  const std::size_t segments = (differences - length) / hop + 1;
+  // Segments within a piece overlap by half; pieces are independent of one another.
+  std::vector<std::pair<const double*, std::size_t>> starts;  // segment start, its piece's index
+  std::size_t overlapping_pairs = 0;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const std::size_t in_piece = (pieces[k].size() - 1 - length) / hop + 1;
+    for (std::size_t s = 0; s < in_piece; ++s) starts.push_back({pieces[k].data() + s * hop, k});
+    overlapping_pairs += in_piece - 1;
+  }
+  const std::size_t segments = starts.size();
   out.segment_samples = length;
   out.segments = segments;
   const std::size_t bins = length / 2 + 1;
@@ -195,7 +218,7 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
   const fftw_plan plan = r2c_plan(length);
   std::vector<double> periodogram(bins, 0.0);
   for (std::size_t s = 0; s < segments; ++s) {
-    const double* segment = x.data() + s * hop;
+    const double* segment = starts[s].first;
     // The segment's mean difference is its mean slope: removing it removes each segment's trend.
     double mean = 0;
     for (std::size_t j = 0; j < length; ++j) mean += segment[j + 1] - segment[j];
@@ -217,7 +240,8 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
     return sum * sum / (window_power * window_power);
   };
   const double rho_s = overlap(hop);
-  const double segment_factor = (1 + 2 * rho_s * double(segments - 1) / double(segments)) / double(segments);
+  const double segment_factor =
+      (double(segments) + 2 * rho_s * double(overlapping_pairs)) / (double(segments) * double(segments));
   std::vector<double> rho_b(4, 0.0);
   for (std::size_t d = 0; d < rho_b.size(); ++d) {
     // The phase advanced by multiplication: no sine or cosine per sample.

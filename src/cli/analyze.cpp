@@ -179,6 +179,7 @@ std::string analysis_table(const Options& o, const RecordSpectrum& s, const Find
       << "# usable_band = " << detail::usable_band_line(s) << "\n"
       << "# estimator = " << to_string(s.estimator) << "  # " << s.estimator_reason << "\n";
   for (const std::string& note : o.notes) out << "# note = " << note << "\n";
+  for (const std::string& line : detail::segment_lines(s)) out << line << "\n";
   if (s.estimator == Estimator::welch)
     out << "# welch = Hann window, 50% overlap, " << s.welch.segments << " segments of " << s.welch.segment_samples
         << " samples, first differences divided by 4 sin^2(omega dt/2); bins " << number(s.welch.bin_spacing)
@@ -304,7 +305,7 @@ std::string analysis_json(const Options& o, const RecordSpectrum& s, const Findi
 void print_segments(const std::vector<SteadySegment>& steady) {
   for (const SteadySegment& s : steady)
     std::cout << seconds(s.start) << "\t" << seconds(s.end) << "\t" << s.samples << "\t" << short_number(s.mean_speed)
-              << "\t" << (s.hold ? "hold" : "sliding") << "\n";
+              << "\t" << to_string(s.kind) << "\n";
 }
 
 /// analyze --segments: the steady stretches, one a line, on standard output; no file written.
@@ -376,11 +377,12 @@ int command_analyze(Options o) {
   o.notes = record.notes;
   const std::vector<SteadySegment> steady = steady_segments(record);
   if (o.segments) return list_segments(o, record, steady);
+  const std::optional<Strokes> strokes = o.format.window ? std::nullopt : find_strokes(steady, record.dt);
   if (o.format.window) {
     if (steady.size() > 1)
       o.notes.push_back("--window holds " + std::to_string(steady.size()) +
-                        " stretches of different steady speed (--segments lists them): not one steady slide");
-  } else {
+                        " segments (--segments lists them): not one steady slide");
+  } else if (!strokes) {
     record = longest_steady(record, steady, o.notes);
   }
   o.analyzed_window = {record.start_time, record.start_time + double(record.displacement.size() - 1) * record.dt};
@@ -390,7 +392,9 @@ int command_analyze(Options o) {
   o.force_channel = record.force_channel;
   if (!o.resolution.empty()) o.request.resolution = parse_length(o.resolution, record.unit, "--resolution");
   if (!o.sensor_noise.empty()) o.request.sensor_noise = parse_length(o.sensor_noise, record.unit, "--sensor-noise");
-  const RecordSpectrum s = analyze_record(record, o.request);
+  RecordSpectrum s =
+      strokes ? analyze_strokes(record, *strokes, o.request, o.notes) : analyze_record(record, o.request);
+  s.segments = steady;
   f.spectrum_verdict = detail::judge_spectrum(s);
   if (!o.slope_band.empty()) {
     f.slope = fit_slope(s, o.slope_band[0], o.slope_band[1]);
