@@ -153,6 +153,13 @@ std::vector<SteadySegment> steady_segments(const Record& record) {
   std::vector<Group> steady;
   for (Group g : runs) {
     if (g.last - g.first < kSteadyBlocks) continue;
+    // A block at the edge whose own speed is off the stretch's straddles the step (the median
+    // of three took it in): the step's.
+    const double level = median(std::vector<double>(raw.begin() + std::ptrdiff_t(g.first),
+                                                    raw.begin() + std::ptrdiff_t(g.last)));
+    const auto off = [&](std::size_t b) { return std::fabs(raw[b] - level) > kScatters * scatter; };
+    while (g.last - g.first > kSteadyBlocks && off(g.first)) ++g.first;
+    while (g.last - g.first > kSteadyBlocks && off(g.last - 1)) --g.last;
     g.kind =
         is_hold(block_speed(x, g.first * block, g.last * block, record.dt)) ? SegmentKind::hold : SegmentKind::sliding;
     // Stretches of one speed split by a glitch too long for the median are one stretch.
