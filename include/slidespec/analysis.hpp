@@ -167,7 +167,7 @@ struct SteadySegment {
 };
 
 /// Splits a record into labelled stretches that cover it end to end, sorted by start: the
-/// speeds of blocks of about 1/2048 of the record (at least 8 samples; median of three),
+/// speeds of blocks of about 1/2048 of the record (at least 32 samples; median of three),
 /// grouped while within a factor 1.6 or four scatters (of successive blocks' speeds) of their
 /// group's median, holds together; groups of three blocks or more are sliding or holds, the
 /// blocks between them a step or a reversal. With a force channel, the start of a sliding

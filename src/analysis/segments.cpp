@@ -16,10 +16,10 @@ namespace slidespec {
 
 namespace {
 
-// About 2048 blocks a record, at least 8 samples each: a hold of 2 s in a record of an hour
-// at 10 Hz spans several blocks (at 1/48 of the record it was one block, smoothed away).
+// About 2048 blocks a record, at least 32 samples each (a speed above the sensor's noise): a hold of 2 s in a record of
+// an hour at 10 Hz spans several blocks (at 1/48 of the record it was one block, smoothed away).
 constexpr std::size_t kBlocksPerRecord = 2048;
-constexpr std::size_t kFewestBlockSamples = 8;
+constexpr std::size_t kFewestBlockSamples = 32;
 // Speeds within this factor of their group's median belong together (a velocity step in a
 // rock-friction test is 3x..10x).
 constexpr double kSteadyFactor = 1.6;
@@ -155,8 +155,8 @@ std::vector<SteadySegment> steady_segments(const Record& record) {
     if (g.last - g.first < kSteadyBlocks) continue;
     // A block at the edge whose own speed is off the stretch's straddles the step (the median
     // of three took it in): the step's.
-    const double level = median(std::vector<double>(raw.begin() + std::ptrdiff_t(g.first),
-                                                    raw.begin() + std::ptrdiff_t(g.last)));
+    const double level =
+        median(std::vector<double>(raw.begin() + std::ptrdiff_t(g.first), raw.begin() + std::ptrdiff_t(g.last)));
     const auto off = [&](std::size_t b) { return std::fabs(raw[b] - level) > kScatters * scatter; };
     while (g.last - g.first > kSteadyBlocks && off(g.first)) ++g.first;
     while (g.last - g.first > kSteadyBlocks && off(g.last - 1)) --g.last;
