@@ -126,6 +126,26 @@ TEST(Segments, ASlowStretchIsSlidingNotAHold) {
   for (const SteadySegment& s : steady_segments(record)) EXPECT_NE(s.kind, SegmentKind::hold) << s.start;
 }
 
+// A noisy sensor (0.6 um every 0.136 s, twice the sepiolite record's) at 0.2 um/s, then 2 um/s: blocks
+// short enough for a 2 s hold cannot tell 0.2 um/s from a hold, so they are made longer.
+TEST(Segments, ANoisySlowStretchIsSlidingNotAHold) {
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> gauss(0, 0.6e-6);
+  std::vector<double> t, x;
+  double path = 0;
+  for (int k = 0; k * 0.136 < 2200; ++k) {
+    path += (k * 0.136 < 1200 ? 0.2e-6 : 2e-6) * 0.136;
+    t.push_back(k * 0.136), x.push_back(path + gauss(rng));
+  }
+  const std::vector<SteadySegment> segments = steady_segments(record_from_samples(t, x, {}));
+  int sliding = 0;
+  for (const SteadySegment& s : segments) {
+    EXPECT_NE(s.kind, SegmentKind::hold) << s.start << ".." << s.end;
+    sliding += s.kind == SegmentKind::sliding ? 1 : 0;
+  }
+  EXPECT_EQ(sliding, 2);
+}
+
 // Elastic loading: the load point moves from the start, the force rises for 50 s, then settles.
 TEST(Segments, TheForceRisingAtTheStartIsLoading) {
   std::vector<double> force;
