@@ -273,9 +273,6 @@ py::tuple analyze_record_dict(const Array& time, const Array& x, const py::dict&
   }
   const nlohmann::ordered_json parameters = report.model ? io::parameters_json(*report.model) : nullptr;
   nlohmann::ordered_json doc = analysis_json(report, "", p.compare_case, parameters, FrontEnd::python);
-  doc["segments"] = nlohmann::ordered_json::array();
-  for (const SteadySegment& s : report.segments)
-    doc["segments"].push_back({{"start", s.start}, {"end", s.end}, {"mean_speed", s.mean_speed}, {"hold", s.hold}});
   const std::vector<double>* fit = report.power_law   ? &report.power_law->model
                                    : report.model_fit ? &report.model_fit->model
                                                       : nullptr;

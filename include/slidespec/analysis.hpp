@@ -146,26 +146,60 @@ struct Record {
 /// The analyzed channel of `record`: x_n [m], F_n [N] or the slip x_n - F_n/K [m].
 std::vector<double> observed_values(const Record& record);
 
-/// A stretch of steady sliding (or a hold) found in a record.
+/// What a stretch of a lab record is (docs/analysis.md, "Segments").
+enum class SegmentKind {
+  sliding,   ///< steady sliding at one speed: what a spectrum is taken of
+  hold,      ///< the load point stopped (speed below 2% of the fastest stretch, or its noise)
+  loading,   ///< the speed steady, the force still rising or settling after a start or a hold
+  step,      ///< the transition of a velocity step (to, from or between speeds), and the force's
+             ///< evolution after it
+  reversal,  ///< the sliding direction turning (a reciprocating tribometer's stroke end)
+};
+const char* to_string(SegmentKind kind);
+
+/// A stretch of a record and what it is.
 struct SteadySegment {
   double start = 0, end = 0;  ///< [s], record time
   double mean_speed = 0;      ///< [m/s]
   std::size_t samples = 0;
-  bool hold = false;  ///< speed below a tenth of the record's fastest segment
+  bool hold = false;  ///< kind == SegmentKind::hold
+  SegmentKind kind = SegmentKind::sliding;
 };
 
-/// Splits a record into stretches of steady speed: the speeds of blocks of about 1/48 of the
-/// record (median of three), grouped while within a factor 1.6 or four scatters (of successive
-/// blocks' speeds) of their group's median (holds together); groups of fewer than three blocks
-/// (a step's transition) belong to no segment. Sorted by start.
+/// Splits a record into labelled stretches that cover it end to end, sorted by start: the
+/// speeds of blocks of about 1/2048 of the record (at least 32 samples; median of three),
+/// grouped while within a factor 1.6 or four scatters (of successive blocks' speeds) of their
+/// group's median, holds together; groups of three blocks or more are sliding or holds, the
+/// blocks between them a step or a reversal. With a force channel, the start of a sliding
+/// stretch where the force's block means lie beyond four scatters of its settled level is
+/// loading (after a start or a hold) or step (after another speed).
 std::vector<SteadySegment> steady_segments(const Record& record);
 /// The samples of `record` with start <= t <= end, as a record of their own.
 Record record_window(const Record& record, double start, double end);
-/// The longest of `segments` when velocity steps or holds split the record, with a note
-/// saying so appended to `notes`; else the record itself.
+/// The longest sliding one of `segments` when other stretches split the record, with a
+/// note saying so appended to `notes`; else the record itself.
 Record longest_steady(const Record& record, const std::vector<SteadySegment>& segments,
                       std::vector<std::string>& notes);
 
+/// A reciprocating record's strokes: sliding stretches whose direction alternates.
+struct Strokes {
+  /// The steady middle of each stroke (its sliding stretch without kStrokeEndShare at either
+  /// end), as analyzed.
+  std::vector<SteadySegment> middles;
+  double speed = 0;            ///< mean |speed| of the strokes [m/s]
+  double middle_duration = 0;  ///< the shortest middle [s]: every stroke's periodogram has its length
+  /// The lowest point a stroke allows: bin 2 of its periodogram, 2 x 2 pi / middle_duration [rad/s].
+  double lowest_omega = 0;
+};
+/// Share of a stroke's sliding stretch left out at each end, where the slider still
+/// accelerates or the friction force has not yet settled after the reversal.
+inline constexpr double kStrokeEndShare = 0.1;
+/// Fewest strokes that make a record reciprocating.
+inline constexpr std::size_t kFewestStrokes = 4;
+
+/// The strokes of `segments` when at least kFewestStrokes sliding stretches alternate in
+/// direction (reversals between them), and those stretches are most of the sliding; else none.
+std::optional<Strokes> find_strokes(const std::vector<SteadySegment>& segments, double dt);
 /// Reads CSV, TSV or whitespace-separated text: '#' comments, blank lines, an optional
 /// header. Throws InputError naming `source` and the line for a missing column, a field
 /// that is not a finite number, a wrong field count, non-increasing time, a gap or jitter
@@ -257,6 +291,10 @@ std::size_t welch_segment_samples(std::size_t samples, double dt, double omega_m
 /// differences divided by 4 sin^2(omega dt / 2); points on a log grid from bin 2 to the bin
 /// below Nyquist, each bin its own point where bins are sparser than the grid.
 WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const WelchRequest& request);
+/// The same of independent pieces of a record (a reciprocating record's strokes): segments of
+/// request.segment_samples (0: the longest fast length of the shortest piece) half-overlapping
+/// within each piece, all averaged, the pieces' segments counted as independent.
+WelchSpectrum welch_spectrum(const std::vector<std::vector<double>>& pieces, double dt, const WelchRequest& request);
 /// The mean of `true_spectrum` over each point's bins: what each point estimates.
 std::vector<double> welch_expected(const WelchSpectrum& spectrum, const std::function<double(double)>& true_spectrum);
 
@@ -318,6 +356,10 @@ struct RecordSpectrum {
   /// below the first one where the floor exceeds a tenth of C_x (or the highest point); 0 .. 0
   /// when the floor exceeds it at the lowest point already (no usable band).
   double usable_low = 0, usable_high = 0;
+  /// The record's stretches as steady_segments finds them (empty until the caller sets them),
+  /// and its strokes when the spectrum is of a reciprocating record's strokes.
+  std::vector<SteadySegment> segments;
+  std::optional<Strokes> strokes;
   bool top_set_by_interpolation = false;  ///< a resampled record's band cut where interpolation filters
   double interpolation_interval = 0;      ///< the input interval [s] behind that cut
   bool top_set_by_omega_max = false;      ///< the omega_max asked for, below the estimator's own top
@@ -335,6 +377,13 @@ struct RecordSpectrum {
 /// the conventions of docs/model.md §3). Throws InputError when the record is too short
 /// for a single point or the band does not fit the sampling.
 RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& request);
+/// The strokes' middles analyzed as independent pieces of one spectrum: each stroke's own
+/// sliding line removed, Welch segments of one common length (the shortest middle) within
+/// each stroke, their periodograms averaged over all strokes with degrees of freedom summed
+/// (docs/analysis.md, "Reciprocating records"); a note on what was done appended to `notes`.
+RecordSpectrum analyze_strokes(const Record& record, const Strokes& strokes, const AnalysisRequest& request,
+                               std::vector<std::string>& notes);
+
 /// What each point of `spectrum` reports on average for a process of spectrum `true_spectrum`.
 std::vector<double> expected_points(const RecordSpectrum& spectrum, const std::function<double(double)>& true_spectrum);
 

@@ -80,9 +80,10 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
       5 v/a .. omega_c/3).
     estimator: "auto" (Welch up to 1e7 samples, streaming beyond), "welch" (Hann, 50% overlap,
       8 segments of first differences: 9 x 2 pi / T to Nyquist) or "streaming" (the run's).
-    window: (t0, t1) [s] in record time: only those samples (default: the longest steady
-      segment when velocity steps or holds split the record; the result's segments and notes
-      say which). resample: "auto" (jitter interpolated linearly onto the median interval, a
+    window: (t0, t1) [s] in record time: only those samples (default: the longest sliding
+      segment when velocity steps or holds split the record, or the strokes' middles of a
+      reciprocating record; the result's segments, each with its kind -- sliding, hold,
+      loading, step, reversal --, strokes and notes say which). resample: "auto" (jitter interpolated linearly onto the median interval, a
       gap refused), "off", "median" or an interval [s] (gaps and rate changes interpolated);
       the band is cut where interpolation filters it.
     theory_order: 2 (default) compares and fits with the second-order theory where it

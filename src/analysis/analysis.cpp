@@ -159,13 +159,15 @@ std::vector<AnalysisPoint> streaming_points(const Record& record, const Analysis
   return points;
 }
 
+/// Welch's points of xi, or of a reciprocating record's strokes (several pieces of xi).
 std::vector<AnalysisPoint> welch_points(const Record& record, const AnalysisRequest& request,
-                                        const std::vector<double>& xi, RecordSpectrum& result) {
+                                        const std::vector<std::vector<double>>& pieces, RecordSpectrum& result) {
   WelchRequest welch;
   welch.omega_min = request.omega_min;
   welch.omega_max = request.omega_max;
   welch.points_per_decade = request.points_per_decade;
-  result.welch = welch_spectrum(xi, record.dt, welch);
+  result.welch =
+      pieces.size() == 1 ? welch_spectrum(pieces.front(), record.dt, welch) : welch_spectrum(pieces, record.dt, welch);
   std::vector<AnalysisPoint> points;
   for (const WelchPoint& w : result.welch.points) {
     AnalysisPoint p{w.omega,
@@ -240,7 +242,10 @@ void check_band(const AnalysisRequest& request) {
     throw InputError("{points}: must be between 1 and 100 per decade");
 }
 
-RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& request) {
+namespace {
+
+/// The spectrum of `record`, or of its `strokes` (records of their own) as pieces of one.
+RecordSpectrum analyze(const Record& record, const std::vector<Record>& strokes, const AnalysisRequest& request) {
   if (request.resolution < 0 || !std::isfinite(request.resolution))
     throw InputError("{resolution}: must be a length >= 0 in metres");
   if (request.sensor_noise < 0 || !std::isfinite(request.sensor_noise))
@@ -252,15 +257,42 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
   RecordSpectrum result;
   result.observable = record.observable;
   result.channel = observable_channel(record);
-  result.samples = record.samples();
   result.dt = record.dt;
+  std::vector<std::vector<double>> pieces;
+  if (strokes.empty()) {
+    result.samples = record.samples();
+    result.sliding = fit_sliding(record);
+    pieces.push_back(sliding_fluctuation(record, result.sliding));
+  } else {
+    // Each stroke its own line (its own direction and speed); the speed reported is the
+    // strokes' mean |v|, its error from their scatter.
+    double sum = 0, sum2 = 0, xi2 = 0;
+    for (const Record& stroke : strokes) {
+      const SlidingFit fit = fit_sliding(stroke);
+      pieces.push_back(sliding_fluctuation(stroke, fit));
+      result.samples += stroke.samples();
+      sum += std::fabs(fit.v), sum2 += fit.v * fit.v;
+      xi2 += fit.xi_rms * fit.xi_rms * double(stroke.samples());
+    }
+    const double n = double(strokes.size()), mean = sum / n;
+    result.sliding.v = mean;
+    result.sliding.v_error = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1));
+    result.sliding.xi_rms = std::sqrt(xi2 / double(result.samples));
+    result.sliding.blocks = int(strokes.size());
+  }
   result.duration = static_cast<double>(result.samples) * record.dt;
-  result.sliding = fit_sliding(record);
   result.quantization_variance = request.resolution * request.resolution / 12;
   result.sensor_noise_variance = request.sensor_noise * request.sensor_noise;
 
   result.estimator = request.estimator;
-  if (request.estimator == Estimator::automatic) {
+  if (!strokes.empty()) {
+    if (request.estimator == Estimator::streaming)
+      throw InputError(
+          "--estimator streaming: a reciprocating record's strokes are analyzed by Welch's estimator "
+          "alone (--window T0:T1 takes one stretch)");
+    result.estimator = Estimator::welch;
+    result.estimator_reason = "the strokes of a reciprocating record: one Welch segment length in each stroke";
+  } else if (request.estimator == Estimator::automatic) {
     const bool long_record = result.samples > kWelchLargestRecord;
     result.estimator = long_record ? Estimator::streaming : Estimator::welch;
     result.estimator_reason = long_record ? "automatic: over " + std::to_string(kWelchLargestRecord) +
@@ -276,9 +308,8 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
     result.top_set_by_interpolation = true;
     result.interpolation_interval = record.interpolation_interval;
   }
-  const std::vector<double> xi = sliding_fluctuation(record, result.sliding);
-  result.points = result.estimator == Estimator::welch ? welch_points(record, band, xi, result)
-                                                       : streaming_points(record, band, xi, result);
+  result.points = result.estimator == Estimator::welch ? welch_points(record, band, pieces, result)
+                                                       : streaming_points(record, band, pieces.front(), result);
   // The estimator's own top: the bin below Nyquist (welch), half of Nyquist (streaming).
   const double nyquist = std::numbers::pi / record.dt, spacing = result.welch.bin_spacing;
   const double estimator_top =
@@ -312,6 +343,29 @@ RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& reque
                                                          [](const AnalysisPoint& p) { return p.noise_floor >= p.C_x; });
   result.readings_off_grid = request.resolution > 0 && record.observable == Observable::displacement &&
                              !readings_on_grid(record.displacement, request.resolution);
+  return result;
+}
+
+}  // namespace
+
+RecordSpectrum analyze_record(const Record& record, const AnalysisRequest& request) {
+  return analyze(record, {}, request);
+}
+
+RecordSpectrum analyze_strokes(const Record& record, const Strokes& strokes, const AnalysisRequest& request,
+                               std::vector<std::string>& notes) {
+  std::vector<Record> pieces;
+  for (const SteadySegment& middle : strokes.middles) pieces.push_back(record_window(record, middle.start, middle.end));
+  RecordSpectrum result = analyze(record, pieces, request);
+  result.strokes = strokes;
+  char note[400];
+  std::snprintf(note, sizeof note,
+                "a reciprocating record: %zu strokes at %.3g m/s; the middle %.0f%% of each (%.4g s at the shortest) "
+                "analyzed, %zu Welch segments in all, the strokes' periodograms averaged; lowest omega a stroke allows "
+                "%.4g rad/s",
+                strokes.middles.size(), strokes.speed, 100 * (1 - 2 * kStrokeEndShare), strokes.middle_duration,
+                result.welch.segments, strokes.lowest_omega);
+  notes.push_back(note);
   return result;
 }
 

@@ -42,6 +42,18 @@ namespace slidespec::detail {
 
 nlohmann::ordered_json spectrum_json(const RecordSpectrum& s, const std::vector<double>& theory) {
   nlohmann::ordered_json doc;
+  doc["segments"] = nlohmann::ordered_json::array();
+  for (const SteadySegment& g : s.segments)
+    doc["segments"].push_back({{"start", g.start},
+                               {"end", g.end},
+                               {"kind", to_string(g.kind)},
+                               {"mean_speed", g.mean_speed},
+                               {"hold", g.hold}});
+  if (s.strokes)
+    doc["strokes"] = {{"count", s.strokes->middles.size()},
+                      {"speed", s.strokes->speed},
+                      {"middle_duration", s.strokes->middle_duration},
+                      {"lowest_omega", s.strokes->lowest_omega}};
   const bool force = s.observable == Observable::force;
   const char* name = force ? "C_F" : "C_x";
   doc["observable"] = {{"name", to_string(s.observable)},

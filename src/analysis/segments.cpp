@@ -1,10 +1,14 @@
 // Steady sliding inside a record: velocity steps and holds split it, and a spectrum belongs
 // to one steady stretch (a step's transient is not stationary noise).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
+#include <optional>
 
 #include "analysis/line_fit.hpp"
+#include "analysis/names.hpp"
 #include "analysis/sampling.hpp"
 #include "slidespec/analysis.hpp"
 
@@ -12,19 +16,30 @@ namespace slidespec {
 
 namespace {
 
-// About 48 blocks a record: enough to place a step to 2% of the record, each block long
-// enough (>= 32 samples) for its speed to stand above the sensor's noise.
-constexpr std::size_t kBlocksPerRecord = 48;
+// About 2048 blocks a record, at least 32 samples each (a speed above the sensor's noise): a hold of 2 s in a record of
+// an hour at 10 Hz spans several blocks (at 1/48 of the record it was one block, smoothed away).
+constexpr std::size_t kBlocksPerRecord = 2048;
 constexpr std::size_t kFewestBlockSamples = 32;
 // Speeds within this factor of their group's median belong together (a velocity step in a
 // rock-friction test is 3x..10x).
 constexpr double kSteadyFactor = 1.6;
 // A hold: slower than this share of the fastest block (a velocity step of 10x is sliding).
 constexpr double kHoldShare = 0.02;
-// Block speeds closer than this many of their scatter are the same speed.
+// Block speeds (or forces) closer than this many of their scatter are the same.
 constexpr double kScatters = 4;
-// A segment needs this many blocks to count as steady.
+// The slowest sliding to tell from a hold (twice the scatters it needs), as a share of the
+// fastest, and the fewest blocks
+// of a record in the search for blocks long enough to tell it.
+constexpr double kSlowShare = 0.1;
+constexpr std::size_t kCoarsestBlocks = 48;
+// A segment needs this many blocks to count as sliding or a hold.
 constexpr std::size_t kSteadyBlocks = 3;
+
+constexpr std::array<detail::Word<SegmentKind>, 5> kKindWords{{{"sliding", SegmentKind::sliding},
+                                                               {"hold", SegmentKind::hold},
+                                                               {"loading", SegmentKind::loading},
+                                                               {"step", SegmentKind::step},
+                                                               {"reversal", SegmentKind::reversal}}};
 
 double block_speed(const std::vector<double>& x, std::size_t first, std::size_t last, double dt) {
   return detail::fit_line(x, first, last, dt).slope;
@@ -35,30 +50,76 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// The scatter of one block's value from its neighbour's in steady sliding, from successive
+// blocks' differences (a step is one outlier among them: the median ignores it).
+double successive_scatter(const std::vector<double>& values, std::size_t first, std::size_t last) {
+  std::vector<double> differences;
+  for (std::size_t b = first + 1; b < last; ++b) differences.push_back(std::fabs(values[b] - values[b - 1]));
+  return differences.empty() ? 0 : 1.4826 * median(differences) / std::sqrt(2.0);
+}
+
+struct Group {
+  std::size_t first, last;  // blocks [first, last)
+  SegmentKind kind;
+};
+
+// The blocks at the start of a sliding group where the force has not settled: its block means
+// beyond kScatters of the level of the group's second half. 0 without a force channel.
+std::size_t unsettled_blocks(const std::vector<double>& force, std::size_t block, const Group& g) {
+  if (force.empty() || g.last - g.first < 2 * kSteadyBlocks) return 0;
+  std::vector<double> means(g.last - g.first);
+  for (std::size_t b = g.first; b < g.last; ++b) {
+    double sum = 0;
+    for (std::size_t i = b * block; i < (b + 1) * block; ++i) sum += force[i];
+    means[b - g.first] = sum / double(block);
+  }
+  const std::size_t half = means.size() / 2;
+  const double level = median(std::vector<double>(means.begin() + std::ptrdiff_t(half), means.end()));
+  const double scatter = successive_scatter(means, half, means.size());
+  std::size_t settled = 0;
+  while (settled < means.size() && std::fabs(means[settled] - level) > kScatters * scatter) ++settled;
+  // Settling that never ends, or leaves too little, is not a transient but the stretch itself.
+  return settled + kSteadyBlocks <= means.size() ? settled : 0;
+}
+
 }  // namespace
+
+const char* to_string(SegmentKind kind) { return detail::name_of(kKindWords, kind); }
 
 std::vector<SteadySegment> steady_segments(const Record& record) {
   const std::vector<double>& x = record.displacement;
   if (x.empty()) return {};  // a force record without a displacement: no speed to find steps by
-  const std::size_t block = std::max(kFewestBlockSamples, x.size() / kBlocksPerRecord);
-  const std::size_t blocks = x.size() / block;
-  if (blocks < kSteadyBlocks) {
-    const double v = block_speed(x, 0, x.size(), record.dt);
-    return {{record.start_time, record.start_time + double(x.size() - 1) * record.dt, v, x.size(), false}};
+  const auto segment = [&](std::size_t from, std::size_t to, SegmentKind kind) {
+    SteadySegment s;
+    s.start = record.start_time + double(from) * record.dt;
+    s.end = record.start_time + double(to - 1) * record.dt;
+    s.samples = to - from;
+    s.mean_speed = block_speed(x, from, to, record.dt);
+    s.kind = kind;
+    s.hold = kind == SegmentKind::hold;
+    return s;
+  };
+  // The finest blocks whose speeds tell a tenth of the fastest speed from a hold: a noisy
+  // sensor needs longer blocks (down to the 48 of a record that were once the only choice).
+  std::size_t block = std::max(kFewestBlockSamples, x.size() / kBlocksPerRecord);
+  std::vector<double> raw, speed;
+  double scatter = 0, fastest = 0;
+  for (;; block *= 2) {
+    const std::size_t blocks = x.size() / block;
+    if (blocks < kSteadyBlocks) return {segment(0, x.size(), SegmentKind::sliding)};
+    raw.assign(blocks, 0);
+    for (std::size_t b = 0; b < blocks; ++b) raw[b] = block_speed(x, b * block, (b + 1) * block, record.dt);
+    // A median of three blocks: one block of a slip burst or a sensor glitch does not end a
+    // segment; a step, lasting, does.
+    speed = raw;
+    for (std::size_t b = 1; b + 1 < blocks; ++b) speed[b] = median({raw[b - 1], raw[b], raw[b + 1]});
+    // The scatter of a block's speed in steady sliding (xi's own motion, the sensor's noise).
+    scatter = successive_scatter(raw, 0, blocks);
+    fastest = std::fabs(
+        *std::max_element(speed.begin(), speed.end(), [](double a, double b) { return std::fabs(a) < std::fabs(b); }));
+    if (2 * kScatters * scatter <= kSlowShare * fastest || blocks / 2 < kCoarsestBlocks) break;
   }
-  std::vector<double> raw(blocks);
-  for (std::size_t b = 0; b < blocks; ++b) raw[b] = block_speed(x, b * block, (b + 1) * block, record.dt);
-  // A median of three blocks: one block of a slip burst or a sensor glitch does not end a
-  // segment; a step, lasting, does.
-  std::vector<double> speed = raw;
-  for (std::size_t b = 1; b + 1 < blocks; ++b) speed[b] = median({raw[b - 1], raw[b], raw[b + 1]});
-  // The scatter of a block's speed in steady sliding (xi's own motion, the sensor's noise),
-  // from successive blocks' differences (a step is one outlier among them: the median ignores it).
-  std::vector<double> differences;
-  for (std::size_t b = 1; b < blocks; ++b) differences.push_back(std::fabs(raw[b] - raw[b - 1]));
-  const double scatter = 1.4826 * median(differences) / std::sqrt(2.0);
-  const double fastest = std::fabs(
-      *std::max_element(speed.begin(), speed.end(), [](double a, double b) { return std::fabs(a) < std::fabs(b); }));
+  const std::size_t blocks = raw.size();
   const auto is_hold = [&](double v) {
     return fastest > kScatters * scatter && std::fabs(v) < std::max(kHoldShare * fastest, kScatters * scatter);
   };
@@ -68,34 +129,81 @@ std::vector<SteadySegment> steady_segments(const Record& record) {
     return v * group > 0 && std::fabs(std::log(v / group)) < std::log(kSteadyFactor);
   };
 
-  // Groups of consecutive blocks; a block that fits neither its group nor the next one is a
-  // transition (it straddles the step) and belongs to none.
-  std::vector<std::pair<std::size_t, std::size_t>> groups;  // [first, last) blocks
+  // Groups of consecutive blocks; the blocks between groups of kSteadyBlocks or more straddle
+  // a step or a reversal.
+  std::vector<Group> runs;
   std::size_t first = 0;
   std::vector<double> members = {speed[0]};
   for (std::size_t b = 1; b < blocks; ++b) {
-    if (together(speed[b], median(members))) {
+    const double level = median(members);
+    if (together(speed[b], level)) {
       members.push_back(speed[b]);
       continue;
     }
-    groups.push_back({first, b});
+    // A block that does not fit, between blocks that do, is a burst inside the stretch.
+    bool returns = false;
+    for (std::size_t a = b + 1; a < std::min(blocks, b + kSteadyBlocks) && !returns; ++a)
+      returns = together(speed[a], level);
+    if (returns) continue;
+    runs.push_back({first, b, SegmentKind::sliding});
     first = b;
     members = {speed[b]};
   }
-  groups.push_back({first, blocks});
+  runs.push_back({first, blocks, SegmentKind::sliding});
+  std::vector<Group> steady;
+  for (Group g : runs) {
+    if (g.last - g.first < kSteadyBlocks) continue;
+    // A block at the edge whose own speed is off the stretch's straddles the step (the median
+    // of three took it in): the step's.
+    const double level =
+        median(std::vector<double>(raw.begin() + std::ptrdiff_t(g.first), raw.begin() + std::ptrdiff_t(g.last)));
+    const auto off = [&](std::size_t b) { return std::fabs(raw[b] - level) > kScatters * scatter; };
+    while (g.last - g.first > kSteadyBlocks && off(g.first)) ++g.first;
+    while (g.last - g.first > kSteadyBlocks && off(g.last - 1)) --g.last;
+    g.kind =
+        is_hold(block_speed(x, g.first * block, g.last * block, record.dt)) ? SegmentKind::hold : SegmentKind::sliding;
+    // Stretches of one speed split by a glitch too long for the median are one stretch.
+    const auto group_speed = [&](const Group& h) { return block_speed(x, h.first * block, h.last * block, record.dt); };
+    if (!steady.empty() && steady.back().kind == g.kind && steady.back().last + kSteadyBlocks > g.first &&
+        (g.kind == SegmentKind::hold || together(group_speed(g), group_speed(steady.back())))) {
+      steady.back().last = g.last;
+      continue;
+    }
+    steady.push_back(g);
+  }
+
+  std::vector<Group> all;
+  std::size_t next = 0;  // first block not yet labelled
+  for (std::size_t k = 0; k < steady.size(); ++k) {
+    Group g = steady[k];
+    const Group* before = k > 0 ? &steady[k - 1] : nullptr;
+    if (g.first > next) {  // the blocks between two steady stretches
+      const bool reversal = before && before->kind == SegmentKind::sliding && g.kind == SegmentKind::sliding &&
+                            block_speed(x, before->first * block, before->last * block, record.dt) *
+                                    block_speed(x, g.first * block, g.last * block, record.dt) <
+                                0;
+      all.push_back({next, g.first,
+                     reversal ? SegmentKind::reversal
+                     : before ? SegmentKind::step
+                              : SegmentKind::loading});
+    }
+    if (g.kind == SegmentKind::sliding) {
+      const std::size_t unsettled = unsettled_blocks(record.force, block, g);
+      if (unsettled > 0) {
+        const bool after_sliding =
+            before && before->kind == SegmentKind::sliding && before->last + kSteadyBlocks > g.first;
+        all.push_back({g.first, g.first + unsettled, after_sliding ? SegmentKind::step : SegmentKind::loading});
+        g.first += unsettled;
+      }
+    }
+    all.push_back(g);
+    next = steady[k].last;
+  }
+  if (next < blocks) all.push_back({next, blocks, steady.empty() ? SegmentKind::sliding : SegmentKind::step});
 
   std::vector<SteadySegment> segments;
-  for (const auto& [a, b] : groups) {
-    if (b - a < kSteadyBlocks) continue;
-    const std::size_t from = a * block, to = b == blocks ? x.size() : b * block;
-    SteadySegment s;
-    s.start = record.start_time + double(from) * record.dt;
-    s.end = record.start_time + double(to - 1) * record.dt;
-    s.samples = to - from;
-    s.mean_speed = block_speed(x, from, to, record.dt);
-    s.hold = is_hold(s.mean_speed);
-    segments.push_back(s);
-  }
+  for (const Group& g : all)
+    segments.push_back(segment(g.first * block, g.last == blocks ? x.size() : g.last * block, g.kind));
   return segments;
 }
 
@@ -115,18 +223,67 @@ Record record_window(const Record& record, double start, double end) {
 Record longest_steady(const Record& record, const std::vector<SteadySegment>& segments,
                       std::vector<std::string>& notes) {
   if (segments.empty() || (segments.size() == 1 && segments.front().samples >= record.samples())) return record;
-  const auto longest = std::max_element(segments.begin(), segments.end(),
-                                        [](const auto& a, const auto& b) { return a.end - a.start < b.end - b.start; });
-  char note[320];
+  const auto by_length = [](const auto& a, const auto& b) {
+    const bool a_sliding = a.kind == SegmentKind::sliding, b_sliding = b.kind == SegmentKind::sliding;
+    if (a_sliding != b_sliding) return b_sliding;
+    return a.end - a.start < b.end - b.start;
+  };
+  const auto longest = std::max_element(segments.begin(), segments.end(), by_length);
+  const auto count = [&](SegmentKind kind) {
+    return std::count_if(segments.begin(), segments.end(), [&](const SteadySegment& s) { return s.kind == kind; });
+  };
+  char note[400];
   std::snprintf(note, sizeof note,
-                "the record holds %zu steady segment(s) ({segments} lists them); analyzing the longest, %.10g:%.10g s "
-                "at %.3g m/s; {window} T0:T1 picks another",
-                segments.size(), longest->start, longest->end, longest->mean_speed);
+                "the record holds %zu segment(s): %td sliding, %td hold(s), %td loading, %td step(s), %td reversal(s) "
+                "({segments} lists them); analyzing the longest %s one, %.10g:%.10g s at %.3g m/s; {window} T0:T1 "
+                "picks another",
+                segments.size(), count(SegmentKind::sliding), count(SegmentKind::hold), count(SegmentKind::loading),
+                count(SegmentKind::step), count(SegmentKind::reversal),
+                longest->kind == SegmentKind::sliding ? "sliding" : "(no sliding stretch: not steady)", longest->start,
+                longest->end, longest->mean_speed);
   notes.push_back(note);
   Record window = record_window(record, longest->start, longest->end);
   if (window.resampled && window.interpolation_cut != record.interpolation_cut)
     notes.push_back("in the segment, " + detail::interpolation_cut_words(window));
   return window;
+}
+
+std::optional<Strokes> find_strokes(const std::vector<SteadySegment>& segments, double dt) {
+  std::vector<const SteadySegment*> sliding;
+  double sliding_time = 0;
+  for (const SteadySegment& s : segments)
+    if (s.kind == SegmentKind::sliding) sliding.push_back(&s), sliding_time += s.end - s.start;
+  if (sliding.size() < kFewestStrokes) return std::nullopt;
+  // The longest run of sliding stretches alternating in direction, each after a reversal.
+  std::size_t best_first = 0, best_count = 1, first = 0;
+  for (std::size_t k = 1; k <= sliding.size(); ++k) {
+    const bool alternates = k < sliding.size() && sliding[k]->mean_speed * sliding[k - 1]->mean_speed < 0;
+    if (alternates) continue;
+    if (k - first > best_count) best_first = first, best_count = k - first;
+    first = k;
+  }
+  if (best_count < kFewestStrokes) return std::nullopt;
+  Strokes strokes;
+  double stroke_time = 0, speed_sum = 0;
+  for (std::size_t k = best_first; k < best_first + best_count; ++k) {
+    SteadySegment middle = *sliding[k];
+    const double trim = kStrokeEndShare * (middle.end - middle.start);
+    middle.start += trim, middle.end -= trim;
+    middle.samples = std::size_t(std::floor((middle.end - middle.start) / dt + 1e-9)) + 1;
+    stroke_time += sliding[k]->end - sliding[k]->start;
+    speed_sum += std::fabs(middle.mean_speed);
+    strokes.middles.push_back(middle);
+  }
+  // Strokes are most of the sliding, or the record is a slide with a few turns in it.
+  if (stroke_time < 0.5 * sliding_time) return std::nullopt;
+  strokes.speed = speed_sum / double(best_count);
+  strokes.middle_duration =
+      std::min_element(strokes.middles.begin(), strokes.middles.end(),
+                       [](const auto& a, const auto& b) { return a.end - a.start < b.end - b.start; })
+          ->samples *
+      dt;
+  strokes.lowest_omega = 2 * 2 * std::numbers::pi / strokes.middle_duration;
+  return strokes;
 }
 
 }  // namespace slidespec

@@ -27,10 +27,14 @@ void append(std::vector<AnalysisMessage>& to, std::vector<AnalysisMessage> more)
   to.insert(to.end(), std::make_move_iterator(more.begin()), std::make_move_iterator(more.end()));
 }
 
-/// The stretch of `record` analyzed: all of a window, else its longest steady stretch.
-Record analyzed_stretch(Record record, const AnalysisPlan& plan, AnalysisReport& report) {
+/// The stretch of `record` analyzed: all of a window, the strokes of a reciprocating record
+/// (`strokes` set), else its longest sliding stretch.
+Record analyzed_stretch(Record record, const AnalysisPlan& plan, AnalysisReport& report,
+                        std::optional<Strokes>& strokes) {
   report.notes = as_notes(record.notes, "sampling");
   report.segments = steady_segments(record);
+  if (!plan.windowed) strokes = find_strokes(report.segments, record.dt);
+  if (strokes) return record;
   if (!plan.windowed) {
     std::vector<std::string> notes;
     record = longest_steady(record, report.segments, notes);
@@ -38,9 +42,8 @@ Record analyzed_stretch(Record record, const AnalysisPlan& plan, AnalysisReport&
   } else if (report.segments.size() > 1) {
     report.notes.push_back({Kind::note,
                             "window",
-                            named(Option::window) + " holds " + std::to_string(report.segments.size()) +
-                                " stretches of different steady speed (" + named(Option::segments) +
-                                " lists them): not one steady slide",
+                            named(Option::window) + " holds " + std::to_string(report.segments.size()) + " segments (" +
+                                named(Option::segments) + " lists them): not one steady slide",
                             {{"stretches", double(report.segments.size())}}});
   }
   return record;
@@ -211,8 +214,16 @@ AnalysisReport analyze(Record record, const AnalysisPlan& plan) {
   AnalysisReport r;
   r.request = plan.request;
   if (plan.normal_mass > 0 || plan.driving_mass > 0) r.mu = friction_coefficient(plan.normal_mass, plan.driving_mass);
-  r.record = analyzed_stretch(std::move(record), plan, r);
-  r.spectrum = analyze_record(r.record, plan.request);
+  std::optional<Strokes> strokes;
+  r.record = analyzed_stretch(std::move(record), plan, r, strokes);
+  if (strokes) {
+    std::vector<std::string> notes;
+    r.spectrum = analyze_strokes(r.record, *strokes, plan.request, notes);
+    append(r.notes, as_notes(notes, "strokes"));
+  } else {
+    r.spectrum = analyze_record(r.record, plan.request);
+  }
+  r.spectrum.segments = r.segments;
   r.spectrum_verdict = detail::judge_spectrum(r.spectrum);
   fit_power_and_slope(plan, r);
   if (!plan.compare_case.empty()) compare_model(plan, r);

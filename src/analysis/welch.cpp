@@ -177,17 +177,19 @@ std::vector<double> hann_window(std::size_t length, double& power) {
   return window;
 }
 
-/// The mean Hann-windowed periodogram of the first differences of `x` over `segments`
-/// segments `hop` apart, each segment's mean difference removed, normalised as C (docs/model.md §3).
-std::vector<double> difference_periodogram(const std::vector<double>& x, double dt, const std::vector<double>& window,
-                                           double window_power, std::size_t hop, std::size_t segments) {
+/// The mean Hann-windowed periodogram of the first differences of the segments starting at
+/// `starts` (window.size() + 1 samples each), each segment's mean difference removed,
+/// normalised as C (docs/model.md §3).
+std::vector<double> difference_periodogram(const std::vector<const double*>& starts, double dt,
+                                           const std::vector<double>& window, double window_power) {
+  const std::size_t segments = starts.size();
   const std::size_t length = window.size(), bins = length / 2 + 1;
   const std::unique_ptr<double, FftwFree> in(fftw_alloc_real(length));
   const std::unique_ptr<fftw_complex, FftwFree> spectrum(fftw_alloc_complex(bins));
   const fftw_plan plan = r2c_plan(length);
   std::vector<double> periodogram(bins, 0.0);
   for (std::size_t s = 0; s < segments; ++s) {
-    const double* segment = x.data() + s * hop;
+    const double* segment = starts[s];
     // The segment's mean difference is its mean slope: removing it removes each segment's trend.
     double mean = 0;
     for (std::size_t j = 0; j < length; ++j) mean += segment[j + 1] - segment[j];
@@ -220,8 +222,10 @@ struct PointVariance {
   }
 };
 
+/// Of `segments` segments of which `overlapping_pairs` pairs overlap by `hop` (one piece of
+/// record: segments - 1; independent pieces share none across).
 PointVariance point_variance(const std::vector<double>& window, double window_power, std::size_t hop,
-                             std::size_t segments) {
+                             std::size_t segments, std::size_t overlapping_pairs) {
   const std::size_t length = window.size();
   const auto overlap = [&](std::size_t shift) {
     double sum = 0;
@@ -229,7 +233,7 @@ PointVariance point_variance(const std::vector<double>& window, double window_po
     return sum * sum / (window_power * window_power);
   };
   const double rho_s = overlap(hop);
-  const double segment_factor = (1 + 2 * rho_s * double(segments - 1) / double(segments)) / double(segments);
+  const double segment_factor = (1 + 2 * rho_s * double(overlapping_pairs) / double(segments)) / double(segments);
   std::vector<double> rho_b(4, 0.0);
   for (std::size_t d = 0; d < rho_b.size(); ++d) {
     // The phase advanced by multiplication: no sine or cosine per sample.
@@ -269,23 +273,44 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
   if (x.size() < kFewestSamples)
     throw InputError("the record (" + std::to_string(x.size()) +
                      " samples) is too short for a spectrum: need at least " + std::to_string(kFewestSamples));
+  WelchRequest fixed = request;
+  fixed.segment_samples =
+      request.segment_samples > 0 ? request.segment_samples : welch_segment_samples(x.size(), dt, request.omega_min);
+  return welch_spectrum(std::vector<std::vector<double>>{x}, dt, fixed);
+}
+
+WelchSpectrum welch_spectrum(const std::vector<std::vector<double>>& pieces, double dt, const WelchRequest& request) {
+  if (!(dt > 0)) throw InputError("welch: the sampling interval must be > 0");
+  if (pieces.empty()) throw InputError("welch: no piece of record to estimate a spectrum of");
+  std::size_t shortest = pieces.front().size();
+  for (const auto& piece : pieces) shortest = std::min(shortest, piece.size());
   WelchSpectrum out;
   out.dt = dt;
-  const std::size_t length =
-      request.segment_samples > 0 ? request.segment_samples : welch_segment_samples(x.size(), dt, request.omega_min);
-  const std::size_t differences = x.size() - 1;
-  if (length < 8 || length > differences) throw InputError("welch: segment of " + std::to_string(length) + " samples");
+  std::size_t length = request.segment_samples;
+  // By default one segment of the shortest piece: the longest fast length that fits its differences.
+  if (length == 0) length = shortest < 10 ? 0 : fft_friendly(shortest - 1);
+  if (length < 8 || length + 1 > shortest)
+    throw InputError("welch: segment of " + std::to_string(length) + " samples in a piece of " +
+                     std::to_string(shortest));
   const std::size_t hop = length / 2;
-  const std::size_t segments = (differences - length) / hop + 1;
+  // Segments within a piece overlap by half; pieces are independent of one another.
+  std::vector<const double*> starts;
+  std::size_t overlapping_pairs = 0;
+  for (const auto& piece : pieces) {
+    const std::size_t in_piece = (piece.size() - 1 - length) / hop + 1;
+    for (std::size_t s = 0; s < in_piece; ++s) starts.push_back(piece.data() + s * hop);
+    overlapping_pairs += in_piece - 1;
+  }
+  const std::size_t segments = starts.size();
   out.segment_samples = length;
   out.segments = segments;
   const std::size_t bins = length / 2 + 1;
 
   double window_power = 0;
   const std::vector<double> window = hann_window(length, window_power);
-  std::vector<double> periodogram = difference_periodogram(x, dt, window, window_power, hop, segments);
+  std::vector<double> periodogram = difference_periodogram(starts, dt, window, window_power);
 
-  const PointVariance variance = point_variance(window, window_power, hop, segments);
+  const PointVariance variance = point_variance(window, window_power, hop, segments, overlapping_pairs);
   std::vector<double> point_differences;  // each point's mean difference spectrum
   std::vector<double> kernel(bins);
   for (std::size_t d = 0; d < bins; ++d) kernel[d] = hann_bin_kernel(d);

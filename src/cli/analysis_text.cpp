@@ -23,6 +23,23 @@ std::string usable_band_line(const RecordSpectrum& s) {
   return number(s.usable_low) + " .. " + number(s.usable_high) + "  # [rad/s], top set by " + top_set_by(s);
 }
 
+/// "# segment = START END KIND SPEED" per segment, and "# strokes = ..." for a reciprocating
+/// record's strokes.
+std::vector<std::string> segment_lines(const RecordSpectrum& s) {
+  std::vector<std::string> lines;
+  for (const SteadySegment& g : s.segments)
+    lines.push_back("# segment = " + util::format_number(g.start) + " " + util::format_number(g.end) + " " +
+                    to_string(g.kind) + " " + util::format_number(g.mean_speed) +
+                    "  # start [s], end [s], kind, mean speed [m/s]");
+  if (s.strokes)
+    lines.push_back("# strokes = " + std::to_string(s.strokes->middles.size()) + " " +
+                    util::format_number(s.strokes->speed) + " " + util::format_number(s.strokes->middle_duration) +
+                    " " + util::format_number(s.strokes->lowest_omega) +
+                    "  # strokes averaged, their mean |speed| [m/s], shortest middle analyzed [s], lowest omega a "
+                    "stroke allows [rad/s]");
+  return lines;
+}
+
 /// Library words, which name options by id, as the command line spells them.
 std::string words(const std::string& text) { return worded(text, FrontEnd::command_line); }
 
@@ -64,6 +81,7 @@ void record_lines(std::ostream& out, const AnalysisSource& source, const Analysi
       << "# usable_band = " << usable_band_line(s) << "\n"
       << "# estimator = " << to_string(s.estimator) << "  # " << words(s.estimator_reason) << "\n";
   for (const AnalysisMessage& note : r.notes) out << "# note = " << words(note.text) << "\n";
+  for (const std::string& line : segment_lines(s)) out << line << "\n";
   if (s.estimator == Estimator::welch)
     out << "# welch = Hann window, 50% overlap, " << s.welch.segments << " segments of " << s.welch.segment_samples
         << " samples, first differences divided by 4 sin^2(omega dt/2); bins " << number(s.welch.bin_spacing)

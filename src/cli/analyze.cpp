@@ -107,7 +107,7 @@ void parse_resample(const std::string& text, RecordFormat& format) {
 void print_segments(const std::vector<SteadySegment>& steady) {
   for (const SteadySegment& s : steady)
     std::cout << seconds(s.start) << "\t" << seconds(s.end) << "\t" << s.samples << "\t" << short_number(s.mean_speed)
-              << "\t" << (s.hold ? "hold" : "sliding") << "\n";
+              << "\t" << to_string(s.kind) << "\n";
 }
 
 /// analyze --segments: the steady stretches, one a line, on standard output; no file written.

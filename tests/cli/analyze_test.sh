@@ -129,16 +129,53 @@ data=$(dirname "$0")/../data/realdata
 sepiolite=$data/velstep3_TR2_exp013_sepiolite.txt
 basalt=$data/velstep4_BRAVA_expb819_basalt.txt
 "$bin" analyze "$sepiolite" --segments > "$work/seg3.txt" 2> "$work/seg3.err" || fail "segments of the sepiolite record: $(cat "$work/seg3.err")"
-[ "$(grep -vc '^#' "$work/seg3.txt")" -eq 2 ] || fail "sepiolite: expected 2 steady segments: $(cat "$work/seg3.txt")"
+[ "$(grep -c 'sliding$' "$work/seg3.txt")" -eq 2 ] || fail "sepiolite: expected 2 sliding segments: $(cat "$work/seg3.txt")"
 grep -q "linear interpolation" "$work/seg3.err" || fail "sepiolite: resampling not said"
 "$bin" analyze "$basalt" --segments --resample 0.1 > "$work/seg4.txt" 2>/dev/null || fail "segments of the basalt record"
-[ "$(grep -vc '^#' "$work/seg4.txt")" -eq 2 ] || fail "basalt: expected 2 steady segments: $(cat "$work/seg4.txt")"
+[ "$(grep -c 'sliding$' "$work/seg4.txt")" -eq 2 ] || fail "basalt: expected 2 sliding segments: $(cat "$work/seg4.txt")"
 # Without --resample the basalt record's two sampling rates are listed part by part, each
 # with the --window that picks it and its own steady speed.
 "$bin" analyze "$basalt" --segments > "$work/seg5.txt" 2>/dev/null || fail "segments of the basalt record by parts"
 [ "$(grep -c '^# part [12]: ' "$work/seg5.txt")" -eq 2 ] || fail "basalt: parts not listed: $(cat "$work/seg5.txt")"
-[ "$(grep -v '^#' "$work/seg5.txt" | cut -f4 | tr '\n' ' ')" = "3.02e-06 1e-05 " ] ||
+# The step comes 2 s into the second part: its first 2 s are the slower sliding.
+[ "$(grep 'sliding$' "$work/seg5.txt" | cut -f4 | tr '\n' ' ')" = "3.02e-06 3e-06 1e-05 " ] ||
   fail "basalt: the parts' steady speeds: $(cat "$work/seg5.txt")"
+
+# Records made here: a slide-hold-slide with a velocity step, and a reciprocating record of 50
+# strokes; the table and JSON say what each segment is, and how many strokes were averaged.
+/usr/bin/python3 - "$work" <<'PY'
+import math, random, sys
+random.seed(4)
+def write(name, speed, duration):
+    x = walk = 0.0
+    with open(f"{sys.argv[1]}/{name}.csv", "w") as f:
+        f.write("t,x_um\n")
+        for k in range(int(duration / 0.01)):
+            t = k * 0.01
+            x += speed(t) * 0.01
+            walk += random.gauss(0, 0.002)
+            f.write(f"{t:.2f},{x + walk + random.gauss(0, 0.02):.6f}\n")
+write("shs", lambda t: 10 if t < 100 else 0 if t < 105 else 30 if t < 200 else 3, 400)
+write("strokes", lambda t: 100 if math.fmod(t, 40) < 20 else -100, 1000)
+PY
+"$bin" analyze "$work/shs.csv" --no-plot --out "$work/shs" 2> "$work/shs.err" || fail "slide-hold-slide: $(cat "$work/shs.err")"
+grep -q '^# segment = .* hold ' "$work/shs.tsv" || fail "slide-hold-slide: no hold in the table: $(grep segment "$work/shs.tsv")"
+grep -q "analyzing the longest sliding one, 20[0-9.]*:399" "$work/shs.err" || fail "slide-hold-slide: not the 3 um/s stretch: $(cat "$work/shs.err")"
+/usr/bin/python3 -c "
+import json, sys
+kinds = [s['kind'] for s in json.load(open(sys.argv[1]))['segments']]
+sys.exit(kinds.count('hold') != 1 or kinds.count('sliding') != 3 or 'step' not in kinds)" "$work/shs.json" ||
+  fail "slide-hold-slide: JSON segments $(grep -c kind "$work/shs.json")"
+"$bin" analyze "$work/strokes.csv" --no-plot --out "$work/strokes" 2> "$work/strokes.err" || fail "strokes: $(cat "$work/strokes.err")"
+grep -q '^# strokes = 50 ' "$work/strokes.tsv" || fail "strokes: the table does not say 50 strokes"
+grep -q "a reciprocating record: 50 strokes at 0.0001 m/s" "$work/strokes.err" || fail "strokes: not said: $(cat "$work/strokes.err")"
+/usr/bin/python3 -c "
+import json, sys
+d = json.load(open(sys.argv[1]))
+s = d['strokes']
+sys.exit(s['count'] != 50 or abs(s['speed'] - 1e-4) > 1e-6 or abs(d['points'][0]['omega'] / s['lowest_omega'] - 1) > 0.2)" "$work/strokes.json" ||
+  fail "strokes: JSON $(grep -A4 '"strokes"' "$work/strokes.json")"
+
 for case in "$sepiolite 20100:21290 2e-07" "$sepiolite 21350:22319 2e-06" "$basalt 11608:11674 3.02e-06" "$basalt 11675:11726 1e-05"; do
   set -- $case
   "$bin" analyze "$1" --window "$2" --no-plot --out "$work/real" 2> "$work/real.err" || fail "analyze $1 --window $2: $(cat "$work/real.err")"
