@@ -288,8 +288,8 @@ RecordSpectrum analyze(const Record& record, const std::vector<Record>& strokes,
   if (!strokes.empty()) {
     if (request.estimator == Estimator::streaming)
       throw InputError(
-          "--estimator streaming: a reciprocating record's strokes are analyzed by Welch's estimator "
-          "alone (--window T0:T1 takes one stretch)");
+          "{estimator} streaming: a reciprocating record's strokes are analyzed by Welch's estimator "
+          "alone ({window} T0:T1 takes one stretch)");
     result.estimator = Estimator::welch;
     result.estimator_reason = "the strokes of a reciprocating record: one Welch segment length in each stroke";
   } else if (request.estimator == Estimator::automatic) {

@@ -128,7 +128,7 @@ std::pair<double, std::string> number_and_unit(const std::string& text, const st
 
 LengthUnit parse_length_unit(const std::string& name, const std::string& option) {
   return detail::parse_word(kLengthWords, name, option, "unit",
-                            "; a force or stress channel is read with --force-column");
+                            "; a force or stress channel is read with {force_column}");
 }
 
 double parse_length(const std::string& text, LengthUnit bare_unit, const std::string& option) {
@@ -160,7 +160,7 @@ double metres_per(LengthUnit unit) {
 
 ForceUnit parse_force_unit(const std::string& name, const std::string& option) {
   if (const auto unit = force_unit(name)) return *unit;
-  return detail::parse_word(kForceWords, name, option, "unit", "; a stress needs --contact-area");
+  return detail::parse_word(kForceWords, name, option, "unit", "; a stress needs {contact_area}");
 }
 
 const char* to_string(ForceUnit unit) { return detail::name_of(kForceWords, unit); }
@@ -237,7 +237,7 @@ double parse_area(const std::string& text, const std::string& option) {
 }
 
 double parse_stiffness(const std::string& text, double contact_area, const std::string& option) {
-  const auto [value, unit] = number_and_unit(text, option, "1e9, in N/m, 0.5kN/um, or 0.002MPa/um with --contact-area");
+  const auto [value, unit] = number_and_unit(text, option, "1e9, in N/m, 0.5kN/um, or 0.002MPa/um with {contact_area}");
   if (!(value > 0)) throw InputError(option + ": '" + text + "' is not a stiffness > 0");
   if (unit.empty()) return value;
   const auto slash = unit.find('/');
@@ -248,18 +248,18 @@ double parse_stiffness(const std::string& text, double contact_area, const std::
   const double stress = named && is_stress(*named) ? si_per(*named) : lower(top) == "gpa" ? 1e9 : 0;
   if (!per || (force == 0 && stress == 0))
     throw InputError(option + ": '" + unit + "' is not a stiffness unit (N/m, kN/mm, N/um...; MPa/um, kPa/um... " +
-                     "with --contact-area)");
+                     "with {contact_area})");
   if (stress > 0) {
     if (!(contact_area > 0))
       throw InputError(option + ": a stiffness in " + unit +
-                       " (stress per length) needs --contact-area A to become N/m");
+                       " (stress per length) needs {contact_area} A to become N/m");
     force = stress * contact_area;
   }
   return value * force / metres_per(*per);
 }
 
 Observable parse_observable(const std::string& name) {
-  return detail::parse_word(kObservableWords, name, "--observable", "observable");
+  return detail::parse_word(kObservableWords, name, "{observable}", "observable");
 }
 
 const char* to_string(Observable observable) { return detail::name_of(kObservableWords, observable); }
@@ -780,7 +780,7 @@ class RecordReader {
     const int count = static_cast<int>(names_.size());
     if (format_.dt <= 0) {
       if (!format_.time_column.empty()) {
-        time_index_ = find_column(format_.time_column, "--time-column", line_number);
+        time_index_ = find_column(format_.time_column, "{time_column}", line_number);
       } else {
         for (int k = 0; k < count && time_index_ < 0; ++k)
           if (is_time_name(split_unit(names_[k]))) time_index_ = k;
@@ -792,14 +792,14 @@ class RecordReader {
         if (time_index_ < 0 && count == 2 && names_[0] == "1") time_index_ = 0;
         if (time_index_ < 0)
           fail(line_number,
-               "no time column (columns: " + column_list(names_) + "); name it with --time-column or give --dt");
+               "no time column (columns: " + column_list(names_) + "); name it with {time_column} or give {dt}");
       }
     }
     if (format_.dt > 0)
       for (int k = 0; k < count; ++k)
         if (is_time_name(split_unit(names_[k])))
-          fail(line_number, "--dt: the record has a time column '" + names_[k] +
-                                "'; --dt is for records without one (the time column is read by default)");
+          fail(line_number, "{dt}: the record has a time column '" + names_[k] +
+                                "'; {dt} is for records without one (the time column is read by default)");
     record_.observable = chosen_observable(format_);
     record_.machine_stiffness = format_.machine_stiffness;
     if (record_.observable != Observable::displacement) choose_force_column(line_number);
@@ -820,16 +820,16 @@ class RecordReader {
     const int count = static_cast<int>(names_.size());
     const auto taken = [&](int k) { return k == time_index_ || k == force_index_ || k == normal_index_; };
     if (!format_.column.empty()) {
-      x_index_ = find_column(format_.column, "--column", line_number);
+      x_index_ = find_column(format_.column, "{column}", line_number);
       const std::string& named = names_[static_cast<std::size_t>(x_index_)];
       const std::string holds = force_like(named);
       if (names_normal_load(named))
-        fail(line_number, "--column " + format_.column +
+        fail(line_number, "{column} " + format_.column +
                               ": the header names a normal load, not a displacement; it enters only as mu's normal "
-                              "load (--normal-stress-column), and --column is the displacement");
+                              "load ({normal_stress_column}), and {column} is the displacement");
       if (!holds.empty())
-        fail(line_number, "--column " + format_.column + ": the header names " + holds +
-                              ", not a displacement; give it as --force-column (--column is the displacement)");
+        fail(line_number, "{column} " + format_.column + ": the header names " + holds +
+                              ", not a displacement; give it as {force_column} ({column} is the displacement)");
     } else {
       std::vector<std::string> candidates;
       for (int k = 0; k < count; ++k)
@@ -840,18 +840,18 @@ class RecordReader {
       // Two columns that could each be the displacement (x (um), x (mm)): taking the first
       // would be a guess.
       if (candidates.size() > 1)
-        fail(line_number, "which column is the displacement: " + column_list(candidates) + "? give --column");
+        fail(line_number, "which column is the displacement: " + column_list(candidates) + "? give {column}");
       if (x_index_ < 0 && needed && count - (time_index_ >= 0 ? 1 : 0) == 1) {
         x_index_ = time_index_ == 0 ? 1 : 0;
         const std::string holds = force_like(names_[static_cast<std::size_t>(x_index_)]);
         if (!holds.empty())
           fail(line_number, "the only column besides time, '" + names_[static_cast<std::size_t>(x_index_)] +
                                 "', names " + holds +
-                                ", not a displacement; give --force-column to analyze it as a force (C_F)");
+                                ", not a displacement; give {force_column} to analyze it as a force (C_F)");
       }
       if (x_index_ < 0 && !needed) return;
       if (x_index_ < 0)
-        fail(line_number, "which column is the displacement? give --column (columns: " + column_list(names_) + ")");
+        fail(line_number, "which column is the displacement? give {column} (columns: " + column_list(names_) + ")");
     }
     if (x_index_ == time_index_) fail(line_number, "the displacement column is the time column");
     if (x_index_ == force_index_) fail(line_number, "the displacement column is the force column");
@@ -859,16 +859,16 @@ class RecordReader {
     const std::string header_unit = split_unit(record_.column).unit;
     if (format_.unit) {
       if (const auto named = length_unit(header_unit); named && *named != *format_.unit)
-        fail(line_number, std::string("--units ") + to_string(*format_.unit) + " contradicts the header of column " +
-                              record_.column + ", which gives " + to_string(*named) + "; leave --units out");
+        fail(line_number, std::string("{units} ") + to_string(*format_.unit) + " contradicts the header of column " +
+                              record_.column + ", which gives " + to_string(*named) + "; leave {units} out");
       record_.unit = *format_.unit;
-      record_.unit_source = "--units";
+      record_.unit_source = "{units}";
     } else if (const auto unit = length_unit(header_unit)) {
       record_.unit = *unit;
       record_.unit_source = "header";
     } else if (const std::string unknown = unknown_length_unit(record_.column); !unknown.empty()) {
       fail(line_number, "column " + record_.column + ": '" + unknown + "' is not a length unit analyze knows (" +
-                            kKnownLengths + "); give --units");
+                            kKnownLengths + "); give {units}");
     } else {
       record_.unit = LengthUnit::m;
       record_.unit_source = "default";
@@ -880,19 +880,19 @@ class RecordReader {
   void choose_force_column(int line_number) {
     const int count = static_cast<int>(names_.size());
     if (!format_.force_column.empty()) {
-      force_index_ = find_column(format_.force_column, "--force-column", line_number);
+      force_index_ = find_column(format_.force_column, "{force_column}", line_number);
       if (names_normal_load(names_[static_cast<std::size_t>(force_index_)]))
-        fail(line_number, "--force-column " + format_.force_column +
+        fail(line_number, "{force_column} " + format_.force_column +
                               ": the header names a normal load, which presses the surfaces together, not the "
                               "friction force along them; give the friction or shear column (columns: " +
-                              column_list(names_) + "), this one as --normal-stress-column for mu");
+                              column_list(names_) + "), this one as {normal_stress_column} for mu");
     } else {
       for (int k = 0; k < count && force_index_ < 0; ++k)
         if (k != time_index_ && !force_like(names_[k]).empty() && !names_normal_load(names_[k])) force_index_ = k;
       if (force_index_ < 0)
         fail(line_number, std::string("the ") + to_string(record_.observable) +
                               " needs a force channel and no column names a force, stress or friction (columns: " +
-                              column_list(names_) + "); give --force-column");
+                              column_list(names_) + "); give {force_column}");
     }
     if (force_index_ == time_index_) fail(line_number, "the force column is the time column");
     const std::string& name = names_[static_cast<std::size_t>(force_index_)];
@@ -903,12 +903,12 @@ class RecordReader {
       // The header's word decides what the numbers are: an option that says otherwise is a
       // slip of the user's (a uN column read as N is a million times too strong).
       if (named && *named != unit)
-        fail(line_number, std::string("--force-units ") + to_string(unit) + " contradicts the header of column " +
-                              name + ", which gives " + to_string(*named) + "; leave --force-units out");
+        fail(line_number, std::string("{force_units} ") + to_string(unit) + " contradicts the header of column " +
+                              name + ", which gives " + to_string(*named) + "; leave {force_units} out");
       if (!named && names_coefficient(name) && unit != ForceUnit::mu)
-        fail(line_number, std::string("--force-units ") + to_string(unit) + " contradicts the header of column " +
+        fail(line_number, std::string("{force_units} ") + to_string(unit) + " contradicts the header of column " +
                               name +
-                              ", which names a friction coefficient mu (no unit); leave --force-units out (a "
+                              ", which names a friction coefficient mu (no unit); leave {force_units} out (a "
                               "friction force's header names its unit, e.g. Friction [N])");
     } else if (named) {
       unit = *named;
@@ -916,10 +916,10 @@ class RecordReader {
       unit = ForceUnit::mu;
     } else if (const std::string unknown = bracket_text(name); !unknown.empty()) {
       fail(line_number, "force column " + name + ": '" + unknown + "' is not a unit analyze knows (" + kKnownForces +
-                            "); give --force-units");
+                            "); give {force_units}");
     } else {
       fail(line_number,
-           "force column " + name + ": its header names no unit; give --force-units (" + kKnownForces + ")");
+           "force column " + name + ": its header names no unit; give {force_units} (" + kKnownForces + ")");
     }
     const double area = format_.contact_area;
     // The unit in words unless the header already writes it.
@@ -927,9 +927,9 @@ class RecordReader {
     if (format_.force_unit || split_unit(name).unit.empty()) made_of += std::string(" (") + to_string(unit) + ")";
     if (unit == ForceUnit::mu) {
       if (format_.normal_force > 0 && !format_.normal_stress_column.empty())
-        fail(line_number, "--normal-force and --normal-stress-column both give mu's normal load; give one");
+        fail(line_number, "{normal_force} and {normal_stress_column} both give mu's normal load; give one");
       if (format_.normal_force > 0) {
-        if (area > 0) fail(line_number, "--contact-area: mu x --normal-force is a force already; the area is not used");
+        if (area > 0) fail(line_number, "{contact_area}: mu x {normal_force} is a force already; the area is not used");
         newtons_per_ = format_.normal_force;
         made_of += " x normal force " + util::format_number(format_.normal_force) + " N";
       } else {
@@ -941,25 +941,25 @@ class RecordReader {
                "normal-stress column " + normal_name + ": its header names no stress unit (Pa, kPa, MPa or psi)");
         if (!(area > 0))
           fail(line_number, "column " + name + " is a friction coefficient mu: mu x " + normal_name +
-                                " is a shear stress; give --contact-area A (m^2, or 25cm2) to make it a force, or "
-                                "--normal-force FN instead");
+                                " is a shear stress; give {contact_area} A (m^2, or 25cm2) to make it a force, or "
+                                "{normal_force} FN instead");
         newtons_per_ = si_per(*normal_unit) * area;
         made_of += " x " + normal_name + " x contact area " + util::format_number(area) + " m^2";
       }
     } else {
       if (format_.normal_force > 0 || !format_.normal_stress_column.empty())
-        fail(line_number, std::string(format_.normal_force > 0 ? "--normal-force" : "--normal-stress-column") +
+        fail(line_number, std::string(format_.normal_force > 0 ? "{normal_force}" : "{normal_stress_column}") +
                               ": the force channel " + name + " is in " + to_string(unit) +
                               ", not a friction coefficient; the normal load is not used");
       if (is_stress(unit)) {
         if (!(area > 0))
           fail(line_number, "column " + name + " is a stress in " + to_string(unit) +
-                                "; give --contact-area A (m^2, or 25cm2) to make it a force in N");
+                                "; give {contact_area} A (m^2, or 25cm2) to make it a force in N");
         newtons_per_ = si_per(unit) * area;
         made_of += " x contact area " + util::format_number(area) + " m^2";
       } else {
         if (area > 0)
-          fail(line_number, "--contact-area: the force channel " + name + " is in " + to_string(unit) +
+          fail(line_number, "{contact_area}: the force channel " + name + " is in " + to_string(unit) +
                                 ", a force already; the area is not used");
         newtons_per_ = si_per(unit);
       }
@@ -969,7 +969,7 @@ class RecordReader {
 
   void choose_normal_stress_column(int line_number) {
     if (!format_.normal_stress_column.empty()) {
-      normal_index_ = find_column(format_.normal_stress_column, "--normal-stress-column", line_number);
+      normal_index_ = find_column(format_.normal_stress_column, "{normal_stress_column}", line_number);
       return;
     }
     std::vector<std::string> candidates;
@@ -986,11 +986,11 @@ class RecordReader {
     // pressure): which one mu was made with is the lab's to say.
     if (candidates.size() > 1)
       fail(line_number,
-           "which column is mu's normal stress: " + column_list(candidates) + "? give --normal-stress-column");
+           "which column is mu's normal stress: " + column_list(candidates) + "? give {normal_stress_column}");
     if (normal_index_ < 0)
       fail(line_number, "column " + names_[static_cast<std::size_t>(force_index_)] +
-                            " is a friction coefficient mu; give --normal-force FN [N], or "
-                            "--normal-stress-column NAME with --contact-area A");
+                            " is a friction coefficient mu; give {normal_force} FN [N], or "
+                            "{normal_stress_column} NAME with {contact_area} A");
   }
 
   // Uniform sampling is what a spectrum of samples assumes: a missing sample (a gap) or
@@ -1000,7 +1000,7 @@ class RecordReader {
       record_.dt = format_.dt;
       detail::apply_window(record_, format_, source_);
       if (format_.resample == Resampling::median || format_.resample == Resampling::interval)
-        throw InputError("--resample: the record has no time column (--dt); its samples are uniform");
+        throw InputError("{resample}: the record has no time column ({dt}); its samples are uniform");
     } else {
       detail::make_uniform(record_, times_, where_, source_, place_, format_);
     }
@@ -1017,7 +1017,7 @@ class RecordReader {
     if (reach <= kLargestRecordValue) return;
     char text[160];
     std::snprintf(text, sizeof text,
-                  "--machine-stiffness %.3g N/m: the slip's F/K reaches %.3g m, beyond the %.0e m a "
+                  "{machine_stiffness} %.3g N/m: the slip's F/K reaches %.3g m, beyond the %.0e m a "
                   "record may hold (the stiffness in the wrong unit?)",
                   record_.machine_stiffness, reach, kLargestRecordValue);
     throw InputError(source_ + ": " + text);
@@ -1048,34 +1048,34 @@ class RecordReader {
 };
 
 void check_format(const RecordFormat& format) {
-  if (format.dt < 0 || !std::isfinite(format.dt)) throw InputError("--dt: must be a positive number of seconds");
+  if (format.dt < 0 || !std::isfinite(format.dt)) throw InputError("{dt}: must be a positive number of seconds");
   if (!(format.time_tolerance > 0 && format.time_tolerance < kLoosestTimeTolerance))
-    throw InputError("--time-tolerance: must lie between 0 and " + util::format_number(kLoosestTimeTolerance) +
-                     " (exclusive), a share of the median interval; a record off by more is not uniform: --resample "
-                     "median interpolates it, --window T0:T1 picks a stretch");
+    throw InputError("{time_tolerance}: must lie between 0 and " + util::format_number(kLoosestTimeTolerance) +
+                     " (exclusive), a share of the median interval; a record off by more is not uniform: {resample} "
+                     "median interpolates it, {window} T0:T1 picks a stretch");
   if (format.contact_area < 0 || !std::isfinite(format.contact_area))
-    throw InputError("--contact-area: must be an area > 0");
+    throw InputError("{contact_area}: must be an area > 0");
   if (format.normal_force < 0 || !std::isfinite(format.normal_force))
-    throw InputError("--normal-force: must be a force > 0");
+    throw InputError("{normal_force}: must be a force > 0");
   if (format.machine_stiffness < 0 || !std::isfinite(format.machine_stiffness))
-    throw InputError("--machine-stiffness: must be a stiffness > 0");
+    throw InputError("{machine_stiffness}: must be a stiffness > 0");
   const Observable observable = chosen_observable(format);
   if (observable == Observable::slip && !(format.machine_stiffness > 0))
-    throw InputError("--observable slip: the slip x - F/K needs --machine-stiffness K");
+    throw InputError("{observable} slip: the slip x - F/K needs {machine_stiffness} K");
   if (observable != Observable::slip && format.machine_stiffness > 0)
-    throw InputError(std::string("--machine-stiffness: gives the slip x - F/K, but --observable is ") +
-                     to_string(observable) + "; give --observable slip (or leave it out)");
+    throw InputError(std::string("{machine_stiffness}: gives the slip x - F/K, but {observable} is ") +
+                     to_string(observable) + "; give {observable} slip (or leave it out)");
   if (observable == Observable::displacement) {
-    const char* unused = !format.force_column.empty()           ? "--force-column"
-                         : format.force_unit                    ? "--force-units"
-                         : format.contact_area > 0              ? "--contact-area"
-                         : format.normal_force > 0              ? "--normal-force"
-                         : !format.normal_stress_column.empty() ? "--normal-stress-column"
+    const char* unused = !format.force_column.empty()           ? "{force_column}"
+                         : format.force_unit                    ? "{force_units}"
+                         : format.contact_area > 0              ? "{contact_area}"
+                         : format.normal_force > 0              ? "{normal_force}"
+                         : !format.normal_stress_column.empty() ? "{normal_stress_column}"
                                                                 : nullptr;
     if (unused)
       throw InputError(std::string(unused) +
-                       ": applies to a force channel, and the observable is the displacement; give --observable "
-                       "force (its spectrum C_F) or --machine-stiffness K (the slip x - F/K)");
+                       ": applies to a force channel, and the observable is the displacement; give {observable} "
+                       "force (its spectrum C_F) or {machine_stiffness} K (the slip x - F/K)");
   }
 }
 

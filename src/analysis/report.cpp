@@ -177,7 +177,7 @@ Verdict judge_power_law(const PowerLawFit& fit) {
   const std::string range = short_number(kSteepestPowerLawSlope) + " .. " + short_number(kFlattestPowerLawSlope);
   const char* unbounded =
       ": the band does not bound it (a longer stretch of record reaches lower frequencies; "
-      "--resolution or --sensor-noise give the floor)";
+      "{resolution} or {sensor_noise} give the floor)";
   if (fit.slope_at_search_edge)
     add_reason(verdict, "the slope " + short_number(fit.slope) + " ran to the edge of its search range (" + range +
                             ")" + unbounded);

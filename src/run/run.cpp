@@ -662,10 +662,10 @@ std::vector<SubBand> plan_sub_bands(const Parameters& p, const RunRequest& reque
 RunSession::Impl::Impl(const Parameters& p, const RunRequest& r, std::string name)
     : params(p), request(r), case_name(std::move(name)), plan(plan_sub_bands(p, r)) {
   if (r.first_realization % kBatchRealizations != 0)
-    throw InputError("--realizations-range: FIRST must be a multiple of " + std::to_string(kBatchRealizations) +
+    throw InputError("{realizations_range}: FIRST must be a multiple of " + std::to_string(kBatchRealizations) +
                      " (parts share the batches of the whole run)");
   if (r.first_realization > 0 && r.realizations == 0)
-    throw InputError("--realizations-range: needs a fixed realization count (not --precision)");
+    throw InputError("{realizations_range}: needs a fixed realization count (not {precision})");
   check_plan(p, plan);
   for (SubBand& band : plan) {
     steps.push_back(static_cast<std::int64_t>(std::ceil(band.duration / band.dt)));

@@ -284,7 +284,7 @@ RunSession RunSession::merge(std::vector<RunSession> parts) {
     if (!differs.empty()) throw InputError("merge: parts of different runs (" + differs + ")");
     if (part.request.realizations == 0)
       throw InputError(
-          "merge: a part must be a fixed realization range (--realizations-range), not a "
+          "merge: a part must be a fixed realization range ({realizations_range}), not a "
           "precision-driven run");
     if (!parts[k].finished())
       throw InputError("merge: part " + std::to_string(part.request.first_realization) + ":" +

@@ -99,7 +99,7 @@ void check_step(const Parameters& p, const SubBand& band) {
                      text(l.omega_s) + " rad/s, whose time step 0.3/omega_s = " + text(band.dt) + " s" + why +
                      "; give k_drive at most " + text(p.k_drive * band.dt / finest) +
                      " N/m, or move F_drive further from F_kin");
-  throw InputError("--omega-max: sub-band " + text(band.omega_low) + ".." + text(band.omega_high) +
+  throw InputError("{omega_max}: sub-band " + text(band.omega_low) + ".." + text(band.omega_high) +
                    " rad/s needs a time step of " + text(band.dt) + " s" + why);
 }
 
@@ -107,28 +107,28 @@ void check_request_fields(const RunRequest& r) {
   // A sub-band's 512-sample segments resolve 1/512 of their band: finer points than this
   // fall between FFT bins, get none, and could never reach a precision.
   if (r.points_per_decade < 1 || r.points_per_decade > kMostRunPointsPerDecade)
-    throw InputError("--points: a run has 1 to " + std::to_string(kMostRunPointsPerDecade) +
+    throw InputError("{points}: a run has 1 to " + std::to_string(kMostRunPointsPerDecade) +
                      " points per decade (got " + std::to_string(r.points_per_decade) +
                      "; finer points fall between the FFT bins)");
   if (!std::isfinite(r.omega_min) || !(r.omega_min > 0))
-    throw InputError("--omega-min: must be a finite positive frequency (got " + text(r.omega_min) + ")");
+    throw InputError("{omega_min}: must be a finite positive frequency (got " + text(r.omega_min) + ")");
   if (!std::isfinite(r.omega_max) || !(r.omega_max > r.omega_min))
-    throw InputError("--omega-max: must be finite and above --omega-min (got " + text(r.omega_max) + ")");
+    throw InputError("{omega_max}: must be finite and above {omega_min} (got " + text(r.omega_max) + ")");
   if (!(r.precision > 0) || !(r.precision < 1))
-    throw InputError("--precision: must be between 0 and 1 (a relative standard error)");
+    throw InputError("{precision}: must be between 0 and 1 (a relative standard error)");
   if (r.duration == 0 && r.realizations == 0 && r.precision < kFinestPrecision)
-    throw InputError("--precision: " + text(r.precision) + " is finer than the " + text(kFinestPrecision) +
+    throw InputError("{precision}: " + text(r.precision) + " is finer than the " + text(kFinestPrecision) +
                      " a sub-band can reach within its " + std::to_string(kMaxRealizationsPerBand) +
-                     " realizations; use --precision " + text(kFinestPrecision) + " or more");
+                     " realizations; use {precision} " + text(kFinestPrecision) + " or more");
   if (r.duration < 0 || !std::isfinite(r.duration))
-    throw InputError("--duration: must be a finite positive number of seconds (got " + text(r.duration) + ")");
+    throw InputError("{duration}: must be a finite positive number of seconds (got " + text(r.duration) + ")");
   if (r.threads < 0 || r.threads > kMostThreads)
-    throw InputError("--threads: must be 0 (all cores) to " + std::to_string(kMostThreads) + " (got " +
+    throw InputError("{threads}: must be 0 (all cores) to " + std::to_string(kMostThreads) + " (got " +
                      std::to_string(r.threads) + ")");
   if (!(r.work_budget >= 0) || !std::isfinite(r.work_budget))
-    throw InputError("--work-budget: must be a finite positive number of realization-steps");
+    throw InputError("{work_budget}: must be a finite positive number of realization-steps");
   if (r.realizations > (std::uint64_t{1} << 52) || r.first_realization > (std::uint64_t{1} << 52))
-    throw InputError("--realizations: " + std::to_string(r.realizations) + " is not a plannable count");
+    throw InputError("{realizations}: " + std::to_string(r.realizations) + " is not a plannable count");
 }
 
 void check_plan(const Parameters& p, const std::vector<SubBand>& plan) {
@@ -150,8 +150,8 @@ void check_plan(const Parameters& p, const std::vector<SubBand>& plan) {
                          " N/m puts omega_s = k_drive v / (F_drive - F_kin) at " + text(omega_s) +
                          " rad/s, whose time step 0.3/omega_s = " + text(band.dt) + " s: " + too_many +
                          "; give k_drive at most " + text(p.k_drive * kMostSteps / steps) +
-                         " N/m, move F_drive further from F_kin, or raise --omega-min");
-      throw InputError((band.omega_low == plan.front().omega_low ? "--omega-min/--duration: " : "--omega-max: ") +
+                         " N/m, move F_drive further from F_kin, or raise {omega_min}");
+      throw InputError((band.omega_low == plan.front().omega_low ? "{omega_min}/{duration}: " : "{omega_max}: ") +
                        too_many);
     }
   }
@@ -202,9 +202,9 @@ std::string text_up(double x) {
 /// would simulate more than was asked is refused, naming the least it can be.
 void check_duration_not_raised(const RunRequest& r, const std::vector<SubBand>& plan) {
   if (!(r.duration > 0) || plan.empty() || plan.front().duration <= kDurationRoundingSlack * r.duration) return;
-  throw InputError("--duration: " + text(r.duration) + " s is shorter than the " + text_up(plan.front().duration) +
+  throw InputError("{duration}: " + text(r.duration) + " s is shorter than the " + text_up(plan.front().duration) +
                    " s the lowest point (omega = " + text(r.omega_min) +
-                   " rad/s) needs; ask for at least that, or raise --omega-min");
+                   " rad/s) needs; ask for at least that, or raise {omega_min}");
 }
 
 /// A fixed count of realizations too small for every point's error bar: each point needs
@@ -224,11 +224,11 @@ void check_realizations_give_segments(const RunRequest& r, const std::vector<Sub
     if (needed > fewest) fewest = needed, where = &band;
   }
   if (r.realizations >= fewest) return;
-  throw InputError("--realizations " + std::to_string(r.realizations) + ": too few for the lowest point of sub-band " +
+  throw InputError("{realizations} " + std::to_string(r.realizations) + ": too few for the lowest point of sub-band " +
                    text(where->omega_low) + ".." + text(where->omega_high) + " rad/s, whose error bar needs " +
                    std::to_string(estimator_detail::kMinimumSegments) +
                    " segments (the scatter between them); give at least " + std::to_string(fewest) +
-                   (r.duration > 0 ? ", or a longer --duration" : ""));
+                   (r.duration > 0 ? ", or a longer {duration}" : ""));
 }
 
 }  // namespace
@@ -257,7 +257,7 @@ void validate_request(const Parameters& p, const RunRequest& r) {
   const std::string plans = "the run plans " + text(work) + " realization-steps";
   const std::string over = " before its first result, over the work budget of " + text(budget) +
                            (r.work_budget > 0 ? "" : " (the default: about an hour on two cores)");
-  const std::string option = r.realizations > 0 ? "--realizations" : r.duration > 0 ? "--duration" : "--omega-min";
+  const std::string option = r.realizations > 0 ? "{realizations}" : r.duration > 0 ? "{duration}" : "{omega_min}";
   // Name what drives most of the work: a block coasting near the stall, a stiff spring's
   // omega_s, else the option that sets how much is simulated.
   if (each.renewals > each.steps) {
@@ -272,8 +272,8 @@ void validate_request(const Parameters& p, const RunRequest& r) {
                      " N) can drive the block at about " + text(speed) + " m/s (" + text(speed / p.v) +
                      " v) through realizations of " + text(time) + " s, each passing about " +
                      text(speed * time * renewals_per_second(p) / p.v) + " renewals: " + plans + over +
-                     "; move F_drive further from F_kin, raise --omega-min (shorter realizations) or raise "
-                     "--work-budget");
+                     "; move F_drive further from F_kin, raise {omega_min} (shorter realizations) or raise "
+                     "{work_budget}");
   }
   if (each.spring > each.steps - each.spring) {
     const Landmarks l = landmarks(p);
@@ -285,12 +285,12 @@ void validate_request(const Parameters& p, const RunRequest& r) {
                      " N), whose time step 0.3/omega_s = " + text(plan.front().dt) +
                      " s serves every sub-band below it: " + plans + over + "; " +
                      (most_k > 0 ? "give k_drive at most about " + text(most_k) + " N/m, " : "") +
-                     "move F_drive further from F_kin, raise " + option + " or raise --work-budget");
+                     "move F_drive further from F_kin, raise " + option + " or raise {work_budget}");
   }
   const double weight = block_weight(p);
   const std::string blocks =
       weight > 1 ? " (its " + text(100 * weight) + " blocks count " + text(weight) + " per step)" : "";
-  throw InputError(option + ": " + plans + blocks + over + "; change " + option + " or raise --work-budget");
+  throw InputError(option + ": " + plans + blocks + over + "; change " + option + " or raise {work_budget}");
 }
 
 }  // namespace slidespec

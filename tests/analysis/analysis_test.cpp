@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "slidespec/analysis.hpp"
+#include "slidespec/options.hpp"
 #include "slidespec/theory.hpp"
 
 namespace slidespec {
@@ -195,7 +196,7 @@ std::string refusal(const std::string& text, RecordFormat format = {}) {
   try {
     read(text, format);
   } catch (const InputError& e) {
-    const std::string message = e.what();
+    const std::string message = worded(e.what(), FrontEnd::command_line);
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
     return message;
   }
@@ -269,7 +270,7 @@ TEST(ReadRecord, SamplesAsNumbersAreReadAsTheirFileIs) {
     try {
       record_from_samples(t, x, {});
     } catch (const InputError& e) {
-      return std::string(e.what()).find(what) != std::string::npos;
+      return worded(e.what(), FrontEnd::command_line).find(what) != std::string::npos;
     }
     return false;
   };

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "slidespec/analysis.hpp"
+#include "slidespec/options.hpp"
 
 namespace slidespec {
 namespace {
@@ -25,7 +26,7 @@ std::string refusal(const std::string& text, const RecordFormat& format = {}) {
   try {
     read(text, format);
   } catch (const InputError& e) {
-    return e.what();
+    return worded(e.what(), FrontEnd::command_line);
   }
   return "";
 }
