@@ -40,6 +40,10 @@ int main(int argc, char** argv) {
   // A file-size limit (ulimit -f) makes a write fail with EFBIG, as a full disk does with
   // ENOSPC, instead of killing the process between a temporary and its rename.
   std::signal(SIGXFSZ, SIG_IGN);
+  // A shell script's background job starts with SIGINT ignored: an interrupt must still end
+  // the commands that hold nothing to save (analyze, synth, theory), as run's handler does its
+  // work. Their outputs are written as a set or not at all.
+  std::signal(SIGINT, SIG_DFL);
   cli::Context context;
 #ifdef SLIDESPEC_MPI
   cli::MpiWorld mpi(argc, argv);

@@ -34,6 +34,21 @@ void catch_stop_signals() {
   std::signal(SIGTERM, request_stop);
 }
 
+void refuse_state_left_at(const std::string& prefix, const std::string& option) {
+  // A finished run removes its state but for a part, which merge reads, so one left behind
+  // is that, or a run this one would orphan.
+  if (std::error_code ignored; !std::filesystem::exists(prefix + ".state", ignored)) return;
+  std::string held = "an interrupted run; continue it with --resume " + prefix;
+  try {
+    const RunSession left = RunSession::load(io::read_file(prefix + ".state", option));
+    if (left.finished())
+      held = left.request().part ? "a finished part of a run; join it with merge"
+                                 : "a finished run whose outputs were not written; write them with --resume " + prefix;
+  } catch (const InputError&) {
+  }
+  throw InputError(option + ": " + prefix + ".state holds " + held + ", or remove it to start afresh");
+}
+
 bool stopped_by_signal(const RunResult& result) { return !result.complete && stop_requested; }
 
 int stopped_status() { return 128 + stop_signal; }

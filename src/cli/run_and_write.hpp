@@ -21,6 +21,11 @@ inline constexpr int kNotWritten = 1;
 
 /// SIGINT and SIGTERM from now on ask the running session to stop at its next check.
 void catch_stop_signals();
+
+/// Refuses (InputError naming `option`) to start a run at `prefix` while PREFIX.state holds
+/// work left there: an interrupted run, a finished one whose outputs were never written, or
+/// a finished part; each says how to go on with it.
+void refuse_state_left_at(const std::string& prefix, const std::string& option);
 /// Whether a signal stopped the run that came to `result` before its end.
 bool stopped_by_signal(const RunResult& result);
 /// The exit status of a command a signal stopped: 128 + the signal.

@@ -100,20 +100,7 @@ class RunCommand final : public Command {
     if (!options.resume.empty()) return resume(options);
     const Parameters p = model_.build();
     RunSession session(p, options.request, model_.label(p));  // validates before any work
-    // A finished run removes its state but for a part, which merge reads, so one left behind
-    // is that, or an unfinished run (or one whose outputs were never written) this run would orphan.
-    if (std::error_code ignored; std::filesystem::exists(options.out + ".state", ignored)) {
-      bool finished_part = false;
-      try {
-        const RunSession left = RunSession::load(io::read_file(options.out + ".state", "--out"));
-        finished_part = left.finished() && left.request().part;
-      } catch (const InputError&) {
-      }
-      throw InputError("--out: " + options.out + ".state holds " +
-                       (finished_part ? "a finished part of a run; join it with merge"
-                                      : "an interrupted run; continue it with --resume " + options.out) +
-                       ", or remove it to start afresh");
-    }
+    refuse_state_left_at(options.out, "--out");
     if (given("--save-state") && options.save_state != options.out + ".state")
       refuse_state_of_another_run(options.save_state, nullptr);
     if (context_.writes_outputs()) refuse_state_beyond_free_space(p, options.request, options.out);

@@ -79,6 +79,7 @@ class SweepCommand final : public Command {
         params.push_back(one.build());
         RunSession check(params.back(), options.request);  // validates the band for these values
         work.push_back(planned_work(params.back(), options.request));
+        if (context_.writes_outputs()) refuse_state_left_at(run_prefix(values), "--out");
       } catch (const InputError& e) {
         throw InputError("sweep run " + grid_point(values) + ": " + e.what());
       }

@@ -1,5 +1,6 @@
 // `slidespec theory`: the exact first-order spectrum (and the theory beyond it) as a table.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <functional>
 #include <iostream>
@@ -131,6 +132,14 @@ class TheoryCommand final : public Command {
     for (std::string line; std::getline(lines, line);) {
       ++line_number;
       line = line.substr(0, line.find('#'));
+      // A comma with nothing on one side is a value left out, not a separator to skip.
+      std::string compact;
+      for (char c : line)
+        if (!std::isspace(static_cast<unsigned char>(c))) compact += c;
+      if (!compact.empty() &&
+          (compact.front() == ',' || compact.back() == ',' || compact.find(",,") != std::string::npos))
+        throw InputError(source + (from_file ? ": line " + std::to_string(line_number) : std::string()) +
+                         ": an empty value between commas");
       std::replace(line.begin(), line.end(), ',', ' ');
       std::istringstream words(line);
       for (std::string word; words >> word;) {

@@ -241,10 +241,11 @@ double planned_first_round_work(const Parameters& p, const RunRequest& r) {
 
 void validate_request(const Parameters& p, const RunRequest& r) {
   check_request_fields(r);
+  // The random forces' size is alpha F_kin: whichever is zero takes them away.
   if (!(expected_jump_energy(p, p.a) > 0))
-    throw InputError(
-        "alpha: 0 gives no random force, so C_x is zero at every omega and there is "
-        "nothing to simulate");
+    throw InputError(std::string(p.F_kin == 0 ? "parameter F_kin: 0 gives" : "alpha: 0 gives") +
+                     " no random force (its size is alpha F_kin), so C_x is zero at every omega and there is "
+                     "nothing to simulate");
   // One plan for every check, its step counts known finite before any is counted.
   const std::vector<SubBand> plan = plan_sub_bands(p, r);
   check_plan(p, plan);

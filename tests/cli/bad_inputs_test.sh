@@ -70,6 +70,7 @@ theory-over-omega-file|om.tsv|theory --omega-file om.tsv --out om
 run-over-stale-state|stale.state holds a finished part of a run|run --omega-min 1 --omega-max 10 --out stale
 run-points-between-bins|--points|run --omega-min 1 --omega-max 10 --points 200
 run-no-random-force|alpha|run --omega-min 1 --omega-max 10 --set alpha=0
+run-no-friction-no-random-force|parameter F_kin: 0 gives no random force|run --omega-min 1 --omega-max 10 --set F_kin=0
 save-state-over-params|p.json|run --params p.json --save-state p.json --out x --no-plot
 save-state-over-part-record|rec.tsv|run --resume part --out x --save-state rec.tsv --realizations 8 --params rec.tsv
 plot-over-table|table.tsv|plot table.tsv -o table.tsv
@@ -101,6 +102,8 @@ paper-empty-dir|--out-dir|paper fig2 --out-dir ''
 run-empty-resume|--resume|run --resume ''
 run-empty-save-state|--save-state|run --save-state '' --no-plot
 theory-empty-omega|--omega|theory --omega ''
+theory-omega-left-out|an empty value between commas|theory --omega 1,,2
+theory-omega-trailing-comma|an empty value between commas|theory --omega 1,2,
 run-empty-params|--params|run --params '' --no-plot
 run-newline-out|control character|run --out \$'a\nb' --no-plot
 theory-tab-out|control character|theory --out \$'a\tb'

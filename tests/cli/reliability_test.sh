@@ -122,6 +122,14 @@ expect_refused "--segments with --out" "--segments" analyze rec.csv --segments -
 expect_refused "--segments with --fit" "--segments" analyze rec.csv --segments --fit power-law
 expect_refused "a sweep value twice" "twice" sweep alpha=0.5,0.50 $band --out out --no-plot
 expect_refused "resume with a work budget" "--work-budget" run --resume pa --work-budget 1 --no-plot
+# A sweep does not start over a run's state left at one of its runs' prefixes (an interrupted
+# sweep leaves one): refused before any work, naming it.
+cp s.copy "sw_alpha=1.state"
+expect_refused "a sweep over a run's left state" "sw_alpha=1.state holds a finished part" \
+  sweep alpha=0.5,1 $band --out sw --no-plot
+cmp -s "sw_alpha=1.state" s.copy || fail "a sweep replaced a run's left state"
+ls sw.* "sw_alpha=0.5".* > /dev/null 2>&1 && fail "a refused sweep wrote files"
+rm -f "sw_alpha=1.state"
 # The failing run of a sweep is named.
 expect_refused "a sweep's failing run" "sweep run N=60000: --omega-min" sweep N=1,60000 --omega-min 0.1 \
   --omega-max 1e5 --out out --no-plot
