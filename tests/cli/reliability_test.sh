@@ -182,23 +182,30 @@ expect_refused "a block coasting near the stall, a budget" "can drive the block 
 # Where the block stalls and creeps back (F_drive - F_kin = 0.01 N), its estimated renewals
 # count against the sub-band's cap: the precision out of reach, it stops within a few
 # thousand realizations, not at the 61035 that 2e9 bare steps allowed.
-"$bin" run --set F_drive=5.01 --omega-min 10 --omega-max 100 --out creep --quiet --no-plot 2> /dev/null
-[ $? -eq 3 ] || fail "a creeping stalled run: exit status, expected 3"
-python3 -c "import json, sys; n = json.load(open('creep.json'))['sub_bands'][0]['realizations']; sys.exit(n > 20000)" \
-  || fail "a creeping stalled run went on past its renewals' cap"
+# A minute at -O0 with the sanitizers (SLIDESPEC_TEST_SAMPLE set): the release suite checks it.
+if [ "${SLIDESPEC_TEST_SAMPLE:-1}" -le 1 ]; then
+  "$bin" run --set F_drive=5.01 --omega-min 10 --omega-max 100 --out creep --quiet --no-plot 2> /dev/null
+  [ $? -eq 3 ] || fail "a creeping stalled run: exit status, expected 3"
+  python3 -c "import json, sys; n = json.load(open('creep.json'))['sub_bands'][0]['realizations']; sys.exit(n > 20000)" \
+    || fail "a creeping stalled run went on past its renewals' cap"
+fi
 # A stop is heard inside a realization, its warm-up included: a coasting block's realization
 # lasts minutes, and SIGTERM must end the run well before its first realization would (an
 # interrupt was heard only between realizations: about 30 s here).
-rm -f coast.*
-start_in_background run --set F_drive=5.000001 --omega-min 10 --omega-max 100 --out coast --quiet --no-plot
-sleep 1
-kill -TERM $pid
-waited=0
-while kill -0 $pid 2> /dev/null && [ $waited -lt 100 ]; do sleep 0.1; waited=$((waited + 1)); done
-kill -0 $pid 2> /dev/null && { kill -KILL $pid; fail "SIGTERM inside a long realization not heard within 10 s"; }
-wait $pid
-[ $? -eq 143 ] || fail "SIGTERM inside a long realization: exit status, expected 143"
-[ -e coast.state ] || fail "SIGTERM inside a long realization: no state saved"
+# At -O0 with the sanitizers one warm-up step near the stall takes tens of seconds, longer
+# than the wait below: the release suite checks it.
+if [ "${SLIDESPEC_TEST_SAMPLE:-1}" -le 1 ]; then
+  rm -f coast.*
+  start_in_background run --set F_drive=5.000001 --omega-min 10 --omega-max 100 --out coast --quiet --no-plot
+  sleep 1
+  kill -TERM $pid
+  waited=0
+  while kill -0 $pid 2> /dev/null && [ $waited -lt 100 ]; do sleep 0.1; waited=$((waited + 1)); done
+  kill -0 $pid 2> /dev/null && { kill -KILL $pid; fail "SIGTERM inside a long realization not heard within 10 s"; }
+  wait $pid
+  [ $? -eq 143 ] || fail "SIGTERM inside a long realization: exit status, expected 143"
+  [ -e coast.state ] || fail "SIGTERM inside a long realization: no state saved"
+fi
 
 # --- Messages name the cause: a stiff spring's omega_s sets the step, not --omega-max or the
 # estimator; a spring near the stall puts omega_s high, not --omega-min.
