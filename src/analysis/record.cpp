@@ -423,7 +423,7 @@ std::string unknown_length_unit(const std::string& name) {
 std::string unknown_time_unit(const std::string& name) {
   const std::string unit = unknown_unit(name, {"t", "time"});
   if (!unit.empty()) return unit;
-  // A unit analyze knows that is not a time ("x (mm)" given as --time-column).
+  // A unit analyze knows that is not a time ("x (mm)" named as the time column).
   const ColumnName c = split_unit(name);
   return !c.unit.empty() && seconds_per(c.unit) == 0 ? c.unit : "";
 }
