@@ -41,7 +41,7 @@ constexpr Range between(double low, double high) { return {low, high, true}; }
 /// the level above carries N of these on springs, chained to their siblings. Its fields
 /// are the per-level rows of parameters.def.
 struct Level {
-#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, scope, shown, doc) \
+#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, symbol, scope, shown, doc) \
   SLIDESPEC_PARAMETER_IN_LEVEL_##scope(type key = reference;)
 #define SLIDESPEC_PARAMETER_IN_LEVEL_level(field) field
 #define SLIDESPEC_PARAMETER_IN_LEVEL_model(field)
@@ -57,7 +57,7 @@ struct Level {
 /// v = (F_drive - F_kin) / (eta1 * sum of the touching blocks' masses), which is
 /// v = (F_drive - F_kin) / (N m eta1) for one level. Use ParameterBuilder to get a consistent set.
 struct Parameters {
-#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, scope, shown, doc) type key = reference;
+#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, symbol, scope, shown, doc) type key = reference;
 #include "slidespec/parameters.def"
   std::vector<Level> sublevels;  ///< levels 2..levels
 
@@ -123,6 +123,7 @@ struct ParameterInfo {
   Range range;                       ///< checked by ParameterBuilder::build()
   std::string allowed;               ///< the range or the words in words: "> 0", "open or ring", ...
   std::string unit;                  ///< SI unit, "" for none
+  std::string symbol;                ///< as figures write it: "*η*_{0}" (*italic*, _{subscript})
   bool per_level;                    ///< KEY_l sets level l of a tree
   std::string doc;                   ///< one line
   std::vector<std::string> words;    ///< a word-valued key's words

@@ -216,33 +216,31 @@ std::string short_number(double value) {
   return text;
 }
 
-/// 'v', '5e-4' -> 'v = 0.5 mm/s': a parameter with its symbol, in the largest unit that keeps
-/// its number at 0.1 or above.
+/// 'v', '5e-4' -> 'v = 0.5 mm/s': a parameter with its symbol (parameters.def), in the largest
+/// unit that keeps its number at 0.1 or above.
 std::string parameter_text(const std::string& key, const std::string& value) {
-  struct Style {
-    const char* symbol;
-    std::vector<std::pair<const char*, double>> units;
-  };
-  static const std::map<std::string, Style> styles = {
-      {"N", {"N", {{"", 1}}}},
-      {"M", {"M", {{"kg", 1}, {"g", 1e-3}}}},
-      {"m", {"m", {{"kg", 1}, {"g", 1e-3}, {"mg", 1e-6}}}},
-      {"k0", {"*k*_{0}", {{"N/m", 1}}}},
-      {"k1", {"*k*_{1}", {{"N/m", 1}}}},
-      {"eta0", {"*η*_{0}", {{"1/s", 1}}}},
-      {"eta1", {"*η*_{1}", {{"1/s", 1}}}},
-      {"v", {"v", {{"m/s", 1}, {"mm/s", 1e-3}, {"µm/s", 1e-6}}}},
-      {"a", {"a", {{"m", 1}, {"mm", 1e-3}, {"µm", 1e-6}, {"nm", 1e-9}}}},
-      {"alpha", {"*α*", {{"", 1}}}},
-      {"F_drive", {"*F*_{drive}", {{"N", 1}}}},
-      {"F_kin", {"*F*_{kin}", {{"N", 1}}}},
-      {"k_drive", {"*k*_{drive}", {{"N/m", 1}}}}};
-  const auto style = styles.find(key);
-  const std::string symbol = style == styles.end() ? figure::literal(key) : style->second.symbol;
+  static const std::map<std::string, std::vector<std::pair<const char*, double>>> unit_ladders = {
+      {"N", {{"", 1}}},
+      {"M", {{"kg", 1}, {"g", 1e-3}}},
+      {"m", {{"kg", 1}, {"g", 1e-3}, {"mg", 1e-6}}},
+      {"k0", {{"N/m", 1}}},
+      {"k1", {{"N/m", 1}}},
+      {"eta0", {{"1/s", 1}}},
+      {"eta1", {{"1/s", 1}}},
+      {"v", {{"m/s", 1}, {"mm/s", 1e-3}, {"µm/s", 1e-6}}},
+      {"a", {{"m", 1}, {"mm", 1e-3}, {"µm", 1e-6}, {"nm", 1e-9}}},
+      {"alpha", {{"", 1}}},
+      {"F_drive", {{"N", 1}}},
+      {"F_kin", {{"N", 1}}},
+      {"k_drive", {{"N/m", 1}}}};
+  const ParameterInfo* row = find_parameter(key);
+  // A level's key (N_2) is not its row's symbol: written as it is.
+  const std::string symbol = row && row->key == key ? row->symbol : figure::literal(key);
+  const auto style = unit_ladders.find(key);
   const std::optional<double> number = util::parse_number(value);
-  if (!number || style == styles.end()) return symbol + " = " + figure::literal(value);
-  auto [unit, size] = style->second.units.back();
-  for (const auto& [candidate, candidate_size] : style->second.units)
+  if (!number || style == unit_ladders.end()) return symbol + " = " + figure::literal(value);
+  auto [unit, size] = style->second.back();
+  for (const auto& [candidate, candidate_size] : style->second)
     if (std::abs(*number) >= 0.1 * candidate_size) {
       unit = candidate;
       size = candidate_size;

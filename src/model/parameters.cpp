@@ -43,7 +43,7 @@ std::vector<std::string> split_words(const std::string& list) {
 Level Parameters::level(int l) const {
   if (l != 1) return sublevels.at(static_cast<std::size_t>(l - 2));
   Level first;
-#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, scope, shown, doc) \
+#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, symbol, scope, shown, doc) \
   SLIDESPEC_PARAMETER_IN_LEVEL_##scope(first.key = key;)
 #include "slidespec/parameters.def"
   return first;
@@ -311,9 +311,9 @@ bool in_trees(const Parameters& p) { return p.levels > 1; }
 bool with_spring(const Parameters& p) { return p.drive == Drive::spring; }
 
 template <class T>
-ParameterInfo row(const char* key, Range range, const char* unit, bool per_level, const char* doc,
+ParameterInfo row(const char* key, Range range, const char* unit, const char* symbol, bool per_level, const char* doc,
                   bool (*shown)(const Parameters&)) {
-  ParameterInfo info{key, kind<T>(), range, "", unit, per_level, doc, words_of<T>(), "", shown};
+  ParameterInfo info{key, kind<T>(), range, "", unit, symbol, per_level, doc, words_of<T>(), "", shown};
   info.allowed = info.words.empty() ? allowed(range, info.kind == "count") : either(info.words);
   return info;
 }
@@ -322,8 +322,8 @@ ParameterInfo row(const char* key, Range range, const char* unit, bool per_level
 // reference case, which needs the rows).
 const std::vector<ParameterInfo>& rows() {
   static const std::vector<ParameterInfo> table = {
-#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, scope, shown, doc) \
-  row<type>(#key, ranges::range, unit, #scope == std::string("level"), doc, shown),
+#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, symbol, scope, shown, doc) \
+  row<type>(#key, ranges::range, unit, symbol, #scope == std::string("level"), doc, shown),
 #include "slidespec/parameters.def"
   };
   return table;
@@ -338,14 +338,14 @@ const ParameterInfo& table_row(const std::string& key) {
 /// visit(row, member) for every row of parameters.def, in its order.
 template <class Model, class Visit>
 void for_each_parameter(Model& p, Visit&& visit) {
-#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, scope, shown, doc) visit(table_row(#key), p.key);
+#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, symbol, scope, shown, doc) visit(table_row(#key), p.key);
 #include "slidespec/parameters.def"
 }
 
 /// visit(row, member) for every per-level row, on one level.
 template <class LevelT, class Visit>
 void for_each_level_parameter(LevelT& level, Visit&& visit) {
-#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, scope, shown, doc) \
+#define SLIDESPEC_PARAMETER(key, type, reference, range, unit, symbol, scope, shown, doc) \
   SLIDESPEC_PARAMETER_IN_LEVEL_##scope(visit(table_row(#key), level.key);)
 #include "slidespec/parameters.def"
 }

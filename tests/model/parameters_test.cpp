@@ -147,6 +147,21 @@ TEST(ParameterTable, DocsTableIsGenerated) {
       << expected;
 }
 
+// tools/parameter_symbols.tsv, generated from parameters.def: plot_spectra.py reads the
+// symbols there, as it runs where the Python module is not built.
+TEST(ParameterTable, ToolsSymbolFileIsTheTable) {
+  std::ostringstream expected;
+  expected << "# How figures write each parameter, generated from include/slidespec/parameters.def (the test\n"
+              "# ParameterTable.ToolsSymbolFileIsTheTable prints this file when they differ): key, a tab, and\n"
+              "# the symbol in the figure's markup (*italic*, _{subscript}). tools/plot_spectra.py reads it.\n";
+  for (const ParameterInfo& row : parameter_table()) expected << row.key << "\t" << row.symbol << "\n";
+  std::ifstream file(SLIDESPEC_SOURCE_DIR "/tools/parameter_symbols.tsv");
+  ASSERT_TRUE(file) << "cannot read tools/parameter_symbols.tsv";
+  const std::string written{std::istreambuf_iterator<char>(file), {}};
+  EXPECT_EQ(written, expected.str()) << "tools/parameter_symbols.tsv differs from parameters.def; write it as:\n"
+                                     << expected.str();
+}
+
 TEST(ParameterTable, EveryKeyParsesAndDescribesItsReferenceValue) {
   // Setting each key to its reference value (as text) rebuilds the reference case exactly.
   const auto reference = describe(ParameterBuilder("reference").build());
