@@ -7,9 +7,13 @@
 #include <algorithm>
 #include <atomic>
 #include <cctype>
+#include <cmath>
+#include <cstdint>
 #include <chrono>
 #include <condition_variable>
 #include <exception>
+#include <functional>
+#include <limits>
 #include <memory>
 #include <new>
 #include <optional>
@@ -51,6 +55,148 @@ Array to_array(const std::vector<double>& values) {
 
 std::vector<double> to_vector(const Array& values) {
   return std::vector<double>(values.data(), values.data() + values.size());
+}
+
+/// A number as a PREFIX.json field holds it: None where the JSON writes null (inf, nan).
+py::object number(double value) { return std::isfinite(value) ? py::object(py::float_(value)) : py::none(); }
+
+template <class T>
+py::object field(const T& value) {
+  return py::cast(value);
+}
+py::object field(double value) { return number(value); }
+
+/// One value of each point [double], inf and nan as NaN: as a column read back from the
+/// JSON's nulls.
+template <class Point, class Value>
+Array column(const std::vector<Point>& points, Value value) {
+  Array out(static_cast<py::ssize_t>(points.size()));
+  double* data = out.mutable_data();
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const double v = value(points[k]);
+    data[k] = std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN();
+  }
+  return out;
+}
+
+/// A column of counts or flags, in the type the JSON gives them.
+template <class T, class Point, class Value>
+py::array_t<T> typed_column(const std::vector<Point>& points, Value value) {
+  py::array_t<T> out(static_cast<py::ssize_t>(points.size()));
+  T* data = out.mutable_data();
+  for (std::size_t k = 0; k < points.size(); ++k) data[k] = static_cast<T>(value(points[k]));
+  return out;
+}
+
+/// A document of the library (an analysis's fields) as Python objects, node by node.
+py::object to_python(const nlohmann::ordered_json& node) {
+  using Type = nlohmann::ordered_json::value_t;
+  switch (node.type()) {
+    case Type::object: {
+      py::dict out;
+      for (const auto& [key, value] : node.items()) out[py::str(key)] = to_python(value);
+      return py::object(out);
+    }
+    case Type::array: {
+      py::list out;
+      for (const auto& value : node) out.append(to_python(value));
+      return py::object(out);
+    }
+    case Type::string:
+      return py::str(node.get_ref<const std::string&>());
+    case Type::boolean:
+      return py::bool_(node.get<bool>());
+    case Type::number_integer:
+      return py::int_(node.get<std::int64_t>());
+    case Type::number_unsigned:
+      return py::int_(node.get<std::uint64_t>());
+    case Type::number_float:
+      return number(node.get<double>());
+    default:
+      return py::none();
+  }
+}
+
+/// A run's fields, named and ordered as PREFIX.json names them (io::run_json).
+py::dict run_fields(const RunSession& session, const RunResult& result) {
+  const Parameters& p = session.parameters();
+  const RunRequest& request = session.request();
+  py::dict d;
+  d["slidespec_version"] = SLIDESPEC_VERSION;
+  d["versions"] = io::versions();
+  d["case"] = io::case_of(session.case_name());
+  d["label"] = session.case_name();
+  d["parameters"] = to_python(io::parameters_json(p));
+  py::dict landmarks;
+  for (const Landmark& mark : shown_landmarks(p, LandmarkOutput::json))
+    std::visit([&](const auto& value) { landmarks[mark.row->key] = field(value); }, mark.value);
+  d["landmarks"] = landmarks;
+  d["request"] =
+      py::dict(py::arg("omega_min") = request.omega_min, py::arg("omega_max") = request.omega_max,
+               py::arg("points_per_decade") = request.points_per_decade, py::arg("precision") = request.precision,
+               py::arg("duration") = request.duration, py::arg("realizations") = request.realizations,
+               py::arg("seed") = request.seed, py::arg("control_variate") = request.control_variate ? "shadow" : "off");
+  d["complete"] = result.complete;
+  d["stationary"] = result.stationary;
+  if (!result.stationary) d["stationarity"] = result.stationarity;
+  d["reached_precision"] = number(result.reached_precision);
+  if (!result.theory2_note.empty()) d["theory2_note"] = result.theory2_note;
+  d["theory_kind"] = theory_kind_name(result.theory_kind);
+  if (!result.theory_kind_note.empty()) d["theory_kind_note"] = result.theory_kind_note;
+  d["measured_mean_speed"] = py::dict(py::arg("value") = number(result.mean_speed),
+                                      py::arg("standard_error") = number(result.mean_speed_error));
+  d["simulated_time"] = number(result.simulated_time);
+  d["wall_seconds"] = number(result.wall_seconds);
+  d["realization_steps"] = number(result.realization_steps);
+  d["miniblock_steps"] = number(result.miniblock_steps);
+  d["throughput_miniblock_steps_per_second"] =
+      number(result.wall_seconds > 0 ? result.miniblock_steps / result.wall_seconds : 0.0);
+  d["simd_path"] = to_string(result.simd_path);
+  d["threads"] = result.threads;
+  py::list bands;
+  for (const SubBand& b : result.sub_bands)
+    bands.append(py::dict(py::arg("omega_low") = number(b.omega_low), py::arg("omega_high") = number(b.omega_high),
+                          py::arg("dt") = number(b.dt), py::arg("duration") = number(b.duration),
+                          py::arg("warm_up") = number(b.warm_up), py::arg("warm_up_dt") = number(b.warm_up_dt),
+                          py::arg("shadow") = b.shadow, py::arg("realizations") = b.realizations,
+                          py::arg("rounds") = b.rounds));
+  if (!result.sub_bands.empty()) d["sub_bands"] = bands;
+  return d;
+}
+
+/// A run's points as columns, named and ordered as PREFIX.json's points.
+py::dict run_columns(const Parameters& p, const std::vector<RunPoint>& points) {
+  py::dict c;
+  c["omega"] = column(points, [](const RunPoint& q) { return q.omega; });
+  c["C_x"] = column(points, [](const RunPoint& q) { return q.C_x; });
+  c["stderr"] = column(points, [](const RunPoint& q) { return q.standard_error; });
+  c["n_avg"] = column(points, [](const RunPoint& q) { return q.n_avg; });
+  c["bandwidth"] = column(points, [](const RunPoint& q) { return q.bandwidth; });
+  c["theory"] = column(points, [](const RunPoint& q) { return q.theory; });
+  c["theory_at_omega"] = column(points, [](const RunPoint& q) { return q.theory_at_omega; });
+  c["bins"] =
+      py::dict(py::arg("first") = column(points, [](const RunPoint& q) { return q.bins.first; }),
+               py::arg("last") = column(points, [](const RunPoint& q) { return q.bins.last; }),
+               py::arg("spacing") = column(points, [](const RunPoint& q) { return q.bins.spacing; }),
+               py::arg("count") = typed_column<std::int64_t>(points, [](const RunPoint& q) { return q.bins.count; }));
+  c["theory2"] = column(points, [](const RunPoint& q) { return q.theory2; });
+  c["variance_ratio"] = column(points, [](const RunPoint& q) { return q.variance_ratio; });
+  py::list estimators, kinds;
+  for (const RunPoint& q : points) {
+    estimators.append(q.estimator);
+    kinds.append(theory_kind_name(q.theory_kind));
+  }
+  c["estimator"] = estimators;
+  c["theory_kind"] = kinds;
+  c["correction"] = column(points, [](const RunPoint& q) { return q.C_x / q.theory - 1; });
+  c["correction_stderr"] = column(points, [](const RunPoint& q) { return q.standard_error / q.theory; });
+  if (p.drive == Drive::spring) {
+    c["C_F_spring"] = column(points, [&](const RunPoint& q) { return spring_force_spectrum(p, q.C_x); });
+    c["C_F_spring_stderr"] =
+        column(points, [&](const RunPoint& q) { return spring_force_spectrum(p, q.standard_error); });
+    c["C_F_spring_theory"] = column(points, [&](const RunPoint& q) { return spring_force_spectrum(p, q.theory); });
+  }
+  return c;
 }
 
 /// A run advanced by its own thread, so that the caller's thread keeps the interpreter
@@ -121,30 +267,15 @@ class Run {
     return finished_;
   }
 
-  /// The result as `slidespec run` writes PREFIX.json.
-  std::string result_json() const {
-    py::gil_scoped_release release;
-    return io::run_json(session_.parameters(), session_.case_name(), session_.request(), session_.result());
-  }
-
-  /// The points' doubles as computed, to check that the JSON form carries them exactly.
-  py::dict raw_points() const {
-    const RunResult result = session_.result();
-    std::vector<double> omega, C_x, stderr_, theory, theory2;
-    for (const RunPoint& p : result.points) {
-      omega.push_back(p.omega);
-      C_x.push_back(p.C_x);
-      stderr_.push_back(p.standard_error);
-      theory.push_back(p.theory);
-      theory2.push_back(p.theory2);
+  /// The result as (fields, columns): what `slidespec run` writes to PREFIX.json, its
+  /// points as numpy columns.
+  py::tuple result() const {
+    RunResult result;
+    {
+      py::gil_scoped_release release;
+      result = session_.result();
     }
-    py::dict out;
-    out["omega"] = to_array(omega);
-    out["C_x"] = to_array(C_x);
-    out["stderr"] = to_array(stderr_);
-    out["theory"] = to_array(theory);
-    out["theory2"] = to_array(theory2);
-    return out;
+    return py::make_tuple(run_fields(session_, result), run_columns(session_.parameters(), result.points));
   }
 
   py::bytes save() const { return py::bytes(session_.save()); }
@@ -261,9 +392,47 @@ const char* kind_name(AnalysisMessage::Kind kind) {
   return "?";
 }
 
-/// `slidespec analyze`'s JSON as a dict, with the record's steady segments and each point's
-/// fit and residual, and the warnings as (kind, topic, text) worded for Python.
-py::tuple analyze_record_dict(const Array& time, const Array& x, const py::dict& format, const py::dict& plan) {
+/// An analysis's points as columns, named and ordered as `slidespec analyze`'s PREFIX.json
+/// names them, with each point's fit and residual when a power law or a model was fitted.
+py::dict analysis_columns(const AnalysisReport& report) {
+  const RecordSpectrum& s = report.spectrum;
+  const std::vector<AnalysisPoint>& points = s.points;
+  py::dict c;
+  c["omega"] = column(points, [](const AnalysisPoint& q) { return q.omega; });
+  c[s.observable == Observable::force ? "C_F" : "C_x"] = column(points, [](const AnalysisPoint& q) { return q.C_x; });
+  c["stderr"] = column(points, [](const AnalysisPoint& q) { return q.standard_error; });
+  c["n_avg"] = column(points, [](const AnalysisPoint& q) { return q.n_avg; });
+  c["bandwidth"] = column(points, [](const AnalysisPoint& q) { return q.bandwidth; });
+  c["floor"] = column(points, [](const AnalysisPoint& q) { return q.noise_floor; });
+  c["below_floor"] = typed_column<bool>(points, [](const AnalysisPoint& q) { return q.below_floor; });
+  c["dof"] = column(points, [](const AnalysisPoint& q) { return q.dof; });
+  c["segment_samples"] = typed_column<std::int64_t>(points, [](const AnalysisPoint& q) { return q.segment_samples; });
+  c["leaky"] = typed_column<bool>(points, [](const AnalysisPoint& q) { return q.leaky; });
+  c["C_low"] = column(points, [](const AnalysisPoint& q) { return q.lower; });
+  c["C_high"] = column(points, [](const AnalysisPoint& q) { return q.upper; });
+  if (s.estimator == Estimator::welch) {
+    c["first_bin"] = typed_column<std::int64_t>(s.welch.points, [](const WelchPoint& q) { return q.first_bin; });
+    c["bins"] = typed_column<std::int64_t>(s.welch.points, [](const WelchPoint& q) { return q.bins; });
+  }
+  // Per point, NaN past the end of a shorter list (as a point the JSON gives no value reads).
+  const auto values = [&points](const std::vector<double>& v) {
+    std::vector<double> padded(points.size(), std::numeric_limits<double>::quiet_NaN());
+    std::copy_n(v.begin(), std::min(v.size(), padded.size()), padded.begin());
+    return column(padded, [](double x) { return x; });
+  };
+  if (!report.model_values.empty()) c["theory"] = values(report.model_values);
+  const PowerLawFit* power_law = report.power_law ? &*report.power_law : nullptr;
+  const ModelFit* model_fit = report.model_fit ? &*report.model_fit : nullptr;
+  if (power_law || model_fit) {
+    c["fit"] = values(power_law ? power_law->model : model_fit->model);
+    c["residual"] = values(power_law ? power_law->residuals : model_fit->residuals);
+  }
+  return c;
+}
+
+/// `slidespec analyze` of a record as (fields, columns, warnings): PREFIX.json's fields but its
+/// points, the points as columns, and each warning as (kind, topic, text) worded for Python.
+py::tuple analyze_record(const Array& time, const Array& x, const py::dict& format, const py::dict& plan) {
   Record record = record_of(time, x, format);
   const AnalysisPlan p = plan_of(plan, !format["window"].is_none());
   AnalysisReport report;
@@ -272,22 +441,12 @@ py::tuple analyze_record_dict(const Array& time, const Array& x, const py::dict&
     report = analyze(std::move(record), p);
   }
   const nlohmann::ordered_json parameters = report.model ? io::parameters_json(*report.model) : nullptr;
-  nlohmann::ordered_json doc = analysis_json(report, "", p.compare_case, parameters, FrontEnd::python);
-  const std::vector<double>* fit = report.power_law   ? &report.power_law->model
-                                   : report.model_fit ? &report.model_fit->model
-                                                      : nullptr;
-  const std::vector<double>* residual = report.power_law   ? &report.power_law->residuals
-                                        : report.model_fit ? &report.model_fit->residuals
-                                                           : nullptr;
-  for (std::size_t k = 0; fit && k < fit->size(); ++k) {
-    doc["points"][k]["fit"] = (*fit)[k];
-    doc["points"][k]["residual"] = (*residual)[k];
-  }
+  nlohmann::ordered_json fields = analysis_json(report, "", p.compare_case, parameters, FrontEnd::python);
+  fields.erase("points");
   py::list messages;
   for (const AnalysisMessage& m : report.warnings)
     messages.append(py::make_tuple(kind_name(m.kind), m.topic, worded(m.text, FrontEnd::python)));
-  const py::dict data = py::module_::import("json").attr("loads")(doc.dump()).cast<py::dict>();
-  return py::make_tuple(data, messages);
+  return py::make_tuple(to_python(fields), analysis_columns(report), messages);
 }
 
 py::dict landmarks_dict(const std::string& case_name, const Overrides& overrides) {
@@ -342,17 +501,47 @@ void bind_parameters(py::module_& m) {
         py::list table;
         for (const ParameterInfo& info : parameter_table())
           table.append(py::dict(py::arg("key") = info.key, py::arg("kind") = info.kind, py::arg("unit") = info.unit,
-                                py::arg("allowed") = info.allowed, py::arg("per_level") = info.per_level,
-                                py::arg("doc") = info.doc, py::arg("words") = info.words,
-                                py::arg("reference") = info.reference));
+                                py::arg("symbol") = info.symbol, py::arg("allowed") = info.allowed,
+                                py::arg("per_level") = info.per_level, py::arg("doc") = info.doc,
+                                py::arg("words") = info.words, py::arg("reference") = info.reference));
         return table;
       },
-      "The model's parameters, one dict each: key, kind (count|real|word|levels), unit, allowed, per_level, doc, "
-      "words, reference.");
+      "The model's parameters, one dict each: key, kind (count|real|word|levels), unit, symbol (the figures' "
+      "markup: *italic*, _{subscript}), allowed, per_level, doc, words, reference.");
   m.def(
       "describe",
       [](const std::string& case_name, const Overrides& overrides) { return describe(build(case_name, overrides)); },
       "Every (key, value text) of a case with overrides; ValueError names a bad key.");
+}
+
+/// As `slidespec theory` computes C_x, or C_x2 with --order 2, at `omega` [rad/s].
+Array theory_values(const std::string& case_name, const Overrides& overrides, const Array& omega, int order) {
+  const Parameters p = build(case_name, overrides);
+  if (order != 1 && order != 2) throw InputError("order: need 1 or 2");
+  const std::function<double(double)> second =
+      order == 2 ? theory_beyond_first_order(p).C_x : std::function<double(double)>();
+  const std::vector<double> omegas = to_vector(omega);
+  check_theory_omegas(p, omegas);
+  // In chunks of about a tenth of a second, between which Ctrl-C is heard.
+  constexpr std::size_t kChunk = 10000;
+  std::vector<double> values;
+  values.reserve(omegas.size());
+  for (std::size_t first = 0; first < omegas.size(); first += kChunk) {
+    const std::vector<double> chunk(
+        omegas.begin() + static_cast<std::ptrdiff_t>(first),
+        omegas.begin() + static_cast<std::ptrdiff_t>(std::min(first + kChunk, omegas.size())));
+    {
+      py::gil_scoped_release release;
+      if (second) {
+        for (double frequency : chunk) values.push_back(second(frequency));
+      } else {
+        const std::vector<double> part = exact_spectrum(p, chunk);
+        values.insert(values.end(), part.begin(), part.end());
+      }
+    }
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  }
+  return to_array(values);
 }
 
 /// The theory of a parameter set.
@@ -373,39 +562,9 @@ void bind_theory(py::module_& m) {
       "log_spaced_omegas",
       [](double low, double high, int per_decade) { return to_array(log_spaced_omegas(low, high, per_decade)); },
       "Log-spaced omegas [rad/s], per_decade a decade, both ends included.");
-  m.def(
-      "theory",
-      [](const std::string& case_name, const Overrides& overrides, const Array& omega, int order) {
-        const Parameters p = build(case_name, overrides);
-        if (order != 1 && order != 2) throw InputError("order: need 1 or 2");
-        // As `slidespec theory --order 2` computes C_x2.
-        const std::function<double(double)> second =
-            order == 2 ? theory_beyond_first_order(p).C_x : std::function<double(double)>();
-        const std::vector<double> omegas = to_vector(omega);
-        check_theory_omegas(p, omegas);
-        // In chunks of about a tenth of a second, between which Ctrl-C is heard.
-        constexpr std::size_t kChunk = 10000;
-        std::vector<double> values;
-        values.reserve(omegas.size());
-        for (std::size_t first = 0; first < omegas.size(); first += kChunk) {
-          const std::vector<double> chunk(
-              omegas.begin() + static_cast<std::ptrdiff_t>(first),
-              omegas.begin() + static_cast<std::ptrdiff_t>(std::min(first + kChunk, omegas.size())));
-          {
-            py::gil_scoped_release release;
-            if (second) {
-              for (double frequency : chunk) values.push_back(second(frequency));
-            } else {
-              const std::vector<double> part = exact_spectrum(p, chunk);
-              values.insert(values.end(), part.begin(), part.end());
-            }
-          }
-          if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-        }
-        return to_array(values);
-      },
-      "The exact first-order C_x (order 1) or the theory beyond it that theory_kind names (order 2) [m^2 s] at "
-      "omegas [rad/s], without the GIL.");
+  m.def("theory", &theory_values,
+        "The exact first-order C_x (order 1) or the theory beyond it that theory_kind names (order 2) [m^2 s] at "
+        "omegas [rad/s], without the GIL.");
   m.def(
       "long_time_motion",
       [](const std::string& case_name, const Overrides& overrides, const std::string& theory) {
@@ -441,8 +600,8 @@ void bind_run(py::module_& m) {
       .def("progress", &Run::progress, "The latest (fraction, message) the run reported.")
       .def("stop", &Run::stop, "Asks the run to end at its next block of steps.")
       .def("join", &Run::join, "Waits for the run's thread; True when the run reached its end.")
-      .def("result_json", &Run::result_json, "The result as `slidespec run` writes PREFIX.json.")
-      .def("raw_points", &Run::raw_points, "omega, C_x, stderr, theory as computed (not through JSON).")
+      .def("result", &Run::result,
+           "(fields, columns): PREFIX.json's fields but its points, and the points as {name: numpy array}.")
       .def("save", &Run::save, "The run's saved state (bytes), for load_run.")
       .def("finished", &Run::finished, "True when every sub-band is done.");
   m.def("new_run", &new_run, "A run of a case with overrides and a request dict; ValueError before any work.");
@@ -453,8 +612,9 @@ void bind_run(py::module_& m) {
 
 /// Measured records: their analysis, and synthetic ones.
 void bind_analysis(py::module_& m) {
-  m.def("analyze", &analyze_record_dict,
-        "`slidespec analyze` of a record: (the fields of its JSON, [(kind, topic, text) of each warning]).");
+  m.def("analyze", &analyze_record,
+        "`slidespec analyze` of a record: (PREFIX.json's fields but its points, the points as {name: numpy "
+        "array}, [(kind, topic, text) of each warning]).");
   m.def(
       "synthesize",
       [](const std::string& case_name, const Overrides& overrides, const py::dict& sensor) {

@@ -141,7 +141,7 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
             "fit": "" if fit is None else str(fit),
             "fit_band": None if fit_band is None else (float(fit_band[0]), float(fit_band[1])),
             "theory_order": int(theory_order)}
-    data, messages = _core.analyze(time, samples, record, plan)
+    data, columns, messages = _core.analyze(time, samples, record, plan)
     for kind, _, text in messages:
         if kind == "warning":
             _warnings.warn(text, RecordWarning, stacklevel=2)
@@ -149,7 +149,7 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
             _warnings.warn(text, ModelWarning, stacklevel=2)
         else:
             _warnings.warn(f"not a spectrum (ok False): {text}", ModelWarning, stacklevel=2)
-    return Analysis(data)
+    return Analysis(data, columns=columns)
 
 
 def synth(params="reference", *, sample_interval=_SENSOR["sample_interval"], duration=_SENSOR["duration"],

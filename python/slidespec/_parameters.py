@@ -16,8 +16,8 @@ _SENSOR = _core.sensor_defaults
 
 def parameter_table():
     """The model's parameters (docs/model.md §2), one dict each, in display order: key,
-    kind ("count", "real", "word" or "levels"), unit (SI, "" for none), allowed (its range
-    or words), per_level (KEY_l sets level l of a tree), doc, words, reference (the
+    kind ("count", "real", "word" or "levels"), unit (SI, "" for none), symbol (as figures
+    write it: "*η*_{0}" for eta0, *italic* and _{subscript}), allowed (its range or words), per_level (KEY_l sets level l of a tree), doc, words, reference (the
     reference case's value, as text)."""
     return [dict(row) for row in _PARAMETERS.values()]
 

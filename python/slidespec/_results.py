@@ -1,4 +1,4 @@
-"""Results held as the command line's JSON document, with their points as numpy columns."""
+"""Results: the command line's document as fields, its points as numpy columns."""
 
 import json as _json
 import math as _math
@@ -9,7 +9,9 @@ from ._parameters import _typed
 
 
 def _columns(points):
-    """A list of point dicts as {name: numpy array} (nested dicts as dicts of arrays)."""
+    """A list of point dicts as {name: column}: numbers as numpy arrays (whole numbers as
+    int64, as the document types them; None as NaN), nested dicts as dicts of columns,
+    words as lists."""
     if not points:
         return {}
     columns = {}
@@ -19,6 +21,8 @@ def _columns(points):
             columns[key] = _columns(values)
         elif all(isinstance(v, bool) for v in values):
             columns[key] = _np.array(values, dtype=bool)
+        elif all(isinstance(v, int) and not isinstance(v, bool) for v in values):
+            columns[key] = _np.array(values, dtype=_np.int64)
         elif all(isinstance(v, (int, float)) or v is None for v in values):
             columns[key] = _np.array([_math.nan if v is None else v for v in values], dtype=float)
         else:
@@ -26,21 +30,48 @@ def _columns(points):
     return columns
 
 
-class _Table:
-    """A result held as the command line's JSON document (`data`), with its points as
-    numpy columns. Fields the library adds flow through: every column is an attribute."""
+def _shown(column):
+    """A column as an attribute gives it: numbers as floats."""
+    if isinstance(column, dict):
+        return {key: _shown(values) for key, values in column.items()}
+    if isinstance(column, _np.ndarray) and column.dtype.kind in "iu":
+        return column.astype(float)
+    return column
 
-    def __init__(self, data, state=None):
-        self._data = data
+
+def _point(columns, k):
+    """Point k of the columns as the document holds it: Python numbers, None for inf and nan."""
+    point = {}
+    for name, values in columns.items():
+        if isinstance(values, dict):
+            point[name] = _point(values, k)
+            continue
+        value = values[k]
+        value = value.item() if isinstance(value, _np.generic) else value
+        point[name] = None if isinstance(value, float) and not _math.isfinite(value) else value
+    return point
+
+
+class _Table:
+    """A result: the fields of the command line's JSON document (`data`, without its points)
+    and its points as columns. Fields the library adds flow through: every column is an
+    attribute."""
+
+    def __init__(self, data, state=None, columns=None):
+        """data: the document's fields (and its "points", read from a file); columns: the
+        points as {name: numpy array}, as the binding gives them."""
+        self._data = {key: value for key, value in data.items() if key != "points"}
         self._state = state
+        self._points = _columns(data.get("points", [])) if columns is None else dict(columns)
         # A per-point column named as a field of the whole result (theory_kind: the band's
         # word, and each point's) is the attribute point_NAME; the field keeps its name.
-        self._columns = {("point_" + name if name in data and name != "points" else name): values
-                         for name, values in _columns(data.get("points", [])).items()}
+        self._columns = {("point_" + name if name in self._data else name): _shown(values)
+                         for name, values in self._points.items()}
 
     def to_dict(self):
         """The result as the command line's PREFIX.json holds it: a JSON-serialisable dict."""
-        return _json.loads(_json.dumps(self._data))
+        points = [_point(self._points, k) for k in range(len(self))]
+        return _json.loads(_json.dumps(self._data | {"points": points}))
 
     @property
     def columns(self):
@@ -62,13 +93,13 @@ class _Table:
         return sorted(set(super().__dir__()) | set(self._columns) | set(self._data))
 
     def __len__(self):
-        return len(self._data.get("points", []))
+        return len(self._points.get("omega", ()))
 
     def __getstate__(self):
-        return {"data": self._data, "state": self._state}
+        return {"data": self._data, "columns": self._points, "state": self._state}
 
     def __setstate__(self, saved):
-        self.__init__(saved["data"], saved["state"])
+        self.__init__(saved["data"], saved["state"], saved.get("columns"))
 
 
 class Result(_Table):

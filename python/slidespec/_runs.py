@@ -1,7 +1,6 @@
 """Spectrum runs on their own thread, and their resumption."""
 
 import atexit as _atexit
-import json as _json
 import math as _math
 import threading as _threading
 import time as _time
@@ -46,8 +45,8 @@ class _Progress:
 
 
 def _finish(handle):
-    data = _json.loads(handle.result_json())
-    result = Result(data, None if data.get("complete") else handle.save())
+    data, columns = handle.result()
+    result = Result(data, None if data.get("complete") else handle.save(), columns)
     stationary = data.get("stationary")
     if isinstance(stationary, dict):
         stationary = stationary.get("value", stationary.get("stationary"))

@@ -6,6 +6,7 @@ import pathlib
 import os
 import pickle
 import signal
+import struct
 import subprocess
 import sys
 import textwrap
@@ -66,17 +67,44 @@ def test_run_is_bitwise_the_command_line(cli_run, py_run):
     assert py_run.complete and py_run.mean_speed == expected["measured_mean_speed"]["value"]
 
 
-def test_the_json_form_carries_every_bit():
-    # The result is built from the library's JSON: it must round-trip the doubles.
-    handle = _core.new_run("reference", [("N", "12")], {"omega_min": 10.0, "omega_max": 1e3,
-                           "points_per_decade": 8, "precision": 0.2, "duration": 0.0,
-                           "realizations": 8, "seed": 5, "control_variate": True})
-    handle.start(2, "auto")
-    assert handle.join()
-    raw = handle.raw_points()
-    points = json.loads(handle.result_json())["points"]
-    for column in ("omega", "C_x", "stderr", "theory", "theory2"):
-        assert same_bits(raw[column], [p[column] for p in points]), column
+# What a run's PREFIX.json says of the machine and the threads that ran it, not of the run.
+MACHINE_FIELDS = {"wall_seconds", "throughput_miniblock_steps_per_second", "threads", "simd_path"}
+
+
+def bits(value):
+    """A document with each float as its 8 bytes: equal only where every bit is (and an int
+    is not a float)."""
+    if isinstance(value, dict):
+        return {key: bits(v) for key, v in value.items()}
+    if isinstance(value, list):
+        return [bits(v) for v in value]
+    return ("float", struct.pack("<d", value)) if isinstance(value, float) else value
+
+
+@pytest.mark.parametrize("keys", [{}, {"drive": "spring", "k_drive": 1e4}])
+def test_a_run_is_the_command_lines_json_to_the_last_bit(keys, tmp_path):
+    # The binding converts the run's doubles, not the JSON text: every number, field and
+    # point must still be what PREFIX.json holds (which prints each double exactly).
+    out = tmp_path / "run"
+    overrides = [arg for key, value in keys.items() for arg in ("--set", f"{key}={value}")]
+    cli("run", "--case", "reference", "--set", "N=12", *overrides, "--omega-min", "10", "--omega-max", "1e3",
+        "--realizations", "8", "--seed", "5", "--threads", "2", "--out", str(out), "--no-plot", "--quiet")
+    with open(f"{out}.json") as f:
+        expected = json.load(f)
+    got = ss.run(ss.Parameters("reference", N=12, **keys), omega_min=10, omega_max=1e3, realizations=8, seed=5,
+                 threads=1).to_dict()
+    assert list(got) == list(expected)
+    for key in set(expected) - MACHINE_FIELDS:
+        assert bits(got[key]) == bits(expected[key]), key
+    assert ("C_F_spring" in got["points"][0]) == bool(keys)
+
+
+def test_the_parameter_table_gives_the_figures_symbols():
+    symbols = {row["key"]: row["symbol"] for row in ss.parameter_table()}
+    assert symbols["eta0"] == "*η*_{0}" and symbols["k_drive"] == "*k*_{drive}" and symbols["N"] == "N"
+    # plot_spectra.py, which runs without this module, reads the same symbols from its file.
+    written = pathlib.Path(__file__).resolve().parents[2] / "tools" / "parameter_symbols.tsv"
+    assert dict(line.split("\t") for line in written.read_text().splitlines() if not line.startswith("#")) == symbols
 
 
 def test_read_gives_the_same_result(cli_run, py_run):
@@ -323,6 +351,11 @@ def test_analyze_is_the_command_line(tmp_path):
     t, x = _read_csv(f"{record}.csv")
     a = ss.analyze(t, x, units="um", resolution=0.5e-6, sensor_noise=0.25e-6, fit_slope=(3, 18),
                    compare=ss.Parameters("reference"), fit="alpha")
+    got = a.to_dict()
+    assert [{k: v for k, v in p.items() if k not in ("fit", "residual")} for p in bits(got["points"])] == \
+        bits(expected["points"])
+    for key in ("slope_fit", "alpha_fit", "usable_band", "estimator", "segments", "model_parameters"):
+        assert bits(got[key]) == bits(expected[key]), key
     for column in ("omega", "C_x", "stderr", "floor", "theory"):
         assert same_bits(getattr(a, column), [p[column] for p in expected["points"]]), column
     assert a.slope_fit["slope"] == expected["slope_fit"]["slope"]

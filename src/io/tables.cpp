@@ -48,8 +48,6 @@ nlohmann::ordered_json parameters_json(const Parameters& p) {
   return block;
 }
 
-namespace {
-
 std::string versions() {
   std::ostringstream out;
   out << "slidespec " << SLIDESPEC_VERSION << ", " << fftw_version << ", Eigen " << EIGEN_WORLD_VERSION << "."
@@ -57,6 +55,8 @@ std::string versions() {
       << XSIMD_VERSION_MINOR << "." << XSIMD_VERSION_PATCH << ", g++ " << __VERSION__;
   return out.str();
 }
+
+namespace {
 
 /// A landmark's value as the table writes it.
 std::string text(double value) { return util::format_number(value); }

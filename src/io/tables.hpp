@@ -20,6 +20,10 @@ std::string case_of(const std::string& label);
 /// touching), in the form --params reads back.
 nlohmann::ordered_json parameters_json(const Parameters& p);
 
+/// "slidespec 1.2.0, fftw-3.3.10, Eigen 3.4.0, xsimd 8.1.0, g++ 12.2.0": what built this
+/// program, as a run's outputs record it.
+std::string versions();
+
 /// drive = spring outside the first-order theory's range: why, in one line.
 
 /// '#' lines: version, case (and label when keys were set), every parameter, and the
