@@ -57,7 +57,8 @@ class BuildWithCMake(build_py):
             (package / "bin").mkdir(parents=True, exist_ok=True)
             (package / "share" / "slidespec").mkdir(parents=True, exist_ok=True)
             shutil.copy2(build_dir / "slidespec", package / "bin" / "slidespec")
-            for tool in ("plot_spectra.py", "plot_server.py", "plot_drives.py"):
+            for tool in ("plot_spectra.py", "plot_server.py", "plot_drives.py", "slidespec_tsv.py",
+                         "parameter_symbols.tsv"):
                 shutil.copy2(root / "tools" / tool, package / "share" / "slidespec" / tool)
 
 

@@ -14,24 +14,19 @@ import os
 import sys
 import tempfile
 
+import slidespec_tsv  # beside this file
+
 
 def read_run(path):
     """The columns of a run's TSV (numbers) and its label."""
-    names, rows, label = None, [], os.path.basename(path)
-    with open(path) as f:
-        for line in f:
-            if line.startswith("# omega\t") or line.startswith("omega\t"):
-                names = line.lstrip("# ").rstrip("\n").split("\t")
-            elif line.startswith("# label = ") or line.startswith("# case = "):
-                label = line.split("=", 1)[1].split("  #")[0].strip()
-            elif not line.startswith("#") and line.strip():
-                try:
-                    rows.append([float(x) for x in line.split("\t")])
-                except ValueError:
-                    raise ValueError(f"{path}: not a run's TSV (slidespec run writes PREFIX.tsv)") from None
-    if names is None or "correction" not in names:
+    try:
+        table = slidespec_tsv.read(path)
+    except ValueError as error:
+        raise ValueError(f"{error} (slidespec run writes PREFIX.tsv)") from None
+    if "correction" not in table.names:
         raise ValueError(f"{path}: not a run's TSV with a correction column (slidespec run writes PREFIX.tsv)")
-    return label, {name: [r[i] for r in rows] for i, name in enumerate(names)}
+    label = table.values.get("label", table.values.get("case", os.path.basename(path)))
+    return label, table.columns()
 
 
 def main(argv):

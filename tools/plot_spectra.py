@@ -16,8 +16,12 @@ import os
 import re
 import sys
 import tempfile
+import unicodedata
 
-import matplotlib
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # slidespec_tsv, beside this file
+import slidespec_tsv  # noqa: E402
+
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 # Every computed point is written (PDF/SVG too): no merging of nearly collinear vertices.
@@ -34,22 +38,47 @@ from matplotlib.ticker import MaxNLocator  # noqa: E402
 MODEL_PARAMETERS = ("N", "M", "m", "k0", "k1", "eta0", "v", "a", "alpha", "F_drive", "F_kin",
                     "chain", "renewal")
 
-# How a legend writes a parameter: symbol, unit, and the unit's size in SI (metres, ...).
-PARAMETER_STYLE = {
-    "N": ("N", [("", 1)]),
-    "M": ("M", [("kg", 1), ("g", 1e-3)]),
-    "m": ("m", [("kg", 1), ("g", 1e-3), ("mg", 1e-6)]),
-    "k0": (r"$k_0$", [("N/m", 1)]),
-    "k1": (r"$k_1$", [("N/m", 1)]),
-    "eta0": (r"$\eta_0$", [("1/s", 1)]),
-    "eta1": (r"$\eta_1$", [("1/s", 1)]),
-    "v": ("v", [("m/s", 1), ("mm/s", 1e-3), ("µm/s", 1e-6)]),
-    "a": ("a", [("m", 1), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9)]),
-    "alpha": (r"$\alpha$", [("", 1)]),
-    "F_drive": (r"$F_\mathrm{drive}$", [("N", 1)]),
-    "F_kin": (r"$F_\mathrm{kin}$", [("N", 1)]),
-    "k_drive": (r"$k_\mathrm{drive}$", [("N/m", 1)]),
+# The units a legend writes a parameter in, with each unit's size in SI (metres, ...).
+PARAMETER_UNITS = {
+    "M": [("kg", 1), ("g", 1e-3)],
+    "m": [("kg", 1), ("g", 1e-3), ("mg", 1e-6)],
+    "k0": [("N/m", 1)],
+    "k1": [("N/m", 1)],
+    "eta0": [("1/s", 1)],
+    "eta1": [("1/s", 1)],
+    "v": [("m/s", 1), ("mm/s", 1e-3), ("µm/s", 1e-6)],
+    "a": [("m", 1), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9)],
+    "F_drive": [("N", 1)],
+    "F_kin": [("N", 1)],
+    "k_drive": [("N/m", 1)],
 }
+
+
+def _mathtext(symbol):
+    """The figures' markup (*italic*, _{subscript}) as matplotlib's mathtext:
+    '*η*_{0}' -> '$\\eta_0$', '*F*_{drive}' -> '$F_\\mathrm{drive}$', 'N' -> 'N'."""
+    if "*" not in symbol and "_{" not in symbol:
+        return symbol
+
+    def italic(match):
+        name = unicodedata.name(match.group(1), "")
+        return "\\" + name.split()[-1].lower() if name.startswith("GREEK") else match.group(1)
+
+    text = re.sub(r"\*([^*]+)\*", italic, symbol)
+    text = re.sub(r"_\{(\d+)\}", r"_\1", text)
+    return "$" + re.sub(r"_\{([^}]*)\}", r"_\\mathrm{\1}", text) + "$"
+
+
+def _read_symbols():
+    """{key: mathtext symbol} from parameter_symbols.tsv beside this file (parameters.def's
+    symbols, which tests/model/parameters_test.cpp holds it to)."""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "parameter_symbols.tsv")
+    with open(path, encoding="utf-8") as f:
+        rows = [line.rstrip("\n").split("\t") for line in f if line.strip() and not line.startswith("#")]
+    return {key: _mathtext(symbol) for key, symbol in rows}
+
+
+PARAMETER_SYMBOLS = _read_symbols()
 # Parameters a single run's legend names: the ones the paper's figures vary.
 HEADLINE_PARAMETERS = ("N", "v", "a", "alpha")
 
@@ -70,9 +99,6 @@ KINDS = {
     "force": ("C_F", r"$\log_{10}\,C_F$ (N² s)"),
 }
 
-METADATA_LINE = re.compile(r"#\s*([A-Za-z_][A-Za-z0-9_]*)\s*=\s*(.*)$")
-TRAILING_COMMENT = re.compile(r"\s{2,}#.*$")
-COLUMN_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
 # The output formats, by the extension of OUT.
 FORMATS = ("png", "pdf", "svg")
@@ -108,42 +134,14 @@ class Spectrum:
 
 
 def read_spectrum(path):
-    """Parse a slidespec TSV: '#' metadata/comments, one header line, rows of numbers."""
+    """A slidespec TSV (slidespec_tsv's format) as a Spectrum: its KEY = VALUE lines, its columns."""
     try:
-        with open(path, encoding="utf-8") as handle:
-            lines = handle.read().splitlines()
+        table = slidespec_tsv.read(path)
     except (OSError, UnicodeDecodeError) as error:
-        raise InputError(f"{path}: cannot read: {getattr(error, 'strerror', None) or error}")
-
-    metadata, header, rows, commented_header = {}, None, [], None
-    for line_number, line in enumerate(lines, start=1):
-        if not line.strip():
-            continue
-        if line.startswith("#"):
-            match = METADATA_LINE.match(line)
-            if match and header is None:
-                metadata[match.group(1)] = TRAILING_COMMENT.sub("", match.group(2)).strip()
-            names = line[1:].strip().split("\t")
-            if len(names) >= 2 and all(COLUMN_NAME.fullmatch(n.strip()) for n in names):
-                commented_header = [n.strip() for n in names]  # "# omega<TAB>C_x...": the column line
-            continue
-        fields = line.split("\t")
-        if header is None and commented_header is not None and _all_floats(fields):
-            header = commented_header
-        if header is None:
-            header = [field.strip() for field in fields]
-            continue
-        if len(fields) != len(header):
-            raise InputError(f"{path}: line {line_number}: {len(fields)} fields, "
-                             f"header has {len(header)}")
-        try:
-            rows.append([float(field) for field in fields])
-        except ValueError:
-            bad = next(f for f in fields if not _is_float(f))
-            raise InputError(f"{path}: line {line_number}: '{bad.strip()}' is not a number")
-
-    if header is None:
-        raise InputError(f"{path}: no column header line")
+        raise InputError(f"{path}: cannot read: {getattr(error, 'strerror', None) or error}") from None
+    except ValueError as error:
+        raise InputError(str(error)) from None
+    metadata, header, rows = table.values, table.names, table.rows
     if metadata.get("observable") == "force" and "C_F" in header and "C_x" not in header:
         header = ["C_x" if name == "C_F" else name for name in header]  # the spectrum, whichever observable
     for required in ("omega", "C_x"):
@@ -151,8 +149,8 @@ def read_spectrum(path):
             raise InputError(f"{path}: no '{required}' column (columns: {', '.join(header)})")
     if not rows:
         raise InputError(f"{path}: no data rows")
-    table = np.array(rows, dtype=float)
-    return Spectrum(path, metadata, {name: table[:, i] for i, name in enumerate(header)})
+    values = np.array(rows, dtype=float)
+    return Spectrum(path, metadata, {name: values[:, i] for i, name in enumerate(header)})
 
 
 def split_runs(spectrum):
@@ -178,10 +176,6 @@ def split_runs(spectrum):
                    if name != "run" and name not in swept}
         runs.append(Spectrum(spectrum.path, metadata, columns))
     return runs
-
-
-def _all_floats(fields):
-    return all(_is_float(field) for field in fields)
 
 
 def _is_float(text):
@@ -214,7 +208,7 @@ def _same_value(a, b):
 
 def parameter_text(key, value):
     """'v', '5e-4' -> 'v = 0.5 mm/s'; 'alpha', '1' -> 'α = 1' (mathtext)."""
-    symbol, units = PARAMETER_STYLE.get(key, (key, [("", 1)]))
+    symbol, units = PARAMETER_SYMBOLS.get(key, key), PARAMETER_UNITS.get(key, [("", 1)])
     try:
         number = float(value)
     except ValueError:

@@ -37,6 +37,7 @@ import tempfile
 
 import map_table  # noqa: E402  (beside this script)
 import quasi_static  # noqa: E402
+import slidespec_tsv  # noqa: E402  (beside this script)
 
 COLUMNS = ("renewal", "chain", "N", "eps", "eps_stall", "range", "points", "dev1_sigma", "dev1_percent",
            "within2_1", "dev2_sigma", "dev2_percent", "within2_2", "theory2_source", "reached_precision",
@@ -96,19 +97,8 @@ def grid(quick, spring, renewals):
 
 def read_tsv(path):
     """Header values (`# key = value`) and the data columns of a slidespec TSV."""
-    header, names, rows = {}, None, []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("# omega\t") or line.startswith("omega\t"):
-                names = line.lstrip("# ").rstrip("\n").split("\t")
-            elif line.startswith("#"):
-                key, _, value = line[1:].partition("=")
-                header[key.strip()] = value.split("#")[0].strip()
-            elif line.strip():
-                rows.append([float(x) for x in line.split("\t")])
-    if names is None:
-        raise ValueError(f"{path}: no column header")
-    return header, {name: [r[i] for r in rows] for i, name in enumerate(names)}
+    table = slidespec_tsv.read(path)
+    return table.values, table.columns()
 
 
 def case_sets(renewal, chain, n, eps, k_drive):

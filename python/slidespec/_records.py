@@ -7,7 +7,7 @@ import os as _os
 import re as _re
 import stat as _stat
 
-from . import _core
+from . import _core, _tsv
 from ._analysis import Analysis
 from ._parameters import Parameters
 from ._results import Result
@@ -17,8 +17,6 @@ from ._results import Result
 _LANDMARK_KEYS = tuple(row["key"] for row in _core.landmark_table() if row["json"] != "never")
 _PARAMETER_KEY = _re.compile(r"^(%s)(_\d+)?$" % "|".join(_re.escape(k.removesuffix("_l"))
                                                         for k in _core.parameter_keys()))
-# A key is one word; prose with " = " in it (the "# columns:" line) is not a KEY = VALUE line.
-_KEY = _re.compile(r"^\w+\s*$")
 _SUB_BAND = _re.compile(r"^sub_band (\d+): omega (\S+) \.\. (\S+), dt = (\S+) s, duration = (\S+) s, "
                         r"warm_up = (\S+) s at dt (\S+) s, shadow = (true|false), realizations = (\d+)")
 # A run's TSV lines that repeat what PREFIX.json holds elsewhere: the realizations summed over
@@ -43,70 +41,51 @@ def _number(text):
 
 
 def _read_table(text, path):
-    """A TSV of the command line: '# key = value  # note' lines, a column line (plain,
-    or '#'-prefixed), then tab-separated rows; a run's in the keys and types of its
+    """A TSV of the command line (_tsv's format); a run's in the keys and types of its
     PREFIX.json."""
+    table = _tsv.parse(text, path)
+    if "omega" not in table.names:
+        raise ValueError(f"{path}: no omega column: not a slidespec table")
     data = {}
-    parameters, landmarks, names, rows = {}, {}, None, []
-    for number, line in enumerate(text.splitlines(), 1):
-        if not line.strip():
-            continue
-        body = line[1:].strip() if line.startswith("#") else None
-        if names is None and "\t" in line and (body if body is not None else line).split("\t")[0] == "omega":
-            names = (body if body is not None else line).split("\t")
-            continue
-        if body is not None:
-            if body.startswith("slidespec ") and "=" not in body:
-                data["slidespec_version"] = body.split()[1]
-            elif match := _SUB_BAND.match(body):
-                b, low, high, dt, duration, warm_up, warm_up_dt, shadow, count = match.groups()
-                data.setdefault("sub_bands", []).append(
-                    {"omega_low": float(low), "omega_high": float(high), "dt": float(dt),
-                     "duration": float(duration), "warm_up": float(warm_up), "warm_up_dt": float(warm_up_dt),
-                     "shadow": shadow == "true", "realizations": int(count)})
-            elif " = " in body and _KEY.match(body.split(" = ", 1)[0]):
-                key, value = body.split(" = ", 1)
-                value, _, note = value.partition("  #")
-                key, value, note = key.strip(), value.strip(), note.strip()
-                if _PARAMETER_KEY.match(key):
-                    parameters[key] = _number(value)
-                elif key in _LANDMARK_KEYS:  # doubles, as the JSON holds them ("0" is 0.0)
-                    landmarks[key] = value == "true" if value in ("true", "false") else float(value)
-                elif key == "measured_mean_speed":
-                    error = _re.search(r"\+-\s*(\S+)", note)
-                    data[key] = {"value": float(value),
-                                 "standard_error": float(error.group(1)) if error else None}
-                elif key == "seed":
-                    data.setdefault("request", {})["seed"] = int(value)
-                elif key == "control_variate":
-                    data.setdefault("request", {})["control_variate"] = value
-                elif key == "reached_precision":
-                    data[key] = _number(value)
-                    if target := _re.search(r"\(target (\S+)\)", note):
-                        data.setdefault("request", {})["precision"] = float(target.group(1))
-                elif key == "theory_kind":
-                    data[key] = value
-                    reason = note.partition("; ")[2]
-                    if reason:
-                        data["theory_kind_note"] = reason
-                elif key == "stationary":
-                    data[key] = _number(value)
-                    if note:
-                        data["stationarity"] = note
-                else:
-                    data[key] = _number(value)
-            continue
-        if names is None:
-            raise ValueError(f"{path}: line {number}: a data row before the column line")
-        fields = line.split("\t") if "\t" in line else line.split()
-        if len(fields) != len(names):
-            raise ValueError(f"{path}: line {number}: {len(fields)} fields, the column line has {len(names)}")
-        try:
-            rows.append({name: float(field) for name, field in zip(names, fields)})
-        except ValueError:
-            raise ValueError(f"{path}: line {number}: a field that is not a number") from None
-    if names is None:
-        raise ValueError(f"{path}: no column line (omega ...): not a slidespec table")
+    parameters, landmarks = {}, {}
+    for body in table.comments:
+        if body.startswith("slidespec ") and "=" not in body:
+            data["slidespec_version"] = body.split()[1]
+        elif match := _SUB_BAND.match(body):
+            b, low, high, dt, duration, warm_up, warm_up_dt, shadow, count = match.groups()
+            data.setdefault("sub_bands", []).append(
+                {"omega_low": float(low), "omega_high": float(high), "dt": float(dt),
+                 "duration": float(duration), "warm_up": float(warm_up), "warm_up_dt": float(warm_up_dt),
+                 "shadow": shadow == "true", "realizations": int(count)})
+    for key, value in table.values.items():
+        note = table.notes[key]
+        if _PARAMETER_KEY.match(key):
+            parameters[key] = _number(value)
+        elif key in _LANDMARK_KEYS:  # doubles, as the JSON holds them ("0" is 0.0)
+            landmarks[key] = value == "true" if value in ("true", "false") else float(value)
+        elif key == "measured_mean_speed":
+            error = _re.search(r"\+-\s*(\S+)", note)
+            data[key] = {"value": float(value), "standard_error": float(error.group(1)) if error else None}
+        elif key == "seed":
+            data.setdefault("request", {})["seed"] = int(value)
+        elif key == "control_variate":
+            data.setdefault("request", {})["control_variate"] = value
+        elif key == "reached_precision":
+            data[key] = _number(value)
+            if target := _re.search(r"\(target (\S+)\)", note):
+                data.setdefault("request", {})["precision"] = float(target.group(1))
+        elif key == "theory_kind":
+            data[key] = value
+            reason = note.partition("; ")[2]
+            if reason:
+                data["theory_kind_note"] = reason
+        elif key == "stationary":
+            data[key] = _number(value)
+            if note:
+                data["stationarity"] = note
+        else:
+            data[key] = _number(value)
+    rows = [dict(zip(table.names, row)) for row in table.rows]
     if parameters:
         data["parameters"] = parameters
     if landmarks:

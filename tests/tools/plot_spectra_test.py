@@ -268,6 +268,14 @@ class FigureTest(unittest.TestCase):
 
 
 class LegendTest(unittest.TestCase):
+    def test_parameters_take_the_tables_symbols_as_mathtext(self):
+        # parameter_symbols.tsv holds parameters.def's symbols in the figures' markup.
+        self.assertEqual(plot_spectra.parameter_text("eta0", "8000"), r"$\eta_0$ = 8000 1/s")
+        self.assertEqual(plot_spectra.parameter_text("k_drive", "1e4"), r"$k_\mathrm{drive}$ = 1e4 N/m")
+        self.assertEqual(plot_spectra.parameter_text("F_kin", "5"), r"$F_\mathrm{kin}$ = 5 N")
+        self.assertEqual(plot_spectra.parameter_text("N_2", "5"), "N_2 = 5")  # a level's key as written
+        self.assertLessEqual({"N", "eta1", "alpha", "touching"}, set(plot_spectra.PARAMETER_SYMBOLS))
+
     def test_label_metadata_wins(self):
         labels = plot_spectra.legend_labels([spectrum({"label": "rubber on concrete",
                                                        "case": "concrete-fit"})])
