@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "io/tables.hpp"
+#include "slidespec/options.hpp"
 #include "util/numbers.hpp"
 
 namespace slidespec::cli {
@@ -186,7 +187,7 @@ std::string sweep_table(const std::vector<SweepAxis>& axes, const std::vector<Sw
         << (runs[r].result.complete ? "" : ", incomplete")
         << (runs[r].result.stationary
                 ? ""
-                : ", NOT STATIONARY: " + runs[r].result.stationarity)
+                : ", NOT STATIONARY: " + worded(runs[r].result.stationarity, FrontEnd::command_line))
         << "\n";
   // One set of columns for every run: the spring's force columns when any run has a spring.
   const bool spring =
@@ -232,7 +233,7 @@ std::string sweep_json(const std::vector<SweepAxis>& axes, const std::vector<Swe
     entry["table"] = run.table;
     entry["complete"] = run.result.complete;
     entry["stationary"] = run.result.stationary;
-    if (!run.result.stationary) entry["stationarity"] = run.result.stationarity;
+    if (!run.result.stationary) entry["stationarity"] = worded(run.result.stationarity, FrontEnd::command_line);
     entry["measured_mean_speed"] = {{"value", run.result.mean_speed}, {"standard_error", run.result.mean_speed_error}};
     entry["reached_precision"] = run.result.reached_precision;
     entry["points"] = nlohmann::ordered_json::array();

@@ -169,7 +169,7 @@ nlohmann::ordered_json run_point_json(const Parameters& p, const RunPoint& point
 }
 
 std::string run_table(const Parameters& p, const std::string& case_name, const RunRequest& request,
-                      const RunResult& result) {
+                      const RunResult& result, FrontEnd reader) {
   std::ostringstream out;
   out << metadata_lines(p, case_name);
   std::uint64_t realizations = 0;
@@ -189,7 +189,7 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
                                    : "target " + util::format_number(request.precision))
       << ")\n"
       << "# complete = " << (result.complete ? "true" : "false") << "\n"
-      << "# stationary = " << (result.stationary ? "true" : "false  # " + result.stationarity) << "\n"
+      << "# stationary = " << (result.stationary ? "true" : "false  # " + worded(result.stationarity, reader)) << "\n"
       << "# versions = " << versions() << "\n";
   for (std::size_t b = 0; b < result.sub_bands.size(); ++b) {
     const SubBand& band = result.sub_bands[b];
@@ -200,7 +200,7 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
         << " s, shadow = " << (band.shadow ? "true" : "false") << ", realizations = " << band.realizations << "\n";
   }
   out << "# columns: " << run_point_notes() << "\n";
-  if (!result.theory2_note.empty()) out << "# theory2_note = " << result.theory2_note << "\n";
+  if (!result.theory2_note.empty()) out << "# theory2_note = " << worded(result.theory2_note, reader) << "\n";
   const bool spring = p.drive == Drive::spring;
   if (spring) out << "# columns (drive=spring): " << run_point_spring_notes() << "\n";
   out << "# " << run_point_header(spring) << "\n";
@@ -209,7 +209,7 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
 }
 
 std::string run_json(const Parameters& p, const std::string& case_name, const RunRequest& request,
-                     const RunResult& result) {
+                     const RunResult& result, FrontEnd reader) {
   nlohmann::ordered_json doc;
   doc["slidespec_version"] = SLIDESPEC_VERSION;
   doc["versions"] = versions();
@@ -229,11 +229,11 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                     {"control_variate", request.control_variate ? "shadow" : "off"}};
   doc["complete"] = result.complete;
   doc["stationary"] = result.stationary;
-  if (!result.stationary) doc["stationarity"] = result.stationarity;
+  if (!result.stationary) doc["stationarity"] = worded(result.stationarity, reader);
   doc["reached_precision"] = result.reached_precision;
-  if (!result.theory2_note.empty()) doc["theory2_note"] = result.theory2_note;
+  if (!result.theory2_note.empty()) doc["theory2_note"] = worded(result.theory2_note, reader);
   doc["theory_kind"] = theory_kind_name(result.theory_kind);
-  if (!result.theory_kind_note.empty()) doc["theory_kind_note"] = result.theory_kind_note;
+  if (!result.theory_kind_note.empty()) doc["theory_kind_note"] = worded(result.theory_kind_note, reader);
   doc["measured_mean_speed"] = {{"value", result.mean_speed}, {"standard_error", result.mean_speed_error}};
   doc["simulated_time"] = result.simulated_time;
   doc["wall_seconds"] = result.wall_seconds;

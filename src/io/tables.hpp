@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "slidespec/options.hpp"
 #include "slidespec/parameters.hpp"
 #include "slidespec/run.hpp"
 
@@ -41,12 +42,13 @@ std::string run_point_row(const Parameters& p, const RunPoint& point, bool sprin
 /// correction, and under a spring its force spectrum.
 nlohmann::ordered_json run_point_json(const Parameters& p, const RunPoint& point);
 
-/// The run's table: metadata, the run's own facts, a header, one row per point.
+/// The run's table: metadata, the run's own facts, a header, one row per point. The
+/// result's notes name options as `reader` spells them.
 std::string run_table(const Parameters& p, const std::string& case_name, const RunRequest& request,
-                      const RunResult& result);
+                      const RunResult& result, FrontEnd reader = FrontEnd::command_line);
 
 /// The same as JSON, plus wall time, throughput, SIMD path and threads.
 std::string run_json(const Parameters& p, const std::string& case_name, const RunRequest& request,
-                     const RunResult& result);
+                     const RunResult& result, FrontEnd reader = FrontEnd::command_line);
 
 }  // namespace slidespec::io

@@ -511,7 +511,7 @@ void check_stationarity(const RunSession::Impl& s, RunResult& result) {
       std::snprintf(too_short, sizeof too_short,
                     "the forces can stall the block and the spring's stretch wanders over %.3g m, which the load "
                     "point takes up in %.3g s; the lowest sub-band's realizations last %.3g s, under %.0f times "
-                    "that: extend the band down (--omega-min %.2g rad/s or lower), give --duration %.2g s or "
+                    "that: extend the band down ({omega_min} %.2g rad/s or lower), give {duration} %.2g s or "
                     "more, or stiffen the spring",
                     stretch_range, relaxation, s.plan[0].duration, kSpringRelaxations,
                     // A realization spans two segments of its lowest point's octave band:
