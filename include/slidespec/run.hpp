@@ -209,6 +209,11 @@ void validate_request(const Parameters& params, const RunRequest& request);
 /// first round of every sub-band (all of it for a fixed realization count).
 double planned_first_round_work(const Parameters& params, const RunRequest& request);
 
+/// The least a run's saved state takes [bytes]: per sub-band, (points + 2) doubles (its own
+/// periodogram means, control and speed) for each realization of its first round (all of
+/// them for a fixed realization count). A disk that cannot hold this refuses the run at once.
+double least_state_bytes(const Parameters& params, const RunRequest& request);
+
 /// The sub-runs a request is split into: about a decade each, with the time step set by
 /// the sub-band's top frequency (and capped so a realization renews at most 16 times per
 /// step), not by the model's stiffness.

@@ -244,48 +244,39 @@ void check_band(const AnalysisRequest& request) {
 
 namespace {
 
-/// The spectrum of `record`, or of its `strokes` (records of their own) as pieces of one.
-RecordSpectrum analyze(const Record& record, const std::vector<Record>& strokes, const AnalysisRequest& request) {
-  if (request.resolution < 0 || !std::isfinite(request.resolution))
-    throw InputError("{resolution}: must be a length >= 0 in metres");
-  if (request.sensor_noise < 0 || !std::isfinite(request.sensor_noise))
-    throw InputError("{sensor_noise}: must be a length >= 0 in metres");
-  check_band(request);
-  if (record.observable == Observable::force && request.resolution + request.sensor_noise > 0)
-    throw InputError(std::string(request.resolution > 0 ? "{resolution}" : "{sensor_noise}") +
-                     ": a displacement sensor's floor, and the observable is the force; leave it out");
-  RecordSpectrum result;
-  result.observable = record.observable;
-  result.channel = observable_channel(record);
-  result.dt = record.dt;
+/// The sliding fluctuation of `record`, or of each of its `strokes`, with the sliding fit
+/// and sample count in `result`. Each stroke is its own line (its own direction and speed);
+/// the speed reported is the strokes' mean |v|, its error from their scatter.
+std::vector<std::vector<double>> sliding_pieces(const Record& record, const std::vector<Record>& strokes,
+                                                RecordSpectrum& result) {
   std::vector<std::vector<double>> pieces;
   if (strokes.empty()) {
     result.samples = record.samples();
     result.sliding = fit_sliding(record);
     pieces.push_back(sliding_fluctuation(record, result.sliding));
-  } else {
-    // Each stroke its own line (its own direction and speed); the speed reported is the
-    // strokes' mean |v|, its error from their scatter.
-    double sum = 0, sum2 = 0, xi2 = 0;
-    for (const Record& stroke : strokes) {
-      const SlidingFit fit = fit_sliding(stroke);
-      pieces.push_back(sliding_fluctuation(stroke, fit));
-      result.samples += stroke.samples();
-      sum += std::fabs(fit.v), sum2 += fit.v * fit.v;
-      xi2 += fit.xi_rms * fit.xi_rms * double(stroke.samples());
-    }
-    const double n = double(strokes.size()), mean = sum / n;
-    result.sliding.v = mean;
-    result.sliding.v_error = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1));
-    result.sliding.xi_rms = std::sqrt(xi2 / double(result.samples));
-    result.sliding.blocks = int(strokes.size());
+    return pieces;
   }
-  result.duration = static_cast<double>(result.samples) * record.dt;
-  result.quantization_variance = request.resolution * request.resolution / 12;
-  result.sensor_noise_variance = request.sensor_noise * request.sensor_noise;
+  double sum = 0, sum2 = 0, xi2 = 0;
+  for (const Record& stroke : strokes) {
+    const SlidingFit fit = fit_sliding(stroke);
+    pieces.push_back(sliding_fluctuation(stroke, fit));
+    result.samples += stroke.samples();
+    sum += std::fabs(fit.v), sum2 += fit.v * fit.v;
+    xi2 += fit.xi_rms * fit.xi_rms * double(stroke.samples());
+  }
+  const double n = double(strokes.size()), mean = sum / n;
+  result.sliding.v = mean;
+  result.sliding.v_error = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1));
+  result.sliding.xi_rms = std::sqrt(xi2 / double(result.samples));
+  result.sliding.blocks = int(strokes.size());
+  return pieces;
+}
 
+/// The estimator the request asks for, or the one that suits the record (Welch's in strokes),
+/// and why, into `result`.
+void choose_estimator(const AnalysisRequest& request, bool strokes, RecordSpectrum& result) {
   result.estimator = request.estimator;
-  if (!strokes.empty()) {
+  if (strokes) {
     if (request.estimator == Estimator::streaming)
       throw InputError(
           "{estimator} streaming: a reciprocating record's strokes are analyzed by Welch's estimator "
@@ -302,6 +293,28 @@ RecordSpectrum analyze(const Record& record, const std::vector<Record>& strokes,
   } else {
     result.estimator_reason = "{estimator}";
   }
+}
+
+/// The spectrum of `record`, or of its `strokes` (records of their own) as pieces of one.
+RecordSpectrum analyze(const Record& record, const std::vector<Record>& strokes, const AnalysisRequest& request) {
+  if (request.resolution < 0 || !std::isfinite(request.resolution))
+    throw InputError("{resolution}: must be a length >= 0 in metres");
+  if (request.sensor_noise < 0 || !std::isfinite(request.sensor_noise))
+    throw InputError("{sensor_noise}: must be a length >= 0 in metres");
+  check_band(request);
+  if (record.observable == Observable::force && request.resolution + request.sensor_noise > 0)
+    throw InputError(std::string(request.resolution > 0 ? "{resolution}" : "{sensor_noise}") +
+                     ": a displacement sensor's floor, and the observable is the force; leave it out");
+  RecordSpectrum result;
+  result.observable = record.observable;
+  result.channel = observable_channel(record);
+  result.dt = record.dt;
+  const std::vector<std::vector<double>> pieces = sliding_pieces(record, strokes, result);
+  result.duration = static_cast<double>(result.samples) * record.dt;
+  result.quantization_variance = request.resolution * request.resolution / 12;
+  result.sensor_noise_variance = request.sensor_noise * request.sensor_noise;
+
+  choose_estimator(request, !strokes.empty(), result);
   AnalysisRequest band = request;
   if (record.interpolation_cut > 0 && !(request.omega_max > 0 && request.omega_max <= record.interpolation_cut)) {
     band.omega_max = record.interpolation_cut;

@@ -875,27 +875,9 @@ class RecordReader {
     }
   }
 
-  /// The force channel and what turns it into newtons: its unit, a contact area for a
-  /// stress, a normal force or a normal-stress column (and the area) for mu.
-  void choose_force_column(int line_number) {
-    const int count = static_cast<int>(names_.size());
-    if (!format_.force_column.empty()) {
-      force_index_ = find_column(format_.force_column, "{force_column}", line_number);
-      if (names_normal_load(names_[static_cast<std::size_t>(force_index_)]))
-        fail(line_number, "{force_column} " + format_.force_column +
-                              ": the header names a normal load, which presses the surfaces together, not the "
-                              "friction force along them; give the friction or shear column (columns: " +
-                              column_list(names_) + "), this one as {normal_stress_column} for mu");
-    } else {
-      for (int k = 0; k < count && force_index_ < 0; ++k)
-        if (k != time_index_ && !force_like(names_[k]).empty() && !names_normal_load(names_[k])) force_index_ = k;
-      if (force_index_ < 0)
-        fail(line_number, std::string("the ") + to_string(record_.observable) +
-                              " needs a force channel and no column names a force, stress or friction (columns: " +
-                              column_list(names_) + "); give {force_column}");
-    }
-    if (force_index_ == time_index_) fail(line_number, "the force column is the time column");
-    const std::string& name = names_[static_cast<std::size_t>(force_index_)];
+  /// The unit of force column `name`: its header's, or the one {force_units} gives, which
+  /// may not contradict the header.
+  ForceUnit choose_force_unit(const std::string& name, int line_number) {
     ForceUnit unit{};
     const auto named = force_unit(split_unit(name).unit);
     if (format_.force_unit) {
@@ -921,6 +903,31 @@ class RecordReader {
       fail(line_number,
            "force column " + name + ": its header names no unit; give {force_units} (" + kKnownForces + ")");
     }
+    return unit;
+  }
+
+  /// The force channel and what turns it into newtons: its unit, a contact area for a
+  /// stress, a normal force or a normal-stress column (and the area) for mu.
+  void choose_force_column(int line_number) {
+    const int count = static_cast<int>(names_.size());
+    if (!format_.force_column.empty()) {
+      force_index_ = find_column(format_.force_column, "{force_column}", line_number);
+      if (names_normal_load(names_[static_cast<std::size_t>(force_index_)]))
+        fail(line_number, "{force_column} " + format_.force_column +
+                              ": the header names a normal load, which presses the surfaces together, not the "
+                              "friction force along them; give the friction or shear column (columns: " +
+                              column_list(names_) + "), this one as {normal_stress_column} for mu");
+    } else {
+      for (int k = 0; k < count && force_index_ < 0; ++k)
+        if (k != time_index_ && !force_like(names_[k]).empty() && !names_normal_load(names_[k])) force_index_ = k;
+      if (force_index_ < 0)
+        fail(line_number, std::string("the ") + to_string(record_.observable) +
+                              " needs a force channel and no column names a force, stress or friction (columns: " +
+                              column_list(names_) + "); give {force_column}");
+    }
+    if (force_index_ == time_index_) fail(line_number, "the force column is the time column");
+    const std::string& name = names_[static_cast<std::size_t>(force_index_)];
+    const ForceUnit unit = choose_force_unit(name, line_number);
     const double area = format_.contact_area;
     // The unit in words unless the header already writes it.
     std::string made_of = name;

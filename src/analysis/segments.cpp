@@ -86,6 +86,103 @@ std::size_t unsettled_blocks(const std::vector<double>& force, std::size_t block
 
 const char* to_string(SegmentKind kind) { return detail::name_of(kKindWords, kind); }
 
+namespace {
+
+/// A record's speed block by block, and what tells a hold, and two speeds apart, at the
+/// blocks' scatter.
+struct BlockSpeeds {
+  std::size_t block = 0;           // samples a block
+  std::vector<double> raw, speed;  // each block's speed [m/s], and the median of three around it
+  double scatter = 0, fastest = 0;
+
+  bool is_hold(double v) const {
+    return fastest > kScatters * scatter && std::fabs(v) < std::max(kHoldShare * fastest, kScatters * scatter);
+  }
+  bool together(double v, double group) const {
+    if (is_hold(v) || is_hold(group)) return is_hold(v) && is_hold(group);
+    if (std::fabs(v - group) < kScatters * scatter) return true;  // a difference the noise makes
+    return v * group > 0 && std::fabs(std::log(v / group)) < std::log(kSteadyFactor);
+  }
+};
+
+/// The finest blocks whose speeds tell a tenth of the fastest speed from a hold: a noisy
+/// sensor needs longer blocks (down to the 48 of a record that were once the only choice).
+/// None when the record is too short for kSteadyBlocks blocks.
+std::optional<BlockSpeeds> block_speeds(const std::vector<double>& x, double dt) {
+  BlockSpeeds s;
+  for (s.block = std::max(kFewestBlockSamples, x.size() / kBlocksPerRecord);; s.block *= 2) {
+    const std::size_t blocks = x.size() / s.block;
+    if (blocks < kSteadyBlocks) return std::nullopt;
+    s.raw.assign(blocks, 0);
+    for (std::size_t b = 0; b < blocks; ++b) s.raw[b] = block_speed(x, b * s.block, (b + 1) * s.block, dt);
+    // A median of three blocks: one block of a slip burst or a sensor glitch does not end a
+    // segment; a step, lasting, does.
+    s.speed = s.raw;
+    for (std::size_t b = 1; b + 1 < blocks; ++b) s.speed[b] = median({s.raw[b - 1], s.raw[b], s.raw[b + 1]});
+    // The scatter of a block's speed in steady sliding (xi's own motion, the sensor's noise).
+    s.scatter = successive_scatter(s.raw, 0, blocks);
+    s.fastest = std::fabs(*std::max_element(s.speed.begin(), s.speed.end(),
+                                            [](double a, double b) { return std::fabs(a) < std::fabs(b); }));
+    if (2 * kScatters * s.scatter <= kSlowShare * s.fastest || blocks / 2 < kCoarsestBlocks) return s;
+  }
+}
+
+/// Groups of consecutive blocks of one speed; the blocks between groups of kSteadyBlocks or
+/// more straddle a step or a reversal.
+std::vector<Group> speed_runs(const BlockSpeeds& s) {
+  const std::size_t blocks = s.raw.size();
+  std::vector<Group> runs;
+  std::size_t first = 0;
+  std::vector<double> members = {s.speed[0]};
+  for (std::size_t b = 1; b < blocks; ++b) {
+    const double level = median(members);
+    if (s.together(s.speed[b], level)) {
+      members.push_back(s.speed[b]);
+      continue;
+    }
+    // A block that does not fit, between blocks that do, is a burst inside the stretch.
+    bool returns = false;
+    for (std::size_t a = b + 1; a < std::min(blocks, b + kSteadyBlocks) && !returns; ++a)
+      returns = s.together(s.speed[a], level);
+    if (returns) continue;
+    runs.push_back({first, b, SegmentKind::sliding});
+    first = b;
+    members = {s.speed[b]};
+  }
+  runs.push_back({first, blocks, SegmentKind::sliding});
+  return runs;
+}
+
+/// The runs long enough to be steady, sliding or holds, trimmed of the blocks that straddle
+/// their steps; neighbours of one speed split by a short glitch joined.
+std::vector<Group> steady_groups(const std::vector<double>& x, double dt, const BlockSpeeds& s,
+                                 const std::vector<Group>& runs) {
+  const std::size_t block = s.block;
+  std::vector<Group> steady;
+  for (Group g : runs) {
+    if (g.last - g.first < kSteadyBlocks) continue;
+    // A block at the edge whose own speed is off the stretch's straddles the step (the median
+    // of three took it in): the step's.
+    const double level =
+        median(std::vector<double>(s.raw.begin() + std::ptrdiff_t(g.first), s.raw.begin() + std::ptrdiff_t(g.last)));
+    const auto off = [&](std::size_t b) { return std::fabs(s.raw[b] - level) > kScatters * s.scatter; };
+    while (g.last - g.first > kSteadyBlocks && off(g.first)) ++g.first;
+    while (g.last - g.first > kSteadyBlocks && off(g.last - 1)) --g.last;
+    g.kind = s.is_hold(block_speed(x, g.first * block, g.last * block, dt)) ? SegmentKind::hold : SegmentKind::sliding;
+    // Stretches of one speed split by a glitch too long for the median are one stretch.
+    const auto group_speed = [&](const Group& h) { return block_speed(x, h.first * block, h.last * block, dt); };
+    if (!steady.empty() && steady.back().kind == g.kind && steady.back().last + kSteadyBlocks > g.first &&
+        (g.kind == SegmentKind::hold || s.together(group_speed(g), group_speed(steady.back())))) {
+      steady.back().last = g.last;
+      continue;
+    }
+    steady.push_back(g);
+  }
+  return steady;
+}
+
+}  // namespace
+
 std::vector<SteadySegment> steady_segments(const Record& record) {
   const std::vector<double>& x = record.displacement;
   if (x.empty()) return {};  // a force record without a displacement: no speed to find steps by
@@ -99,78 +196,10 @@ std::vector<SteadySegment> steady_segments(const Record& record) {
     s.hold = kind == SegmentKind::hold;
     return s;
   };
-  // The finest blocks whose speeds tell a tenth of the fastest speed from a hold: a noisy
-  // sensor needs longer blocks (down to the 48 of a record that were once the only choice).
-  std::size_t block = std::max(kFewestBlockSamples, x.size() / kBlocksPerRecord);
-  std::vector<double> raw, speed;
-  double scatter = 0, fastest = 0;
-  for (;; block *= 2) {
-    const std::size_t blocks = x.size() / block;
-    if (blocks < kSteadyBlocks) return {segment(0, x.size(), SegmentKind::sliding)};
-    raw.assign(blocks, 0);
-    for (std::size_t b = 0; b < blocks; ++b) raw[b] = block_speed(x, b * block, (b + 1) * block, record.dt);
-    // A median of three blocks: one block of a slip burst or a sensor glitch does not end a
-    // segment; a step, lasting, does.
-    speed = raw;
-    for (std::size_t b = 1; b + 1 < blocks; ++b) speed[b] = median({raw[b - 1], raw[b], raw[b + 1]});
-    // The scatter of a block's speed in steady sliding (xi's own motion, the sensor's noise).
-    scatter = successive_scatter(raw, 0, blocks);
-    fastest = std::fabs(
-        *std::max_element(speed.begin(), speed.end(), [](double a, double b) { return std::fabs(a) < std::fabs(b); }));
-    if (2 * kScatters * scatter <= kSlowShare * fastest || blocks / 2 < kCoarsestBlocks) break;
-  }
-  const std::size_t blocks = raw.size();
-  const auto is_hold = [&](double v) {
-    return fastest > kScatters * scatter && std::fabs(v) < std::max(kHoldShare * fastest, kScatters * scatter);
-  };
-  const auto together = [&](double v, double group) {
-    if (is_hold(v) || is_hold(group)) return is_hold(v) && is_hold(group);
-    if (std::fabs(v - group) < kScatters * scatter) return true;  // a difference the noise makes
-    return v * group > 0 && std::fabs(std::log(v / group)) < std::log(kSteadyFactor);
-  };
-
-  // Groups of consecutive blocks; the blocks between groups of kSteadyBlocks or more straddle
-  // a step or a reversal.
-  std::vector<Group> runs;
-  std::size_t first = 0;
-  std::vector<double> members = {speed[0]};
-  for (std::size_t b = 1; b < blocks; ++b) {
-    const double level = median(members);
-    if (together(speed[b], level)) {
-      members.push_back(speed[b]);
-      continue;
-    }
-    // A block that does not fit, between blocks that do, is a burst inside the stretch.
-    bool returns = false;
-    for (std::size_t a = b + 1; a < std::min(blocks, b + kSteadyBlocks) && !returns; ++a)
-      returns = together(speed[a], level);
-    if (returns) continue;
-    runs.push_back({first, b, SegmentKind::sliding});
-    first = b;
-    members = {speed[b]};
-  }
-  runs.push_back({first, blocks, SegmentKind::sliding});
-  std::vector<Group> steady;
-  for (Group g : runs) {
-    if (g.last - g.first < kSteadyBlocks) continue;
-    // A block at the edge whose own speed is off the stretch's straddles the step (the median
-    // of three took it in): the step's.
-    const double level =
-        median(std::vector<double>(raw.begin() + std::ptrdiff_t(g.first), raw.begin() + std::ptrdiff_t(g.last)));
-    const auto off = [&](std::size_t b) { return std::fabs(raw[b] - level) > kScatters * scatter; };
-    while (g.last - g.first > kSteadyBlocks && off(g.first)) ++g.first;
-    while (g.last - g.first > kSteadyBlocks && off(g.last - 1)) --g.last;
-    g.kind =
-        is_hold(block_speed(x, g.first * block, g.last * block, record.dt)) ? SegmentKind::hold : SegmentKind::sliding;
-    // Stretches of one speed split by a glitch too long for the median are one stretch.
-    const auto group_speed = [&](const Group& h) { return block_speed(x, h.first * block, h.last * block, record.dt); };
-    if (!steady.empty() && steady.back().kind == g.kind && steady.back().last + kSteadyBlocks > g.first &&
-        (g.kind == SegmentKind::hold || together(group_speed(g), group_speed(steady.back())))) {
-      steady.back().last = g.last;
-      continue;
-    }
-    steady.push_back(g);
-  }
+  const std::optional<BlockSpeeds> speeds = block_speeds(x, record.dt);
+  if (!speeds) return {segment(0, x.size(), SegmentKind::sliding)};
+  const std::size_t block = speeds->block, blocks = speeds->raw.size();
+  const std::vector<Group> steady = steady_groups(x, record.dt, *speeds, speed_runs(*speeds));
 
   std::vector<Group> all;
   std::size_t next = 0;  // first block not yet labelled

@@ -279,6 +279,24 @@ WelchSpectrum welch_spectrum(const std::vector<double>& x, double dt, const Welc
   return welch_spectrum(std::vector<std::vector<double>>{x}, dt, fixed);
 }
 
+namespace {
+
+/// Where each segment of `length` samples (and the sample after it, for the difference)
+/// starts: within a piece segments overlap by half (`hop`), pieces are independent of one
+/// another. `overlapping_pairs` counts the pairs of neighbouring segments that overlap.
+std::vector<const double*> segment_starts(const std::vector<std::vector<double>>& pieces, std::size_t length,
+                                          std::size_t hop, std::size_t& overlapping_pairs) {
+  std::vector<const double*> starts;
+  for (const auto& piece : pieces) {
+    const std::size_t in_piece = (piece.size() - 1 - length) / hop + 1;
+    for (std::size_t s = 0; s < in_piece; ++s) starts.push_back(piece.data() + s * hop);
+    overlapping_pairs += in_piece - 1;
+  }
+  return starts;
+}
+
+}  // namespace
+
 WelchSpectrum welch_spectrum(const std::vector<std::vector<double>>& pieces, double dt, const WelchRequest& request) {
   if (!(dt > 0)) throw InputError("welch: the sampling interval must be > 0");
   if (pieces.empty()) throw InputError("welch: no piece of record to estimate a spectrum of");
@@ -293,14 +311,8 @@ WelchSpectrum welch_spectrum(const std::vector<std::vector<double>>& pieces, dou
     throw InputError("welch: segment of " + std::to_string(length) + " samples in a piece of " +
                      std::to_string(shortest));
   const std::size_t hop = length / 2;
-  // Segments within a piece overlap by half; pieces are independent of one another.
-  std::vector<const double*> starts;
   std::size_t overlapping_pairs = 0;
-  for (const auto& piece : pieces) {
-    const std::size_t in_piece = (piece.size() - 1 - length) / hop + 1;
-    for (std::size_t s = 0; s < in_piece; ++s) starts.push_back(piece.data() + s * hop);
-    overlapping_pairs += in_piece - 1;
-  }
+  const std::vector<const double*> starts = segment_starts(pieces, length, hop, overlapping_pairs);
   const std::size_t segments = starts.size();
   out.segment_samples = length;
   out.segments = segments;

@@ -21,6 +21,7 @@
 #include "cli/plot.hpp"
 #include "figure/spectrum_figure.hpp"
 #include "figure/text.hpp"
+#include "io/table_reader.hpp"
 #include "util/numbers.hpp"
 #include "slidespec/parameters.hpp"
 #include "slidespec/theory.hpp"
@@ -40,43 +41,22 @@ struct TableModel {
 };
 
 TableModel read_table_model(const std::string& path) {
-  std::ifstream in(path);
   TableModel model;
-  ParameterBuilder builder("reference");
-  bool named_model = false, has_v = false;
-  std::vector<std::pair<std::string, std::string>> metadata;
-  std::size_t omega_column = 0;  // by name in the column line ("# omega<TAB>C_x...")
-  for (std::string line; std::getline(in, line);) {
-    if (line.find('\t') != std::string::npos && line.find_first_of("0123456789") != 0 &&
-        line.find("omega") != std::string::npos) {
-      std::istringstream names(line.rfind("#", 0) == 0 ? line.substr(1) : line);
-      std::size_t index = 0;
-      for (std::string name; names >> name; ++index)
-        if (name == "omega") omega_column = index;
-      continue;
-    }
-    if (line.rfind("#", 0) == 0) {
-      const auto equals = line.find(" = ");
-      if (equals == std::string::npos) continue;
-      std::string key = line.substr(1, equals - 1);
-      key.erase(0, key.find_first_not_of(' '));
-      std::string value = line.substr(equals + 3);
-      value = value.substr(0, value.find("  #"));
-      metadata.emplace_back(key, value);
-      named_model |= key == "N";
-      has_v |= key == "v";
-      continue;
-    }
-    std::istringstream fields(line);
-    double omega = 0;
-    for (std::size_t index = 0; index <= omega_column; ++index)
-      if (!(fields >> omega)) omega = 0;
+  io::Table table;
+  try {
+    table = io::read_table(path);
+  } catch (const std::runtime_error&) {
+    return model;
+  }
+  for (double omega : table.column("omega")) {
     if (!(omega > 0)) continue;
     model.omega_low = model.omega_low > 0 ? std::min(model.omega_low, omega) : omega;
     model.omega_high = std::max(model.omega_high, omega);
   }
-  if (!named_model || !(model.omega_high > 0)) return model;
-  for (const auto& [key, value] : metadata) {
+  if (!table.value("N") || !(model.omega_high > 0)) return model;
+  const bool has_v = table.value("v").has_value();
+  ParameterBuilder builder("reference");
+  for (const auto& [key, value] : table.metadata) {
     if (key == "eta1" && has_v) continue;  // derived from v
     try {
       builder.set(key, value);
@@ -146,56 +126,9 @@ std::pair<std::vector<double>, std::vector<double>> fine_theory_of_table(const s
 
 namespace {
 
-/// A table as plot_spectra.py reads it: '#' metadata (trailing comments cut), columns by name.
-struct Table {
-  std::map<std::string, std::string> metadata;
-  std::map<std::string, std::vector<double>> columns;
-
-  const std::vector<double>& column(const std::string& name) const {
-    static const std::vector<double> none;
-    const auto found = columns.find(name);
-    return found == columns.end() ? none : found->second;
-  }
-  std::optional<double> number(const std::string& key) const {
-    const auto found = metadata.find(key);
-    if (found == metadata.end()) return std::nullopt;
-    return util::parse_number(found->second);
-  }
-};
-
-std::vector<std::string> tab_fields(const std::string& line) {
-  std::vector<std::string> fields;
-  std::istringstream in(line);
-  for (std::string field; std::getline(in, field, '\t');) fields.push_back(field);
-  return fields;
-}
-
-Table read_table(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read " + path);
-  Table table;
-  std::vector<std::string> names;
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind("#", 0) == 0) {
-      const auto equals = line.find(" = ");
-      if (equals != std::string::npos && names.empty()) {
-        std::string key = line.substr(1, equals - 1);
-        key.erase(0, key.find_first_not_of(' '));
-        table.metadata[key] = line.substr(equals + 3, line.find("  #", equals) - equals - 3);
-      } else if (line.find('\t') != std::string::npos) {
-        names = tab_fields(line.substr(line.find_first_not_of("# ")));
-      }
-      continue;
-    }
-    const std::vector<std::string> fields = tab_fields(line);
-    if (fields.empty()) continue;
-    if (names.empty() || !util::parse_number(fields[0])) {
-      names = fields;
-      continue;
-    }
-    for (std::size_t k = 0; k < names.size() && k < fields.size(); ++k)
-      table.columns[names[k]].push_back(util::parse_number(fields[k]).value_or(NAN));
-  }
+/// A run's table with the columns its figure needs.
+io::Table read_run_table(const std::string& path) {
+  io::Table table = io::read_table(path);
   if (table.column("omega").empty() || table.column("C_x").empty())
     throw std::runtime_error(path + ": no omega and C_x columns");
   return table;
@@ -251,14 +184,11 @@ std::string parameter_text(const std::string& key, const std::string& value) {
 
 /// The legend entry of a single run: its case and the parameters the paper varies, plus
 /// those set by --set (named in its label), marked when incomplete or not stationary.
-std::string legend_label(const Table& table, const std::string& path) {
-  const auto case_name = table.metadata.find("case");
-  std::string name =
-      case_name != table.metadata.end() ? case_name->second : std::filesystem::path(path).filename().string();
+std::string legend_label(const io::Table& table, const std::string& path) {
+  std::string name = table.value("case").value_or(std::filesystem::path(path).filename().string());
   std::vector<std::string> keys = {"N", "v", "a", "alpha"};
-  const auto label = table.metadata.find("label");
-  if (label != table.metadata.end()) {  // "reference + N=5, alpha=3"
-    const std::string& text = label->second;
+  if (const std::optional<std::string> label = table.value("label")) {  // "reference + N=5, alpha=3"
+    const std::string& text = *label;
     name = text.substr(0, text.find(" + "));
     if (text.find(" + ") != std::string::npos) {
       std::istringstream changes(text.substr(text.find(" + ") + 3));
@@ -272,16 +202,13 @@ std::string legend_label(const Table& table, const std::string& path) {
   }
   std::string parameters;
   for (const std::string& key : keys) {
-    const auto value = table.metadata.find(key);
-    if (value == table.metadata.end()) continue;
-    parameters += (parameters.empty() ? ": " : ", ") + parameter_text(key, value->second);
+    const std::optional<std::string> value = table.value(key);
+    if (!value) continue;
+    parameters += (parameters.empty() ? ": " : ", ") + parameter_text(key, *value);
   }
   std::string text = figure::literal(name) + parameters;
-  const auto stationary = table.metadata.find("stationary");
-  if (stationary != table.metadata.end() && stationary->second.rfind("false", 0) == 0)
-    text += " (NOT STATIONARY: no spectrum)";
-  const auto complete = table.metadata.find("complete");
-  if (complete != table.metadata.end() && complete->second == "false") text += " (incomplete)";
+  if (table.value("stationary").value_or("").rfind("false", 0) == 0) text += " (NOT STATIONARY: no spectrum)";
+  if (table.value("complete") == "false") text += " (incomplete)";
   return text;
 }
 
@@ -296,7 +223,7 @@ const char* const kPeakNote =
 /// where that holds, runs through the points' theory2 where a theory beyond it does (the
 /// periodic first order's zeros are not the second order's), and breaks where none holds.
 /// Returns whether a theory beyond the first order is drawn anywhere.
-bool show_only_where_a_theory_holds(const Table& table, figure::Spectrum& spectrum) {
+bool show_only_where_a_theory_holds(const io::Table& table, figure::Spectrum& spectrum) {
   const std::vector<double>& kind = table.column("theory_kind");
   const std::vector<double>& theory2 = table.column("theory2");
   const std::size_t n = spectrum.omega.size();
@@ -332,7 +259,7 @@ bool show_only_where_a_theory_holds(const Table& table, figure::Spectrum& spectr
 }  // namespace
 
 RunFigure run_figure(const std::string& path, const FigureStyle& style) {
-  const Table table = read_table(path);
+  const io::Table table = read_run_table(path);
   figure::Spectrum spectrum;
   spectrum.label = legend_label(table, path);
   spectrum.omega = table.column("omega");

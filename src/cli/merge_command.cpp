@@ -6,7 +6,7 @@
 #include "cli/command.hpp"
 #include "cli/run_and_write.hpp"
 #include "io/atomic_file.hpp"
-#include "run/session.hpp"
+#include "slidespec/run.hpp"
 
 namespace slidespec::cli {
 

@@ -15,7 +15,7 @@
 #include "cli/run_and_write.hpp"
 #include "cli/sweep.hpp"
 #include "io/atomic_file.hpp"
-#include "run/session.hpp"
+#include "slidespec/run.hpp"
 #include "util/suggest.hpp"
 
 namespace slidespec::cli {

@@ -68,7 +68,8 @@ void share_progress(std::vector<RunOptions>& runs, const std::vector<double>& wo
 
 void warn_if_not_stationary(const RunResult& result, const std::string& out) {
   if (!result.stationary)
-    std::cerr << "slidespec: warning: " << out << ": not stationary (" << result.stationarity
+    std::cerr << "slidespec: warning: " << out << ": not stationary ("
+              << worded(result.stationarity, FrontEnd::command_line)
               << "): no spectrum exists here; the table is marked stationary = false (exit status 3)\n";
 }
 

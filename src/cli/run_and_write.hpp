@@ -11,7 +11,6 @@
 #include "cli/command.hpp"
 #include "cli/plot.hpp"
 #include "cli/progress.hpp"
-#include "run/session.hpp"
 #include "slidespec/run.hpp"
 
 namespace slidespec::cli {

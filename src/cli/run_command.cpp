@@ -11,7 +11,7 @@
 #include "cli/run_and_write.hpp"
 #include "io/atomic_file.hpp"
 #include "util/numbers.hpp"
-#include "run/session.hpp"
+#include "slidespec/run.hpp"
 #include "slidespec/theory.hpp"
 
 namespace slidespec::cli {
@@ -137,18 +137,10 @@ class RunCommand final : public Command {
                      "; choose another file, or remove it to write this run's state there");
   }
 
-  /// A run saves a state of at least (points + 2) doubles per realization of each
-  /// sub-band (its own periodogram means, control and speed) before its outputs: refused
-  /// at once where even that cannot fit. A run of fixed realizations knows its count; a
-  /// run to a precision runs at least its first round of realizations in every sub-band.
+  /// A run saves its state before its outputs: refused at once where even the least state
+  /// it can save cannot fit.
   static void refuse_state_beyond_free_space(const Parameters& p, const RunRequest& request, const std::string& out) {
-    double bytes = 0;
-    for (const SubBand& band : plan_sub_bands(p, request)) {
-      const double realizations = static_cast<double>(run_detail::first_round_realizations(p, request, band));
-      const double points = static_cast<double>(
-          log_spaced_omegas(band.omega_low, band.omega_high * (1 + 1e-12), request.points_per_decade).size());
-      bytes += realizations * (points + 2) * sizeof(double);
-    }
+    const double bytes = least_state_bytes(p, request);
     std::error_code error;
     const std::filesystem::path directory = std::filesystem::absolute(out, error).parent_path();
     const std::filesystem::space_info space = std::filesystem::space(directory, error);

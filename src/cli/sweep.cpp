@@ -8,6 +8,8 @@
 #include <set>
 #include <sstream>
 
+#include "io/tables.hpp"
+#include "slidespec/options.hpp"
 #include "util/numbers.hpp"
 
 namespace slidespec::cli {
@@ -183,12 +185,21 @@ std::string sweep_table(const std::vector<SweepAxis>& axes, const std::vector<Sw
   for (std::size_t r = 0; r < runs.size(); ++r)
     out << "# run_" << r << " = " << runs[r].label << "  # " << runs[r].table
         << (runs[r].result.complete ? "" : ", incomplete")
-        << (runs[r].result.stationary ? "" : ", NOT STATIONARY: " + runs[r].result.stationarity) << "\n";
-  out << "# columns: run (index of the run_ lines); the swept keys; omega [rad/s]; C_x [m^2 s] estimate;"
-         " stderr [m^2 s]; theory [m^2 s]; n_avg; bandwidth [rad/s]; theory2 [m^2 s] (as in each run's table)\n"
-         "# run";
+        << (runs[r].result.stationary
+                ? ""
+                : ", NOT STATIONARY: " + worded(runs[r].result.stationarity, FrontEnd::command_line))
+        << "\n";
+  // One set of columns for every run: the spring's force columns when any run has a spring.
+  const bool spring =
+      std::any_of(runs.begin(), runs.end(), [](const SweepRun& run) { return run.parameters.drive == Drive::spring; });
+  out << "# columns: run (index of the run_ lines); the swept keys; then as in each run's table: "
+      << io::run_point_notes() << "\n";
+  if (spring)
+    out << "# columns (a run with drive=spring; nan in a force-driven run's rows): " << io::run_point_spring_notes()
+        << "\n";
+  out << "# run";
   for (const SweepAxis& axis : axes) out << "\t" << axis.key;
-  out << "\tomega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\ttheory2\n";
+  out << "\t" << io::run_point_header(spring) << "\n";
   for (std::size_t r = 0; r < runs.size(); ++r)
     for (const RunPoint& point : runs[r].result.points) {
       out << r;
@@ -199,10 +210,7 @@ std::string sweep_table(const std::vector<SweepAxis>& axes, const std::vector<Sw
         else
           out << "\t" << value;
       }
-      out << "\t" << util::format_number(point.omega) << "\t" << util::format_number(point.C_x) << "\t"
-          << util::format_number(point.standard_error) << "\t" << util::format_number(point.theory) << "\t"
-          << util::format_number(point.n_avg) << "\t" << util::format_number(point.bandwidth) << "\t"
-          << util::format_number(point.theory2) << "\n";
+      out << "\t" << io::run_point_row(runs[r].parameters, point, spring) << "\n";
     }
   return out.str();
 }
@@ -225,19 +233,12 @@ std::string sweep_json(const std::vector<SweepAxis>& axes, const std::vector<Swe
     entry["table"] = run.table;
     entry["complete"] = run.result.complete;
     entry["stationary"] = run.result.stationary;
-    if (!run.result.stationary) entry["stationarity"] = run.result.stationarity;
+    if (!run.result.stationary) entry["stationarity"] = worded(run.result.stationarity, FrontEnd::command_line);
     entry["measured_mean_speed"] = {{"value", run.result.mean_speed}, {"standard_error", run.result.mean_speed_error}};
     entry["reached_precision"] = run.result.reached_precision;
     entry["points"] = nlohmann::ordered_json::array();
     for (const RunPoint& point : run.result.points)
-      entry["points"].push_back({{"omega", point.omega},
-                                 {"C_x", point.C_x},
-                                 {"stderr", point.standard_error},
-                                 {"theory", point.theory},
-                                 {"n_avg", point.n_avg},
-                                 {"bandwidth", point.bandwidth},
-                                 {"theory2", std::isfinite(point.theory2) ? nlohmann::ordered_json(point.theory2)
-                                                                          : nlohmann::ordered_json(nullptr)}});
+      entry["points"].push_back(io::run_point_json(run.parameters, point));
     doc["runs"].push_back(entry);
   }
   return doc.dump(2) + "\n";

@@ -41,15 +41,17 @@ struct SweepRun {
   std::vector<std::pair<std::string, std::string>> values;  ///< KEY=VALUE of this run
   std::string label;                                        ///< "reference + alpha=0.5"
   std::string table;                                        ///< its own PREFIX_....tsv
+  Parameters parameters;
   RunResult result;
 };
 
-/// All runs in one TSV: '#' lines, a '#' column line "run KEY... omega C_x stderr theory
-/// n_avg bandwidth theory2", one row per point of every run; a word-valued KEY's column
+/// All runs in one TSV: '#' lines, a '#' column line "run KEY..." and a run point's columns
+/// (io::run_point_header), one row per point of every run; a word-valued KEY's column
 /// holds the index of the value in its "# sweep_KEY = ..." line.
 std::string sweep_table(const std::vector<SweepAxis>& axes, const std::vector<SweepRun>& runs);
 /// The same as JSON: {"keys": [...], "runs": [{"values", "label", "table", "complete",
-/// "measured_mean_speed", "reached_precision", "points": [...]}]}.
+/// "measured_mean_speed", "reached_precision", "points": [...]}]}, each point as in the
+/// run's own JSON (io::run_point_json).
 std::string sweep_json(const std::vector<SweepAxis>& axes, const std::vector<SweepRun>& runs);
 
 }  // namespace slidespec::cli

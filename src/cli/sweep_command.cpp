@@ -16,7 +16,7 @@
 #include "cli/run_and_write.hpp"
 #include "cli/sweep.hpp"
 #include "io/atomic_file.hpp"
-#include "run/session.hpp"
+#include "slidespec/run.hpp"
 
 namespace slidespec::cli {
 
@@ -102,7 +102,7 @@ class SweepCommand final : public Command {
       const std::string label = model_.label(params[k]);
       RunSession session(params[k], singles[k].request, label);
       const RunOutcome outcome = run_and_write(context_, session, singles[k], name);
-      runs.push_back({grid[k], label, name + ".tsv", outcome.result});
+      runs.push_back({grid[k], label, name + ".tsv", params[k], outcome.result});
       tables.push_back(name + ".tsv");
       stationary = stationary && outcome.result.stationary;
       written = written && outcome.written;

@@ -95,8 +95,81 @@ int theory_kind_code(TheoryKind kind) {
   return 0;
 }
 
+std::string run_point_notes() {
+  return "omega [rad/s]; C_x [m^2 s] estimate, the mean of C_x over the bin's frequencies;"
+         " stderr [m^2 s]; theory [m^2 s] continuous exact first-order theory, its mean over the same bins;"
+         " n_avg periodogram values averaged; bandwidth [rad/s]; C_v = omega^2 C_x [m^2/s];"
+         " C_F = M^2 omega^4 C_x [N^2 s]; theory_at_omega [m^2 s]; C_eq1 [m^2 s] the paper's Eq. (1);"
+         " theory2 [m^2 s] the theory beyond first order that theory_kind names (second order or quasi-static,"
+         " docs/model.md §7), its mean over the same bins,"
+         " nan where it does not apply; variance_ratio the estimate's variance over the plain mean's of the same"
+         " realizations; estimator 2 shadow (regression on the linear shadow and the forcing), 1 forcing (on"
+         " the forcing alone), 0 plain (PREFIX.json names them); theory_kind the best theory that holds at"
+         " the point, 2 second_order or 3 quasi_static (theory2), 1 first_order (theory), 0 none;"
+         " correction = C_x/theory - 1, the measured departure from the first order, and correction_stderr"
+         " = stderr/theory its standard error";
+}
+
+std::string run_point_spring_notes() {
+  return "C_F_spring [N^2 s] the spring's force spectrum k_drive^2 C_x (what a machine's"
+         " force sensor records; C_F above is the block's inertial force); C_F_spring_stderr [N^2 s];"
+         " C_F_spring_theory [N^2 s] k_drive^2 theory";
+}
+
+std::string run_point_header(bool spring_columns) {
+  return std::string(
+             "omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\ttheory2"
+             "\tvariance_ratio\testimator\ttheory_kind\tcorrection\tcorrection_stderr") +
+         (spring_columns ? "\tC_F_spring\tC_F_spring_stderr\tC_F_spring_theory" : "");
+}
+
+std::string run_point_row(const Parameters& p, const RunPoint& point, bool spring_columns) {
+  std::ostringstream out;
+  out << util::format_number(point.omega) << "\t" << util::format_number(point.C_x) << "\t"
+      << util::format_number(point.standard_error) << "\t" << util::format_number(point.theory) << "\t"
+      << util::format_number(point.n_avg) << "\t" << util::format_number(point.bandwidth) << "\t"
+      << util::format_number(velocity_spectrum(point.omega, point.C_x)) << "\t"
+      << util::format_number(force_spectrum(point.omega, point.C_x, p.M)) << "\t"
+      << util::format_number(point.theory_at_omega) << "\t" << util::format_number(eq1_asymptote(p, point.omega))
+      << "\t" << util::format_number(point.theory2) << "\t" << util::format_number(point.variance_ratio) << "\t"
+      << estimator_code(point.estimator) << "\t" << theory_kind_code(point.theory_kind) << "\t"
+      << util::format_number(point.C_x / point.theory - 1) << "\t"
+      << util::format_number(point.standard_error / point.theory);
+  if (spring_columns) {
+    // A sweep across drives gives its force-driven runs these columns too: no spring, no force.
+    const bool spring = p.drive == Drive::spring;
+    for (double value : {point.C_x, point.standard_error, point.theory})
+      out << "\t" << util::format_number(spring ? spring_force_spectrum(p, value) : NAN);
+  }
+  return out.str();
+}
+
+nlohmann::ordered_json run_point_json(const Parameters& p, const RunPoint& point) {
+  nlohmann::ordered_json row =
+      point_json(point.omega, "C_x", point.C_x, point.standard_error, point.n_avg, point.bandwidth);
+  row["theory"] = point.theory;
+  row["theory_at_omega"] = point.theory_at_omega;
+  row["bins"] = {{"first", point.bins.first},
+                 {"last", point.bins.last},
+                 {"spacing", point.bins.spacing},
+                 {"count", point.bins.count}};
+  row["theory2"] =
+      std::isfinite(point.theory2) ? nlohmann::ordered_json(point.theory2) : nlohmann::ordered_json(nullptr);
+  row["variance_ratio"] = point.variance_ratio;
+  row["estimator"] = point.estimator;
+  row["theory_kind"] = theory_kind_name(point.theory_kind);
+  row["correction"] = point.C_x / point.theory - 1;
+  row["correction_stderr"] = point.standard_error / point.theory;
+  if (p.drive == Drive::spring) {
+    row["C_F_spring"] = spring_force_spectrum(p, point.C_x);
+    row["C_F_spring_stderr"] = spring_force_spectrum(p, point.standard_error);
+    row["C_F_spring_theory"] = spring_force_spectrum(p, point.theory);
+  }
+  return row;
+}
+
 std::string run_table(const Parameters& p, const std::string& case_name, const RunRequest& request,
-                      const RunResult& result) {
+                      const RunResult& result, FrontEnd reader) {
   std::ostringstream out;
   out << metadata_lines(p, case_name);
   std::uint64_t realizations = 0;
@@ -116,7 +189,7 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
                                    : "target " + util::format_number(request.precision))
       << ")\n"
       << "# complete = " << (result.complete ? "true" : "false") << "\n"
-      << "# stationary = " << (result.stationary ? "true" : "false  # " + result.stationarity) << "\n"
+      << "# stationary = " << (result.stationary ? "true" : "false  # " + worded(result.stationarity, reader)) << "\n"
       << "# versions = " << versions() << "\n";
   for (std::size_t b = 0; b < result.sub_bands.size(); ++b) {
     const SubBand& band = result.sub_bands[b];
@@ -126,56 +199,23 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
         << " s, warm_up = " << util::format_number(band.warm_up) << " s at dt " << util::format_number(band.warm_up_dt)
         << " s, shadow = " << (band.shadow ? "true" : "false") << ", realizations = " << band.realizations << "\n";
   }
-  out << "# columns: omega [rad/s]; C_x [m^2 s] estimate, the mean of C_x over the bin's frequencies;"
-         " stderr [m^2 s]; theory [m^2 s] continuous exact first-order theory, its mean over the same bins;"
-         " n_avg periodogram values averaged; bandwidth [rad/s]; C_v = omega^2 C_x [m^2/s];"
-         " C_F = M^2 omega^4 C_x [N^2 s]; theory_at_omega [m^2 s]; C_eq1 [m^2 s] the paper's Eq. (1);"
-         " theory2 [m^2 s] the theory beyond first order that theory_kind names (second order or quasi-static,"
-         " docs/model.md §7), its mean over the same bins,"
-         " nan where it does not apply; variance_ratio the estimate's variance over the plain mean's of the same"
-         " realizations; estimator 2 shadow (regression on the linear shadow and the forcing), 1 forcing (on"
-         " the forcing alone), 0 plain (PREFIX.json names them); theory_kind the best theory that holds at"
-         " the point, 2 second_order or 3 quasi_static (theory2), 1 first_order (theory), 0 none;"
-         " correction = C_x/theory - 1, the measured departure from the first order, and correction_stderr"
-         " = stderr/theory its standard error\n";
-  if (!result.theory2_note.empty()) out << "# theory2_note = " << result.theory2_note << "\n";
+  out << "# columns: " << run_point_notes() << "\n";
+  if (!result.theory2_note.empty()) out << "# theory2_note = " << worded(result.theory2_note, reader) << "\n";
   const bool spring = p.drive == Drive::spring;
-  if (spring)
-    out << "# columns (drive=spring): C_F_spring [N^2 s] the spring's force spectrum k_drive^2 C_x (what a machine's"
-           " force sensor records; C_F above is the block's inertial force); C_F_spring_stderr [N^2 s];"
-           " C_F_spring_theory [N^2 s] k_drive^2 theory\n";
-  out << "# omega\tC_x\tstderr\ttheory\tn_avg\tbandwidth\tC_v\tC_F\ttheory_at_omega\tC_eq1\ttheory2\tvariance_ratio"
-         "\testimator\ttheory_kind\tcorrection\tcorrection_stderr"
-      << (spring ? "\tC_F_spring\tC_F_spring_stderr\tC_F_spring_theory" : "") << "\n";
-  for (const RunPoint& point : result.points) {
-    out << util::format_number(point.omega) << "\t" << util::format_number(point.C_x) << "\t"
-        << util::format_number(point.standard_error) << "\t" << util::format_number(point.theory) << "\t"
-        << util::format_number(point.n_avg) << "\t" << util::format_number(point.bandwidth) << "\t"
-        << util::format_number(velocity_spectrum(point.omega, point.C_x)) << "\t"
-        << util::format_number(force_spectrum(point.omega, point.C_x, p.M)) << "\t"
-        << util::format_number(point.theory_at_omega) << "\t" << util::format_number(eq1_asymptote(p, point.omega))
-        << "\t" << util::format_number(point.theory2) << "\t" << util::format_number(point.variance_ratio) << "\t"
-        << estimator_code(point.estimator) << "\t" << theory_kind_code(point.theory_kind) << "\t"
-        << util::format_number(point.C_x / point.theory - 1) << "\t"
-        << util::format_number(point.standard_error / point.theory);
-    if (spring)
-      out << "\t" << util::format_number(spring_force_spectrum(p, point.C_x)) << "\t"
-          << util::format_number(spring_force_spectrum(p, point.standard_error)) << "\t"
-          << util::format_number(spring_force_spectrum(p, point.theory));
-    out << "\n";
-  }
+  if (spring) out << "# columns (drive=spring): " << run_point_spring_notes() << "\n";
+  out << "# " << run_point_header(spring) << "\n";
+  for (const RunPoint& point : result.points) out << run_point_row(p, point, spring) << "\n";
   return out.str();
 }
 
 std::string run_json(const Parameters& p, const std::string& case_name, const RunRequest& request,
-                     const RunResult& result) {
+                     const RunResult& result, FrontEnd reader) {
   nlohmann::ordered_json doc;
   doc["slidespec_version"] = SLIDESPEC_VERSION;
   doc["versions"] = versions();
   doc["case"] = case_of(case_name);
   doc["label"] = case_name;
   doc["parameters"] = parameters_json(p);
-  const bool spring = p.drive == Drive::spring;
   doc["landmarks"] = nlohmann::ordered_json::object();
   for (const Landmark& mark : shown_landmarks(p, LandmarkOutput::json))
     std::visit([&](const auto& value) { doc["landmarks"][mark.row->key] = value; }, mark.value);
@@ -189,11 +229,11 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                     {"control_variate", request.control_variate ? "shadow" : "off"}};
   doc["complete"] = result.complete;
   doc["stationary"] = result.stationary;
-  if (!result.stationary) doc["stationarity"] = result.stationarity;
+  if (!result.stationary) doc["stationarity"] = worded(result.stationarity, reader);
   doc["reached_precision"] = result.reached_precision;
-  if (!result.theory2_note.empty()) doc["theory2_note"] = result.theory2_note;
+  if (!result.theory2_note.empty()) doc["theory2_note"] = worded(result.theory2_note, reader);
   doc["theory_kind"] = theory_kind_name(result.theory_kind);
-  if (!result.theory_kind_note.empty()) doc["theory_kind_note"] = result.theory_kind_note;
+  if (!result.theory_kind_note.empty()) doc["theory_kind_note"] = worded(result.theory_kind_note, reader);
   doc["measured_mean_speed"] = {{"value", result.mean_speed}, {"standard_error", result.mean_speed_error}};
   doc["simulated_time"] = result.simulated_time;
   doc["wall_seconds"] = result.wall_seconds;
@@ -213,29 +253,7 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                                 {"shadow", band.shadow},
                                 {"realizations", band.realizations},
                                 {"rounds", band.rounds}});
-  for (const RunPoint& point : result.points) {
-    nlohmann::ordered_json row =
-        point_json(point.omega, "C_x", point.C_x, point.standard_error, point.n_avg, point.bandwidth);
-    row["theory"] = point.theory;
-    row["theory_at_omega"] = point.theory_at_omega;
-    row["bins"] = {{"first", point.bins.first},
-                   {"last", point.bins.last},
-                   {"spacing", point.bins.spacing},
-                   {"count", point.bins.count}};
-    row["theory2"] =
-        std::isfinite(point.theory2) ? nlohmann::ordered_json(point.theory2) : nlohmann::ordered_json(nullptr);
-    row["variance_ratio"] = point.variance_ratio;
-    row["estimator"] = point.estimator;
-    row["theory_kind"] = theory_kind_name(point.theory_kind);
-    row["correction"] = point.C_x / point.theory - 1;
-    row["correction_stderr"] = point.standard_error / point.theory;
-    if (spring) {
-      row["C_F_spring"] = spring_force_spectrum(p, point.C_x);
-      row["C_F_spring_stderr"] = spring_force_spectrum(p, point.standard_error);
-      row["C_F_spring_theory"] = spring_force_spectrum(p, point.theory);
-    }
-    doc["points"].push_back(row);
-  }
+  for (const RunPoint& point : result.points) doc["points"].push_back(run_point_json(p, point));
   return doc.dump(2) + "\n";
 }
 

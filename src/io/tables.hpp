@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "slidespec/options.hpp"
 #include "slidespec/parameters.hpp"
 #include "slidespec/run.hpp"
 
@@ -24,18 +25,34 @@ nlohmann::ordered_json parameters_json(const Parameters& p);
 /// program, as a run's outputs record it.
 std::string versions();
 
-/// drive = spring outside the first-order theory's range: why, in one line.
-
 /// '#' lines: version, case (and label when keys were set), every parameter, and the
 /// landmarks of the theory. `case_name` may be a label "CASE + KEY=V, ...".
 std::string metadata_lines(const Parameters& p, const std::string& case_name);
 
-/// The run's table: metadata, the run's own facts, a header, one row per point.
+/// What each column of a run's point holds, with units: the text of the table's "# columns:"
+/// line; and of its spring's force columns (run_point_header's `spring_columns`).
+std::string run_point_notes();
+std::string run_point_spring_notes();
+
+/// The names of a run point's columns, tab-separated, in run_point_row's order; with
+/// `spring_columns` the spring's force spectrum (C_F_spring, its stderr and theory) last.
+std::string run_point_header(bool spring_columns);
+
+/// One point's row of a table (no newline). The spring's force columns, when asked for,
+/// are nan for a run driven by a force (a sweep across drives has them in every row).
+std::string run_point_row(const Parameters& p, const RunPoint& point, bool spring_columns);
+
+/// One point as a run's JSON holds it: point_json's fields, the theories, the estimator, the
+/// correction, and under a spring its force spectrum.
+nlohmann::ordered_json run_point_json(const Parameters& p, const RunPoint& point);
+
+/// The run's table: metadata, the run's own facts, a header, one row per point. The
+/// result's notes name options as `reader` spells them.
 std::string run_table(const Parameters& p, const std::string& case_name, const RunRequest& request,
-                      const RunResult& result);
+                      const RunResult& result, FrontEnd reader = FrontEnd::command_line);
 
 /// The same as JSON, plus wall time, throughput, SIMD path and threads.
 std::string run_json(const Parameters& p, const std::string& case_name, const RunRequest& request,
-                     const RunResult& result);
+                     const RunResult& result, FrontEnd reader = FrontEnd::command_line);
 
 }  // namespace slidespec::io

@@ -511,7 +511,7 @@ void check_stationarity(const RunSession::Impl& s, RunResult& result) {
       std::snprintf(too_short, sizeof too_short,
                     "the forces can stall the block and the spring's stretch wanders over %.3g m, which the load "
                     "point takes up in %.3g s; the lowest sub-band's realizations last %.3g s, under %.0f times "
-                    "that: extend the band down (--omega-min %.2g rad/s or lower), give --duration %.2g s or "
+                    "that: extend the band down ({omega_min} %.2g rad/s or lower), give {duration} %.2g s or "
                     "more, or stiffen the spring",
                     stretch_range, relaxation, s.plan[0].duration, kSpringRelaxations,
                     // A realization spans two segments of its lowest point's octave band:
@@ -884,16 +884,64 @@ double bin_average(const Parameters& params, const BinRange& bins) {
   return values.empty() ? 0.0 : sum / static_cast<double>(values.size());
 }
 
+namespace {
+
+/// Sub-band b's points: the estimate, the theory seen through the estimator (averaged over
+/// exactly the FFT bins each point averages, and smoothed by the window as the estimate is:
+/// for a smooth C_x the plain mean over the bins; a periodic force spectrum's zeros are
+/// narrower than a bin) and at the point's omega, `second` likewise where it exists, and
+/// the estimator and theory that hold there.
+void add_band_points(const RunSession::Impl& s, std::size_t b, const LumpedTheory& theory,
+                     const std::function<double(double)>& second, std::vector<RunPoint>& points) {
+  const BandTotals& totals = s.bands[b];
+  const SpectrumAccumulator merged = totals.merged();
+  const BandEstimate band_estimate = band_spectrum(
+      totals, merged, s.plan[b].shadow ? shadow_expectation(s.params, merged) : std::map<double, double>());
+  const std::vector<SpectrumPoint>& estimated = band_estimate.points;
+  const std::vector<SpectrumPoint> expected = merged.expected(std::cref(theory));
+  const std::vector<SpectrumPoint> expected2 = second ? merged.expected(second) : std::vector<SpectrumPoint>();
+  for (std::size_t k = 0; k < estimated.size(); ++k) {
+    const SpectrumPoint& e = estimated[k];
+    BinRange bins;
+    bins.spacing = e.bin_spacing;
+    bins.count = e.bin_count;
+    bins.first = e.omega_low + 0.5 * e.bin_spacing;
+    bins.last = bins.first + (e.bin_count - 1) * e.bin_spacing;
+    points.push_back({e.omega, e.C, e.standard_error, expected[k].C, theory(e.omega), e.n_avg, e.bandwidth, bins});
+    if (second) points.back().theory2 = expected2[k].C;
+    points.back().estimator = band_estimate.estimator[k];
+    points.back().theory_kind = best_theory_at(s.params, e.omega).kind;
+    points.back().variance_ratio = band_estimate.variance_ratio[k];
+  }
+}
+
+/// The mean sliding speed and its standard error, over the lowest sub-band's realizations
+/// (its longest).
+void measure_mean_speed(const RunSession::Impl& s, RunResult& result) {
+  if (s.bands.empty() || s.bands[0].realizations == 0) return;
+  double sum = 0;
+  for (const BatchRecord& batch : s.bands[0].batches)
+    for (double speed : batch.speed) sum += speed;
+  const double n = static_cast<double>(s.bands[0].realizations);
+  result.mean_speed = sum / n;
+  // About the mean: under a stiff spring the speeds agree to ~1e-8 of v, which a
+  // difference of squares rounds to nothing.
+  double spread = 0;
+  for (const BatchRecord& batch : s.bands[0].batches)
+    for (double speed : batch.speed) spread += (speed - result.mean_speed) * (speed - result.mean_speed);
+  const double variance = spread / n;
+  result.mean_speed_error = n > 1 ? std::sqrt(variance / (n - 1)) : INFINITY;
+}
+
+}  // namespace
+
 RunResult RunSession::result() const {
   const Impl& s = *impl_;
   RunResult result;
   result.sub_bands = s.plan;
   result.simd_path = resolve_simd_path(s.request.simd);
   result.threads = resolve_threads(s.request.threads);
-  // Points, with the continuous-time theory seen through the estimator: averaged over
-  // exactly the FFT bins each point averages, and smoothed by the window as the estimate
-  // is (for a smooth C_x that is the plain mean over the bins; a periodic force spectrum's
-  // zeros are narrower than a bin). The theory at the point's omega beside it.
+  // Points, with the continuous-time theory seen through the estimator (add_band_points).
   const LumpedTheory theory(s.params);
   // The second-order theory beside it wherever it can be computed (docs/model.md §7), and
   // which theory holds here (§7.4).
@@ -912,26 +960,7 @@ RunResult RunSession::result() const {
     band.realizations = totals.realizations;
     band.rounds = totals.rounds;
     if (totals.batches.empty()) continue;
-    const SpectrumAccumulator merged = totals.merged();
-    const BandEstimate band_estimate = band_spectrum(
-        totals, merged, s.plan[b].shadow ? shadow_expectation(s.params, merged) : std::map<double, double>());
-    const std::vector<SpectrumPoint>& estimated = band_estimate.points;
-    const std::vector<SpectrumPoint> expected = merged.expected(std::cref(theory));
-    const std::vector<SpectrumPoint> expected2 = second ? merged.expected(second) : std::vector<SpectrumPoint>();
-    for (std::size_t k = 0; k < estimated.size(); ++k) {
-      const SpectrumPoint& e = estimated[k];
-      BinRange bins;
-      bins.spacing = e.bin_spacing;
-      bins.count = e.bin_count;
-      bins.first = e.omega_low + 0.5 * e.bin_spacing;
-      bins.last = bins.first + (e.bin_count - 1) * e.bin_spacing;
-      result.points.push_back(
-          {e.omega, e.C, e.standard_error, expected[k].C, theory(e.omega), e.n_avg, e.bandwidth, bins});
-      if (second) result.points.back().theory2 = expected2[k].C;
-      result.points.back().estimator = band_estimate.estimator[k];
-      result.points.back().theory_kind = best_theory_at(s.params, e.omega).kind;
-      result.points.back().variance_ratio = band_estimate.variance_ratio[k];
-    }
+    add_band_points(s, b, theory, second, result.points);
     result.simulated_time += static_cast<double>(totals.realizations) * band.duration;
     result.realization_steps += static_cast<double>(s.steps[b]) * static_cast<double>(totals.realizations);
   }
@@ -943,21 +972,7 @@ RunResult RunSession::result() const {
   std::sort(result.points.begin(), result.points.end(),
             [](const RunPoint& x, const RunPoint& y) { return x.omega < y.omega; });
 
-  // The mean sliding speed, over the lowest sub-band's realizations (its longest).
-  if (!s.bands.empty() && s.bands[0].realizations > 0) {
-    double sum = 0;
-    for (const BatchRecord& batch : s.bands[0].batches)
-      for (double speed : batch.speed) sum += speed;
-    const double n = static_cast<double>(s.bands[0].realizations);
-    result.mean_speed = sum / n;
-    // About the mean: under a stiff spring the speeds agree to ~1e-8 of v, which a
-    // difference of squares rounds to nothing.
-    double spread = 0;
-    for (const BatchRecord& batch : s.bands[0].batches)
-      for (double speed : batch.speed) spread += (speed - result.mean_speed) * (speed - result.mean_speed);
-    const double variance = spread / n;
-    result.mean_speed_error = n > 1 ? std::sqrt(variance / (n - 1)) : INFINITY;
-  }
+  measure_mean_speed(s, result);
   check_stationarity(s, result);
   if (!s.runaway.empty()) {
     result.stationary = false;

@@ -6,6 +6,7 @@
 
 #include "estimator/design.hpp"
 #include "run/session.hpp"
+#include "slidespec/theory.hpp"
 
 namespace slidespec {
 
@@ -237,6 +238,17 @@ double planned_first_round_work(const Parameters& p, const RunRequest& r) {
   const std::vector<SubBand> plan = plan_sub_bands(p, r);
   check_plan(p, plan);
   return first_round_work(p, r, plan);
+}
+
+double least_state_bytes(const Parameters& p, const RunRequest& r) {
+  double bytes = 0;
+  for (const SubBand& band : plan_sub_bands(p, r)) {
+    const double realizations = static_cast<double>(first_round_realizations(p, r, band));
+    const double points = static_cast<double>(
+        log_spaced_omegas(band.omega_low, band.omega_high * (1 + 1e-12), r.points_per_decade).size());
+    bytes += realizations * (points + 2) * sizeof(double);
+  }
+  return bytes;
 }
 
 void validate_request(const Parameters& p, const RunRequest& r) {

@@ -8,7 +8,7 @@
 #include <cstdint>
 
 #include "slidespec/simd.hpp"
-#include "stepper/exact_step.hpp"
+#include "model/exact_step.hpp"
 #include "stepper/renewal.hpp"
 
 namespace slidespec::stepper {
@@ -21,7 +21,7 @@ inline constexpr double kRunawayAdvances = 1e4;
 
 /// One call advances the lanes [lane0, lane0 + lanes) of a batch by `steps`.
 struct KernelArgs {
-  const ExactStep* step;
+  const model::ExactStep* step;
   double steady_origin;      // v t at step 0 [m]: where a warm-up left the load
   double advance_per_step;   // v dt [m]: the steady sliding over one step
   double runaway_increment;  // [m]: a step's xi increment beyond this has run away

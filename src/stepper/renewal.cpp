@@ -61,6 +61,18 @@ RenewalState::RenewalState(const std::vector<model::Contact>& contacts, const st
   std::vector<std::vector<int>> members(static_cast<size_t>(v.inputs));
   for (size_t j = 0; j < contacts.size(); ++j)
     members[static_cast<size_t>(class_of_contact[j] - 1)].push_back(static_cast<int>(j));
+  const std::vector<double> distance = describe_classes(contacts, members);
+  size_t rows = 0;
+  for (const auto& m : members) rows += m.size();
+  allocate(rows);
+  for (int lane = 0; lane < lanes; ++lane)
+    start_lane(lane, members, distance, seed, stream, first_realization + static_cast<std::uint64_t>(lane));
+  bind();
+}
+
+std::vector<double> RenewalState::describe_classes(const std::vector<model::Contact>& contacts,
+                                                   const std::vector<std::vector<int>>& members) {
+  RenewalLanes& v = view_;
   double row = 0;
   std::vector<double> distance(static_cast<size_t>(v.inputs), 0.0);
   for (int k = 0; k < v.inputs; ++k) {
@@ -78,8 +90,12 @@ RenewalState::RenewalState(const std::vector<model::Contact>& contacts, const st
     v.spacing[k] = v.periodic ? distance[k] : distance[k] / static_cast<double>(m.size());
     row += static_cast<double>(m.size());
   }
-  const size_t cells = static_cast<size_t>(v.inputs) * lanes;
-  const auto rows = static_cast<size_t>(row);
+  return distance;
+}
+
+void RenewalState::allocate(std::size_t rows) {
+  const int lanes = view_.lanes;
+  const size_t cells = static_cast<size_t>(view_.inputs) * lanes;
   realization_low_.resize(lanes);
   realization_high_.resize(lanes);
   lane_index_.resize(lanes);
@@ -92,65 +108,65 @@ RenewalState::RenewalState(const std::vector<model::Contact>& contacts, const st
   upcoming_contact_.assign(cells, 0.0);
   upcoming_spacing_.assign(cells, 0.0);
   forces_.assign(rows * lanes, 0.0);
-  phases_.assign(v.periodic ? rows * lanes : 0, 0.0);
+  phases_.assign(view_.periodic ? rows * lanes : 0, 0.0);
   renewals_.assign(lanes, 0.0);
   jump_energy_.assign(lanes, 0.0);
   passes_.assign(lanes, 0.0);
+}
 
-  // Stationary start: fresh forces; marks where a stationary renewal process puts them
-  // ahead of x = 0 (memoryless for Poisson; a uniform phase per contact for periodic).
+void RenewalState::start_lane(int lane, const std::vector<std::vector<int>>& members,
+                              const std::vector<double>& distance, std::uint64_t seed, std::uint64_t stream,
+                              std::uint64_t realization) {
+  const RenewalLanes& v = view_;
+  const int lanes = v.lanes;
+  // The kernels' own draw (the scalar path's), so the start uses the same logarithm.
+  auto scalar_draw = [&](std::uint32_t tag, std::uint64_t event) {
+    const std::uint64_t counter[4] = {event & 0xffffffffu, (event >> 32) | tag << 16 | stream << 24,
+                                      realization & 0xffffffffu, realization >> 32};
+    std::uint64_t out[4];
+    double exponential;
+    const std::uint64_t* const in[4] = {&counter[0], &counter[1], &counter[2], &counter[3]};
+    std::uint64_t* const words[4] = {&out[0], &out[1], &out[2], &out[3]};
+    path_kernels(SimdPath::scalar).draw_lanes(v.key, in, 1, words, &exponential);
+    return ScalarDraw{draw::force_units(static_cast<std::uint32_t>(out[0])), out[1], exponential};
+  };
+  realization_low_[lane] = realization & 0xffffffffu;
+  realization_high_[lane] = realization >> 32;
+  lane_index_[lane] = static_cast<std::uint64_t>(lane);
   std::vector<std::pair<double, double>> phase_force;
-  for (int lane = 0; lane < lanes; ++lane) {
-    const std::uint64_t realization = first_realization + static_cast<std::uint64_t>(lane);
-    // The kernels' own draw (the scalar path's), so the start uses the same logarithm.
-    auto scalar_draw = [&](std::uint32_t tag, std::uint64_t event) {
-      const std::uint64_t counter[4] = {event & 0xffffffffu, (event >> 32) | tag << 16 | stream << 24,
-                                        realization & 0xffffffffu, realization >> 32};
-      std::uint64_t out[4];
-      double exponential;
-      const std::uint64_t* const in[4] = {&counter[0], &counter[1], &counter[2], &counter[3]};
-      std::uint64_t* const words[4] = {&out[0], &out[1], &out[2], &out[3]};
-      path_kernels(SimdPath::scalar).draw_lanes(v.key, in, 1, words, &exponential);
-      return ScalarDraw{draw::force_units(static_cast<std::uint32_t>(out[0])), out[1], exponential};
-    };
-    realization_low_[lane] = realization & 0xffffffffu;
-    realization_high_[lane] = realization >> 32;
-    lane_index_[lane] = static_cast<std::uint64_t>(lane);
-    for (int k = 0; k < v.inputs; ++k) {
-      const auto& m = members[static_cast<size_t>(k)];
-      const size_t cell = static_cast<size_t>(k) * lanes + lane;
-      if (m.empty()) {
-        next_mark_[cell] = INFINITY;
-        continue;
-      }
-      const auto tag = static_cast<std::uint32_t>(k);
-      phase_force.clear();
-      double sum = 0;
-      for (size_t i = 0; i < m.size(); ++i) {
-        const draw::Words w = draw::words(seed, stream, realization, draw::contact_tag + tag, i);
-        const double force = draw::force_units(w[0]);
-        sum += force;
-        phase_force.emplace_back(distance[k] * (1.0 - draw::open_uniform(w[2], w[3])), force);
-      }
-      force_sum_[cell] = sum;
-      if (v.periodic) std::sort(phase_force.begin(), phase_force.end());
-      for (size_t i = 0; i < m.size(); ++i) {
-        const size_t at = (static_cast<size_t>(v.first_contact[k]) + i) * lanes + lane;
-        forces_[at] = phase_force[i].second;
-        if (v.periodic) phases_[at] = phase_force[i].first;
-      }
-      if (v.periodic) {
-        next_mark_[cell] = phase_force[0].first;
-      } else {
-        next_mark_[cell] = v.spacing[k] * scalar_draw(draw::first_mark_tag + tag, 0).spacing;
-      }
-      const ScalarDraw upcoming = scalar_draw(draw::renewal_tag + tag, 0);
-      upcoming_force_[cell] = upcoming.force;
-      upcoming_contact_[cell] = std::floor(static_cast<double>(upcoming.contact_word) * v.contacts[k] * 0x1p-32);
-      upcoming_spacing_[cell] = upcoming.spacing;
+  for (int k = 0; k < v.inputs; ++k) {
+    const auto& m = members[static_cast<size_t>(k)];
+    const size_t cell = static_cast<size_t>(k) * lanes + lane;
+    if (m.empty()) {
+      next_mark_[cell] = INFINITY;
+      continue;
     }
+    const auto tag = static_cast<std::uint32_t>(k);
+    phase_force.clear();
+    double sum = 0;
+    for (size_t i = 0; i < m.size(); ++i) {
+      const draw::Words w = draw::words(seed, stream, realization, draw::contact_tag + tag, i);
+      const double force = draw::force_units(w[0]);
+      sum += force;
+      phase_force.emplace_back(distance[k] * (1.0 - draw::open_uniform(w[2], w[3])), force);
+    }
+    force_sum_[cell] = sum;
+    if (v.periodic) std::sort(phase_force.begin(), phase_force.end());
+    for (size_t i = 0; i < m.size(); ++i) {
+      const size_t at = (static_cast<size_t>(v.first_contact[k]) + i) * lanes + lane;
+      forces_[at] = phase_force[i].second;
+      if (v.periodic) phases_[at] = phase_force[i].first;
+    }
+    if (v.periodic) {
+      next_mark_[cell] = phase_force[0].first;
+    } else {
+      next_mark_[cell] = v.spacing[k] * scalar_draw(draw::first_mark_tag + tag, 0).spacing;
+    }
+    const ScalarDraw upcoming = scalar_draw(draw::renewal_tag + tag, 0);
+    upcoming_force_[cell] = upcoming.force;
+    upcoming_contact_[cell] = std::floor(static_cast<double>(upcoming.contact_word) * v.contacts[k] * 0x1p-32);
+    upcoming_spacing_[cell] = upcoming.spacing;
   }
-  bind();
 }
 
 RenewalState::RenewalState(RenewalState&& other) noexcept { *this = std::move(other); }

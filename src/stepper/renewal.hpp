@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -101,6 +102,16 @@ class RenewalState {
   void reset_counters();
 
  private:
+  /// Each input class's force unit, contact count, first row and mark spacing, from its
+  /// `members` (contact indices); returns each class's renewal distance a [m].
+  std::vector<double> describe_classes(const std::vector<model::Contact>& contacts,
+                                       const std::vector<std::vector<int>>& members);
+  /// Sizes every per-lane array for `rows` contacts in all.
+  void allocate(std::size_t rows);
+  /// A lane's stationary start: fresh forces; marks where a stationary renewal process puts
+  /// them ahead of x = 0 (memoryless for Poisson; a uniform phase per contact for periodic).
+  void start_lane(int lane, const std::vector<std::vector<int>>& members, const std::vector<double>& distance,
+                  std::uint64_t seed, std::uint64_t stream, std::uint64_t realization);
   void bind();  // points view_ at the vectors
   RenewalLanes view_;
   std::vector<std::uint64_t> realization_low_, realization_high_, lane_index_;

@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "model/linear_structure.hpp"
-#include "stepper/exact_step.hpp"
+#include "model/exact_step.hpp"
 #include "stepper/kernel.hpp"
 #include "stepper/renewal.hpp"
 
@@ -17,7 +17,7 @@ namespace slidespec {
 
 namespace {
 // Checked before the renewal state is built, which holds at most three input classes.
-stepper::GroupKernel compiled_kernel(SimdPath path, const stepper::ExactStep& step, const Parameters& p) {
+stepper::GroupKernel compiled_kernel(SimdPath path, const model::ExactStep& step, const Parameters& p) {
   const stepper::GroupKernel kernel = stepper::path_kernels(path).group_kernel(step.dimension, step.inputs);
   if (kernel == nullptr)
     throw InputError("parameters levels, touching: the stepper is compiled for up to 3 levels (got " +
@@ -55,7 +55,7 @@ struct Stepper::Impl {
         count(n),
         padded((n + width - 1) / width * width),
         lumped(model::lumped_tree_structure(p)),
-        step(stepper::exact_step(lumped, c.dt, {p.drive == Drive::spring, p.renewal_rate()})),
+        step(model::exact_step(lumped, c.dt, {p.drive == Drive::spring, p.renewal_rate()})),
         kernel(compiled_kernel(path, step, p)) {
     if (!(c.dt > 0) || !std::isfinite(c.dt)) throw InputError("time step dt must be > 0");
     if (n < 1) throw InputError("a batch needs at least one realization");
@@ -91,7 +91,7 @@ struct Stepper::Impl {
 
   /// Runs the kernel of `exact` on `s` for `steps` after `done` of them, from the load's
   /// position `origin`, its increments from row `row` of the chunk's.
-  void run_kernel(PathState& s, const stepper::ExactStep& exact, double origin, std::int64_t done, std::int64_t steps,
+  void run_kernel(PathState& s, const model::ExactStep& exact, double origin, std::int64_t done, std::int64_t steps,
                   std::int64_t row) {
     stepper::KernelArgs args{};
     args.step = &exact;
@@ -115,7 +115,7 @@ struct Stepper::Impl {
   /// run_kernel over `steps` (at most a chunk), in pieces when a stop can be asked for: a
   /// step passes every mark the block reaches, and near the stall the block can coast
   /// thousands of renewal distances in one, so a piece is sized by its own time.
-  void run_stoppable(PathState& s, const stepper::ExactStep& exact, double origin, std::int64_t done,
+  void run_stoppable(PathState& s, const model::ExactStep& exact, double origin, std::int64_t done,
                      std::int64_t steps) {
     if (!config.stop) return run_kernel(s, exact, origin, done, steps, 0);
     for (std::int64_t row = 0; row < steps;) {
@@ -135,7 +135,7 @@ struct Stepper::Impl {
   /// Every path's chunks of `steps` steps of `exact` after `done`, in turn, so that each
   /// path's increments of a chunk are ready together.
   template <class ChunkDone>
-  void run_paths(const stepper::ExactStep& exact, double origin, std::int64_t done, std::int64_t steps,
+  void run_paths(const model::ExactStep& exact, double origin, std::int64_t done, std::int64_t steps,
                  const ChunkDone& chunk_done) {
     while (steps > 0) {
       const std::int64_t chunk = std::min(steps, chunk_steps);
@@ -153,10 +153,10 @@ struct Stepper::Impl {
   /// ahead of v t), so it stays exactly the stationary linear process.
   void warm_up() {
     const double warm_dt = config.warm_up_dt > 0 ? config.warm_up_dt : config.dt;
-    const stepper::ExactStep coarse =
+    const model::ExactStep coarse =
         warm_dt == config.dt
             ? step
-            : stepper::exact_step(lumped, warm_dt, {params.drive == Drive::spring, params.renewal_rate()});
+            : model::exact_step(lumped, warm_dt, {params.drive == Drive::spring, params.renewal_rate()});
     const auto warm_steps = static_cast<std::int64_t>(std::ceil(config.warm_up / warm_dt));
     run_paths(coarse, 0.0, 0, warm_steps, [](std::int64_t) {});
     // The kernel's own expression for v t at the warm-up's end, so the load continues there.
@@ -187,7 +187,7 @@ struct Stepper::Impl {
   std::uint64_t first;
   int count, padded;
   model::LumpedStructure lumped;
-  stepper::ExactStep step;
+  model::ExactStep step;
   stepper::GroupKernel kernel;
   std::int64_t chunk_steps = 0;
   // A piece's target time [s], far below the second a stop may take, far above a kernel

@@ -5,7 +5,7 @@
 
 #include "model/linear_structure.hpp"
 #include "slidespec/theory.hpp"
-#include "stepper/exact_step.hpp"
+#include "model/exact_step.hpp"
 
 namespace slidespec {
 
@@ -48,7 +48,7 @@ struct SampledTheory::Impl {
 SampledTheory::SampledTheory(const Parameters& p, double dt) {
   if (!(dt > 0) || !std::isfinite(dt)) throw InputError("time step: dt must be a positive number");
   const model::LumpedStructure lumped = model::lumped_tree_structure(p);
-  const stepper::ExactStep step = stepper::exact_step(lumped, dt, {p.drive == Drive::spring, p.renewal_rate()});
+  const model::ExactStep step = model::exact_step(lumped, dt, {p.drive == Drive::spring, p.renewal_rate()});
   auto impl = std::make_shared<Impl>();
   impl->params = p;
   impl->dt = dt;

@@ -94,6 +94,30 @@ expect_refused model-key-as-option "alpha is a model parameter, set it with --se
   --out "$work/drives" || fail "sweep across drives with --set k_drive"
 grep -q "^# k_drive = 10000" "$work/drives_drive=spring.tsv" || fail "sweep across drives: the spring run has no k_drive"
 grep -q "^# k_drive" "$work/drives_drive=force.tsv" && fail "sweep across drives: the force run has a k_drive"
+# The combined table holds each run's own point columns, to the character: the spring's
+# force columns in every row, nan in the force-driven run's; the JSON each run's points.
+$python - "$work" <<'PY' || fail "sweep across drives: the combined table is not the runs' own (above)"
+import json, sys
+work = sys.argv[1]
+def rows(path):
+    lines = open(path).read().splitlines()
+    header = [l for l in lines if l.startswith("# ") and "\t" in l][-1][2:].split("\t")
+    return header, [l.split("\t") for l in lines if not l.startswith("#")]
+header, combined = rows(f"{work}/drives.tsv")
+assert header[:2] == ["run", "drive"], header
+for run, drive in enumerate(["force", "spring"]):
+    own_header, own = rows(f"{work}/drives_drive={drive}.tsv")
+    mine = [r[2:] for r in combined if r[0] == str(run)]
+    assert len(mine) == len(own) > 0, (drive, len(mine), len(own))
+    width = len(own_header)
+    assert header[2:2 + width] == own_header, (drive, header, own_header)
+    assert [r[:width] for r in mine] == own, drive
+    assert all(v == "nan" for r in mine for v in r[width:]), drive
+assert header[-3:] == ["C_F_spring", "C_F_spring_stderr", "C_F_spring_theory"], header
+whole = json.load(open(f"{work}/drives.json"))["runs"]
+for run, drive in enumerate(["force", "spring"]):
+    assert whole[run]["points"] == json.load(open(f"{work}/drives_drive={drive}.json"))["points"], drive
+PY
 
 # Figures: the format by the extension, refused before any work when unknown.
 "$bin" plot "$work/small.tsv" -o "$work/fig.pdf" --size 5x4 && head -c 5 "$work/fig.pdf" | grep -q "%PDF-" || fail "plot -o .pdf: not a PDF"

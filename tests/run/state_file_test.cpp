@@ -103,6 +103,20 @@ TEST(StateFile, RecordsTheNumericsVersion) {
   EXPECT_NE(bytes.find("numerics"), std::string::npos);
 }
 
+// The least state a run saves (what a full disk is checked against before any work): for a
+// fixed count R, each realization's own mean at every point of its sub-band, its control
+// and its speed, R (points + 2 per sub-band) doubles; the saved state holds at least that.
+TEST(StateFile, LeastStateBytesAreEachRealizationsOwnMeansControlAndSpeed) {
+  const RunSession session = small_finished_session();
+  const RunResult result = session.result();
+  ASSERT_TRUE(result.complete);
+  const double realizations = static_cast<double>(session.request().realizations);
+  const double doubles = realizations * static_cast<double>(result.points.size() + 2 * result.sub_bands.size());
+  const double least = least_state_bytes(session.parameters(), session.request());
+  EXPECT_EQ(least, doubles * sizeof(double));
+  EXPECT_GE(static_cast<double>(session.save().size()), least);
+}
+
 TEST(Checkpoints, ComeWithinOneBatchOfBeingDue) {
   // Due at every moment: a checkpoint after every batch (one thread: a chunk is a batch),
   // where chunks of 32 batches gave one per 32. The numbers do not change.

@@ -10,7 +10,6 @@
 #include <numeric>
 
 #include "model/linear_structure.hpp"
-#include "stepper/exact_step.hpp"
 
 using namespace slidespec;
 
@@ -33,21 +32,6 @@ MeanAndError statistics(const std::vector<double>& x) {
 }
 
 }  // namespace
-
-TEST(ExactStep, TwoStepsOfDtEqualOneStepOfTwoDt) {
-  const auto lumped = model::lumped_tree_structure(ParameterBuilder().build());
-  for (double dt : {1e-5, 1e-3}) {
-    const auto one = stepper::exact_step(lumped, dt);
-    const auto two = stepper::exact_step(lumped, 2 * dt);
-    const int d = one.dimension;
-    for (int r = 0; r < d; ++r)
-      for (int c = 0; c < d; ++c) {
-        double squared = 0;
-        for (int k = 0; k < d; ++k) squared += one.transition[r * d + k] * one.transition[k * d + c];
-        EXPECT_NEAR(squared, two.transition[r * d + c], 1e-12 * (1 + std::fabs(squared)));
-      }
-  }
-}
 
 // Renewals take effect at their own time inside a step, so the sampled trajectory is the
 // continuous model's whatever the step: halving dt must reproduce xi at the common times,

@@ -1,4 +1,4 @@
-#include "stepper/exact_step.hpp"
+#include "model/exact_step.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,9 @@
 
 #include "model/linear_structure.hpp"
 
-namespace slidespec::stepper {
+namespace slidespec::model {
 
-ExactStep exact_step(const model::LumpedStructure& lumped, double dt, const LoadPoint& load_point) {
+ExactStep exact_step(const LumpedStructure& lumped, double dt, const LoadPoint& load_point) {
   using MatrixL = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
   const int n = static_cast<int>(lumped.mass.rows());
   int inputs = 0;
@@ -91,4 +91,4 @@ ExactStep exact_step(const model::LumpedStructure& lumped, double dt, const Load
   return step;
 }
 
-}  // namespace slidespec::stepper
+}  // namespace slidespec::model

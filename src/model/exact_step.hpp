@@ -1,14 +1,13 @@
-// Exact discretization of the model's linear part over one time step.
+// Exact discretization of the model's linear part over one time step: the mathematics of
+// the model, used by the stepper (to step) and the theory (the sampled spectrum).
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
 namespace slidespec::model {
-struct LumpedStructure;
-}
 
-namespace slidespec::stepper {
+struct LumpedStructure;
 
 /// Over a step dt with the random forces constant, the lumped system is solved exactly:
 ///   z_{n+1} = transition z_n + forcing g_n,   xi_{n+1} - xi_n = increment . z_n + increment_forcing . g_n
@@ -48,6 +47,6 @@ struct LoadPoint {
 
 /// Builds the exact step for dt > 0 (matrix exponentials in long double). The initial
 /// state is the equilibrium with the forces at the start; tied to a load point, their mean.
-ExactStep exact_step(const model::LumpedStructure& lumped, double dt, const LoadPoint& load_point = {});
+ExactStep exact_step(const LumpedStructure& lumped, double dt, const LoadPoint& load_point = {});
 
-}  // namespace slidespec::stepper
+}  // namespace slidespec::model
