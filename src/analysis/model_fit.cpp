@@ -29,6 +29,7 @@ using detail::short_number;
 double& field(Parameters& p, const std::string& name) {
   if (name == "alpha") return p.alpha;
   if (name == "a") return p.a;
+  if (name == "k0") return p.k0;
   return p.k_drive;
 }
 double value_of(Parameters p, const std::string& name) { return field(p, name); }
@@ -87,7 +88,7 @@ std::vector<std::string> parse_fit_parameters(const std::string& list) {
     const std::string name = list.substr(start, comma - start);
     const auto& known = fittable_parameters();
     if (std::find(known.begin(), known.end(), name) == known.end())
-      throw InputError("{fit}: '" + name + "' is not a model parameter a fit can vary; known: alpha, a, k_drive" +
+      throw InputError("{fit}: '" + name + "' is not a model parameter a fit can vary; known: alpha, a, k_drive, k0" +
                        util::did_you_mean(name, known) + " (or power-law)");
     if (std::find(names.begin(), names.end(), name) != names.end())
       throw InputError("{fit}: '" + name + "' is named twice");

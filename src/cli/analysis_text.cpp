@@ -118,15 +118,23 @@ void power_law_lines(std::ostream& out, const PowerLawFit& p, const Verdict& ver
       << "# undetermined = " << words(p.undetermined) << "\n";
 }
 
+/// A fitted length in the record's unit as well ("a" in um on a record in um), else "".
+std::string lab_units(const std::string& name, double value, double error, LengthUnit length) {
+  if (name != "a") return "";
+  const double per = metres_per(length);
+  return " m (" + number(value / per) + " +- " + number(error / per) + " " + to_string(length) + ")";
+}
+
 void model_fit_lines(std::ostream& out, const ModelFit& m, const Verdict& verdict, const std::string& compare_case,
-                     const std::string& C, const std::string& unit) {
+                     const std::string& C, const std::string& unit, LengthUnit length) {
   out << "# model_fit = " << C << " = " << compare_case << "'s theory (" << (m.theory_order == 2 ? "second" : "first")
       << " order) + floor over " << number(m.omega_low) << " .. " << number(m.omega_high) << " rad/s, " << m.points
       << " points, dof " << m.dof << ", chi2/dof " << number(m.chi2_per_dof) << (m.converged ? "" : ", NOT converged")
       << "\n";
   for (std::size_t i = 0; i < m.names.size(); ++i)
     out << "# model_fit_" << m.names[i] << " = " << number(m.values[i]) << "  # +- " << number(m.errors[i])
-        << (m.names[i] == "floor" ? " " + unit + ", fitted" : "") << "\n";
+        << (m.names[i] == "floor" ? " " + unit + ", fitted" : "")
+        << lab_units(m.names[i], m.values[i], m.errors[i], length) << "\n";
   if (m.floor_given) out << "# model_fit_floor = " << number(m.floor) << "  # " << unit << ", given\n";
   out << "# model_fit_alpha2_over_N = " << number(m.amplitude) << "  # +- " << number(m.amplitude_error)
       << ", the level the band sets\n# model_fit_correlation =";
@@ -234,7 +242,7 @@ std::string analysis_table(const AnalysisSource& source, const AnalysisReport& r
   record_lines(out, source, r);
   slope_and_alpha_lines(out, r);
   if (r.power_law) power_law_lines(out, *r.power_law, r.power_law_verdict, C, unit);
-  if (r.model_fit) model_fit_lines(out, *r.model_fit, r.model_fit_verdict, source.compare_case, C, unit);
+  if (r.model_fit) model_fit_lines(out, *r.model_fit, r.model_fit_verdict, source.compare_case, C, unit, r.record.unit);
   column_lines(out, r, C, unit);
   point_rows(out, r);
   return out.str();
