@@ -215,9 +215,12 @@ void print_fits(const AnalysisSource& source, const AnalysisReport& r) {
     const ModelFit& m = *r.model_fit;
     std::cerr << "slidespec: " << source.compare_case << " fitted over " << short_number(m.omega_low) << " .. "
               << short_number(m.omega_high) << " rad/s:";
+    const double per = metres_per(r.record.unit);  // a length in the record's unit, as the lab reads it
     for (std::size_t i = 0; i < m.names.size(); ++i)
-      std::cerr << (i ? ", " : " ") << m.names[i] << " = " << short_number(m.values[i]) << " +- "
-                << short_number(m.errors[i]);
+      std::cerr << (i ? ", " : " ") << m.names[i] << " = "
+                << (m.names[i] == "a" ? short_number(m.values[i] / per) + " +- " + short_number(m.errors[i] / per) +
+                                            " " + to_string(r.record.unit)
+                                      : short_number(m.values[i]) + " +- " + short_number(m.errors[i]));
     std::cerr << "; alpha^2/N = " << short_number(m.amplitude) << " +- " << short_number(m.amplitude_error)
               << "; chi2/dof " << short_number(m.chi2_per_dof) << " (" << m.dof << " dof)\n";
   }
