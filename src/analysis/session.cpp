@@ -230,7 +230,7 @@ void check_plan(const AnalysisPlan& plan, double machine_stiffness) {
     throw InputError(named(Option::slider_mass) + ": must be a mass > 0");
   if ((plan.rig.friction_force > 0 || plan.rig.slider_mass > 0) && plan.compare_case != kRigCase)
     throw InputError(named(plan.rig.friction_force > 0 ? Option::friction_force : Option::slider_mass) +
-                     ": builds the compared case " + named(Option::compare_case) + " rig; give it");
+                     ": used only by " + named(Option::compare_case) + " rig");
 }
 
 bool AnalysisReport::ok() const {
