@@ -18,11 +18,8 @@ namespace slidespec {
 
 namespace {
 
-std::string key_of(const std::string& assignment) { return assignment.substr(0, assignment.find('=')); }
-
-bool sets(const std::vector<std::string>& overrides, const std::string& key) {
-  return std::any_of(overrides.begin(), overrides.end(), [&](const std::string& a) { return key_of(a) == key; });
-}
+using detail::key_of;
+using detail::sets;
 
 using detail::short_number;
 

@@ -28,11 +28,8 @@ constexpr double kHeldSliderMass = 1;
 // The fit starts with the random forces at this share of the stall boundary alpha F_kin = 2 (F_drive - F_kin).
 constexpr double kStartStallShare = 0.25;
 
-std::string key_of(const std::string& assignment) { return assignment.substr(0, assignment.find('=')); }
-
-bool sets(const std::vector<std::string>& overrides, const std::string& key) {
-  return std::any_of(overrides.begin(), overrides.end(), [&](const std::string& a) { return key_of(a) == key; });
-}
+using detail::key_of;
+using detail::sets;
 
 /// The mean of the force channel over [start, end] of record time.
 double mean_force(const Record& record, double start, double end) {
