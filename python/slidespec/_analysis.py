@@ -78,7 +78,7 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
       rig's scale").
     fit: "alpha" (the compared case's alpha), "power-law" (A (omega/pivot)^s + floor), or
       model parameters fitted jointly with the floor, "alpha,a" or ["alpha", "a"] (any of
-      alpha, a, k_drive); over fit_band (low, high) [rad/s] (default: every point for
+      alpha, a, k_drive, k0); over fit_band (low, high) [rad/s] (default: every point for
       "power-law", the usable band for a model fit, for "alpha" the usable band within
       5 v/a .. omega_c/3).
     estimator: "auto" (Welch up to 1e7 samples, streaming beyond), "welch" (Hann, 50% overlap,
