@@ -7,6 +7,7 @@
 #include "analysis/names.hpp"
 #include "slidespec/analysis.hpp"
 #include "slidespec/input_error.hpp"
+#include "slidespec/parameters.hpp"
 #include "util/numbers.hpp"
 
 namespace slidespec {
@@ -28,7 +29,6 @@ constexpr double kHeldSliderMass = 1;
 // The fit starts with the random forces at this share of the stall boundary alpha F_kin = 2 (F_drive - F_kin).
 constexpr double kStartStallShare = 0.25;
 
-using detail::key_of;
 using detail::sets;
 
 /// The mean of the force channel over [start, end] of record time.
@@ -63,15 +63,24 @@ double friction_slope(const RigTerms& t, std::vector<std::string>& notes) {
   return next.empty() ? 0 : sum / double(next.size());
 }
 
-/// "KEY=VALUE" unless the overrides set KEY, with the note saying why (or that it was kept).
+/// Whether the overrides set `key`, the note saying what the model's `key` is and why.
+bool given(const std::vector<std::string>& overrides, const std::string& key, double value, const std::string& why,
+           std::vector<std::string>& notes) {
+  const bool kept = sets(overrides, key);
+  notes.push_back("the model's " + key + (kept ? " as {set} gives it" : " = " + short_number(value) + ": " + why));
+  return kept;
+}
+
+/// "KEY=VALUE" unless the overrides set KEY, with the note.
 void add(std::vector<std::string>& terms, const std::vector<std::string>& overrides, const std::string& key,
          double value, const std::string& why, std::vector<std::string>& notes) {
-  if (sets(overrides, key)) {
-    notes.push_back("the model's " + key + " as {set} gives it");
-    return;
-  }
-  terms.push_back(key + "=" + util::format_number(value));
-  notes.push_back("the model's " + key + " = " + short_number(value) + ": " + why);
+  if (!given(overrides, key, value, why, notes)) terms.push_back(key + "=" + util::format_number(value));
+}
+
+/// A field of the built case set to `value` unless the overrides set it, with the note.
+void start_at(double& field, const std::vector<std::string>& overrides, const std::string& key, double value,
+              const std::string& why, std::vector<std::string>& notes) {
+  if (!given(overrides, key, value, why, notes)) field = value;
 }
 
 /// F_kin = F - v dF/dv, dF/dv from the steps where they give one the model can be (> 0).
@@ -134,23 +143,22 @@ Parameters rig_model(const RigTerms& t, const std::vector<std::string>& override
       t.slider_mass > 0 ? "the slider's mass, as given" : "held ({slider_mass} gives it): it sets only the resonance",
       notes);
   add(terms, overrides, "m", kMiniblockMassShare * mass, "held at 1e-5 M, as in the reference case", notes);
-  Parameters reference = build_case("reference", {});
-  for (const std::string& o : overrides)
-    if (key_of(o) == "N") reference = build_case("reference", {o});
-  const double n = double(reference.N);
-  add(terms, overrides, "k0", kContactStiffnessRatio * stiffness / n,
-      "held at N k0 = 1000 K: contacts far stiffer than the machine, whose spring the record measures", notes);
-  const double viscous = t.friction_force - kinetic;  // v dF/dv = N m eta1 v
-  notes.push_back("N = " + std::to_string(reference.N) + " is held: the band sets alpha and N only as alpha^2/N; " +
-                  "eta1 = dF/dv / (N m) follows from v (the corner K / (dF/dv) = " +
-                  short_number(stiffness * t.speed / viscous) + " rad/s)");
-  add(terms, overrides, "alpha", kStartStallShare * 2 * viscous / kinetic,
-      "where the fit starts, a quarter of the stall boundary alpha F_kin = 2 (F_drive - F_kin)", notes);
-  if (t.omega_low > 0 && t.omega_high > t.omega_low)
-    add(terms, overrides, "a", t.speed / std::sqrt(t.omega_low * t.omega_high),
-        "where the fit starts, the renewal corner v/a amid the band", notes);
   terms.insert(terms.end(), overrides.begin(), overrides.end());
-  return build_case("reference", terms);
+  Parameters p = build_case("reference", terms);
+  // The rest follow from the case as built (N, K, F_kin as the user may have set them).
+  start_at(p.k0, overrides, "k0", kContactStiffnessRatio * p.k_drive / double(p.N),
+           "held at N k0 = 1000 K: contacts far stiffer than the machine, whose spring the record measures", notes);
+  const double viscous = p.F_drive - p.F_kin;  // v dF/dv = N m eta1 v
+  notes.push_back("N = " + std::to_string(p.N) + " is held: the band sets alpha and N only as alpha^2/N; " +
+                  "eta1 = dF/dv / (N m) follows from v (the corner K / (dF/dv) = " +
+                  short_number(landmarks(p).omega_s) + " rad/s)");
+  if (p.F_kin > 0)
+    start_at(p.alpha, overrides, "alpha", kStartStallShare * 2 * viscous / p.F_kin,
+             "where the fit starts, a quarter of the stall boundary alpha F_kin = 2 (F_drive - F_kin)", notes);
+  if (t.omega_low > 0 && t.omega_high > t.omega_low)
+    start_at(p.a, overrides, "a", p.v / std::sqrt(t.omega_low * t.omega_high),
+             "where the fit starts, the renewal corner v/a amid the band", notes);
+  return p;
 }
 
 }  // namespace slidespec

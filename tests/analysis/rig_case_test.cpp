@@ -116,7 +116,10 @@ TEST(RigCase, MapsTheRigOntoTheModelsParameters) {
   RigTerms given = terms_with_step(kKinetic + kSlope * kFast);
   given.slider_mass = 4;
   notes.clear();
-  const Parameters kept = rig_model(given, {"N=12", "a=2e-5"}, notes);
+  const Parameters kept = rig_model(given, {"N=12", "a=2e-5", "F_kin=14000"}, notes);
+  EXPECT_DOUBLE_EQ(kept.F_kin, 14000);
+  // The fit starts from the case as built: a quarter of the stall boundary at the F_kin given.
+  EXPECT_NEAR(kept.alpha, 0.5 * (kept.F_drive - 14000) / 14000, 1e-12);
   EXPECT_DOUBLE_EQ(kept.M, 4);
   EXPECT_DOUBLE_EQ(kept.m, 4e-5);
   EXPECT_EQ(kept.N, 12);
