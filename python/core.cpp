@@ -32,6 +32,7 @@
 #include "slidespec/parameters.hpp"
 #include "slidespec/run.hpp"
 #include "slidespec/theory.hpp"
+#include "util/numbers.hpp"
 
 namespace py = pybind11;
 using namespace slidespec;
@@ -334,6 +335,9 @@ Record record_of(const Array& time, const Array& x, const py::dict& format) {
   if (!format["force_units"].is_none()) f.force_unit = parse_force_unit(format["force_units"].cast<std::string>());
   f.contact_area = format["contact_area"].cast<double>();
   f.normal_force = format["normal_force"].cast<double>();
+  if (const double stress = format["normal_stress_value"].cast<double>(); stress != 0)
+    f.normal_stress = parse_stress(util::format_number(stress) + format["normal_stress_units"].cast<std::string>(),
+                                   "{normal_stress}");
   f.machine_stiffness = format["machine_stiffness"].cast<double>();
   std::vector<std::string> names;
   std::vector<std::vector<double>> columns;
@@ -371,6 +375,8 @@ AnalysisPlan plan_of(const py::dict& plan, bool windowed) {
   for (const auto& [key, value] : plan["overrides"].cast<Overrides>()) p.overrides.push_back(key + "=" + value);
   p.fit = plan["fit"].cast<std::string>();
   p.fit_band = band_of(plan["fit_band"]);
+  p.rig.friction_force = plan["friction_force"].cast<double>();
+  p.rig.slider_mass = plan["slider_mass"].cast<double>();
   const int order = plan["theory_order"].cast<int>();
   if (order != 1 && order != 2) throw InputError("theory_order: 1 or 2");
   p.order = order == 2 ? ModelOrder::best : ModelOrder::first;

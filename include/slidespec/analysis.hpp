@@ -43,6 +43,9 @@ const char* to_string(ForceUnit unit);
 /// A force such as "1000", "1000N", "1.5kN" or "200gf" in newtons (a bare number in N); throws
 /// InputError naming `option` unless it is finite and > 0.
 double parse_force(const std::string& text, const std::string& option);
+/// A stress such as "74e6", "74MPa" or "500psi" in Pa (a bare number in Pa); throws
+/// InputError naming `option` unless it is finite and > 0.
+double parse_stress(const std::string& text, const std::string& option);
 /// An area such as "0.0025", "0.0025m2", "25cm2" or "2500mm2" in m^2 (a bare number in m^2);
 /// throws InputError naming `option` unless it is finite and > 0.
 double parse_area(const std::string& text, const std::string& option);
@@ -99,6 +102,8 @@ struct RecordFormat {
   std::optional<ForceUnit> force_unit;  ///< the force column's unit where its header names none
   double contact_area = 0;              ///< [m^2]: turns a stress into a force; 0: none given
   double normal_force = 0;              ///< [N]: turns mu into a force; 0: none given
+  double normal_stress = 0;             ///< sigma_n [Pa], constant: with contact_area the normal load (mu's,
+                                        ///< and the rig case's); 0: none given
   std::string normal_stress_column;     ///< turns mu into a stress (with contact_area, a force);
                                         ///< empty: a column naming a normal stress, when mu needs one
   double machine_stiffness = 0;         ///< K [N/m]: slip = x - F/K; 0: none given
@@ -126,15 +131,16 @@ struct Record {
   Observable observable = Observable::displacement;  ///< the channel analyzed (never automatic)
   std::string force_channel;                         ///< what the force is made of, in words ("Friction (mu) x 1000 N")
   double machine_stiffness = 0;                      ///< K [N/m] of the slip x - F/K
-  double dt = 0;                                     ///< sampling interval [s]
-  double start_time = 0;                             ///< t_0 [s]
-  std::string column;                                ///< the displacement column read
-  LengthUnit unit = LengthUnit::m;                   ///< the unit the displacement column was read in
-  std::string unit_source;                           ///< "--units", "header" or "default"
-  std::vector<SamplingPart> parts;                   ///< the read window's parts of constant rate (one: steady rate)
-  double jitter = 0;                                 ///< largest |interval - median| / median of the samples kept
-  bool resampled = false;                            ///< interpolated onto the uniform grid
-  double interpolation_cut = 0;                      ///< resampled: omega above which interpolation filters [rad/s]
+  double normal_force = 0;          ///< mean normal load [N] where the reader knew one (mu's, or sigma_n x A); 0: none
+  double dt = 0;                    ///< sampling interval [s]
+  double start_time = 0;            ///< t_0 [s]
+  std::string column;               ///< the displacement column read
+  LengthUnit unit = LengthUnit::m;  ///< the unit the displacement column was read in
+  std::string unit_source;          ///< "--units", "header" or "default"
+  std::vector<SamplingPart> parts;  ///< the read window's parts of constant rate (one: steady rate)
+  double jitter = 0;                ///< largest |interval - median| / median of the samples kept
+  bool resampled = false;           ///< interpolated onto the uniform grid
+  double interpolation_cut = 0;     ///< resampled: omega above which interpolation filters [rad/s]
   /// Resampled: the input interval that sets interpolation_cut [s], the coarsest median
   /// interval of the parts the record's time span overlaps.
   double interpolation_interval = 0;
@@ -491,9 +497,50 @@ std::vector<std::string> record_terms(const std::vector<std::string>& overrides,
 /// displacement column's (0 when there is none).
 double measured_speed(const Record& record, const RecordSpectrum& spectrum);
 
+/// The compared case built from the record and the rig (docs/analysis.md, "The model on a
+/// rig's scale"): `--compare-case rig`.
+inline constexpr const char* kRigCase = "rig";
+
+/// What a user knows of a rig beyond its record.
+struct RigKnowledge {
+  double friction_force = 0;  ///< mean friction [N]; 0: the force channel's mean over the stretch analysed
+  double slider_mass = 0;     ///< [kg]; 0: not known (the model's M is held)
+};
+
+/// A velocity step: the mean friction of the steady sliding on each side of it.
+struct FrictionStep {
+  double speed_before = 0, speed_after = 0;  ///< [m/s]
+  double force_before = 0, force_after = 0;  ///< [N]
+  double end_before = 0, start_after = 0;    ///< [s], record time: the step lies between
+  double slope() const { return (force_after - force_before) / (speed_after - speed_before); }  ///< dF/dv [N s/m]
+};
+
+/// The velocity steps of `record` (with a force channel): consecutive sliding `segments` at
+/// different speeds with only a step or loading between them (no hold, no reversal).
+std::vector<FrictionStep> friction_steps(const Record& record, const std::vector<SteadySegment>& segments);
+
+/// What the rig case is built from: the record's measures and the user's knowledge.
+struct RigTerms {
+  double speed = 0;                      ///< the measured load-point speed v [m/s]
+  double friction_force = 0;             ///< mean friction F [N]
+  double normal_force = 0;               ///< [N]; 0: not known (only said)
+  double machine_stiffness = 0;          ///< K [N/m]
+  double slider_mass = 0;                ///< [kg]; 0: not known
+  std::vector<FrictionStep> steps;       ///< the record's velocity steps; those next to the stretch analysed set dF/dv
+  double start = 0, end = 0;             ///< the stretch analysed [s], record time
+  double omega_low = 0, omega_high = 0;  ///< the band the case is compared over [rad/s]
+};
+
+/// The model on the rig's scale: drive = spring with k_drive = K, v the measured speed,
+/// F_drive the mean friction, F_kin = F - v dF/dv (dF/dv across a velocity step next to the
+/// stretch, else held at v dF/dv = 1% of F), and the rest held at stated values (N, M, m,
+/// k0 = 1000 K / N, alpha and a as the fit's start); a key `overrides` sets is kept. Each
+/// choice is appended to `notes`. Throws InputError without a stiffness or a friction.
+Parameters rig_model(const RigTerms& terms, const std::vector<std::string>& overrides, std::vector<std::string>& notes);
+
 /// Model parameters a joint fit can vary (positive reals, fitted in their logarithm).
 inline const std::vector<std::string>& fittable_parameters() {
-  static const std::vector<std::string> names{"alpha", "a", "k_drive"};
+  static const std::vector<std::string> names{"alpha", "a", "k_drive", "k0"};
   return names;
 }
 /// "alpha,a" into its names; throws InputError naming --fit for an unknown or repeated one.
@@ -541,13 +588,17 @@ struct SensorRequest {
   /// quantization error white (q^2/12); without it the error of a steady ramp is not.
   double sensor_noise = 0.25e-6;
   std::uint64_t seed = 1;
+  /// drive = spring: record what a rig does, the load point's position v t (read by this
+  /// sensor) and the spring's force F_drive - k_drive xi [N], for the slip x - F/K.
+  bool load_point = false;
 };
 
 /// Simulates one realization of the model with the library's stepper (time step = the
 /// sample interval, exact for any step) and returns x = v t + xi as the sensor reads it.
 Record synthesize_record(const Parameters& params, const SensorRequest& sensor);
 
-/// The record as CSV: '#' lines from `comments`, a header "t,x", time in s, x in `unit`.
+/// The record as CSV: '#' lines from `comments`, a header "t,x", time in s, x in `unit`, and
+/// the force F in N when the record has one.
 std::string record_csv(const Record& record, LengthUnit unit, const std::string& comments);
 
 // ---------------------------------------------------------------------------------------
@@ -570,6 +621,7 @@ struct AnalysisPlan {
   std::optional<std::pair<double, double>> fit_band;
   ModelOrder order = ModelOrder::best;
   double normal_mass = 0, driving_mass = 0;  ///< M and M' [kg] for mu = M'/M; 0: not given
+  RigKnowledge rig;                          ///< for compare_case kRigCase
   /// How the front end read request.resolution and sensor_noise: a bare number in the
   /// record's unit (the command line), else in metres always (Python); a warning says which.
   bool bare_lengths_in_record_unit = true;

@@ -54,7 +54,7 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
             normal_stress_units="MPa", contact_area=0.0, normal_force=0.0, machine_stiffness=0.0,
             observable="auto", resolution=0.0, sensor_noise=0.0, omega_min=0.0, omega_max=0.0, points=8,
             fit_slope=None, compare=None, fit=None, fit_band=None, theory_order=2, time_tolerance=0.01,
-            estimator="auto", window=None, resample="auto"):
+            estimator="auto", window=None, resample="auto", friction_force=0.0, slider_mass=0.0):
     """Spectrum, slope and model fit of a sliding-distance record: `slidespec analyze`.
 
     t: sample times [s] (uniform within time_tolerance), or None with dt [s].
@@ -62,7 +62,7 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
       record of a force alone.
     force: the force channel (numpy array) in force_units "N", "kN", "MPa", "kPa" or "mu";
       a stress times contact_area [m^2], mu times normal_force [N] or times normal_stress
-      (an array in normal_stress_units "MPa" or "kPa") and contact_area.
+      (an array, or one number, in normal_stress_units "MPa" or "kPa") and contact_area.
     machine_stiffness: K [N/m]: the observable is the slip x - F/K, and a compared case is
       driven through a spring k_drive = K. observable: "auto" (slip with K, force with a
       force, else displacement), "displacement", "force" (C_F [N^2 s]) or "slip".
@@ -72,10 +72,13 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
     fit_slope: (low, high) [rad/s]: fit C_x ~ omega^slope there.
     compare: Parameters (or a case name) whose theory to set beside the data, on the
       record's terms: its v the measured mean speed and, with machine_stiffness, a spring
-      drive (keys the Parameters set are kept).
+      drive (keys the Parameters set are kept). compare="rig": the case built from the
+      record and the rig (machine_stiffness, the mean friction or friction_force [N], dF/dv
+      across a velocity step, slider_mass [kg] if known; docs/analysis.md "The model on a
+      rig's scale").
     fit: "alpha" (the compared case's alpha), "power-law" (A (omega/pivot)^s + floor), or
       model parameters fitted jointly with the floor, "alpha,a" or ["alpha", "a"] (any of
-      alpha, a, k_drive); over fit_band (low, high) [rad/s] (default: every point for
+      alpha, a, k_drive, k0); over fit_band (low, high) [rad/s] (default: every point for
       "power-law", the usable band for a model fit, for "alpha" the usable band within
       5 v/a .. omega_c/3).
     estimator: "auto" (Welch up to 1e7 samples, streaming beyond), "welch" (Hann, 50% overlap,
@@ -123,7 +126,8 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
     time = _np.empty(0) if t is None else _np.asarray(t, dtype=float).ravel()
     samples = _np.empty(0) if x is None else _np.asarray(x, dtype=float).ravel()
     channel = None if force is None else _np.asarray(force, dtype=float).ravel()
-    normal = None if normal_stress is None else _np.asarray(normal_stress, dtype=float).ravel()
+    constant_stress = normal_stress is not None and _np.ndim(normal_stress) == 0
+    normal = None if normal_stress is None or constant_stress else _np.asarray(normal_stress, dtype=float).ravel()
     record = {"dt": float(dt or 0), "units": str(units), "time_tolerance": float(time_tolerance),
               "window": None if window is None else (float(window[0]), float(window[1])),
               "resample": resample if isinstance(resample, str) else "interval",
@@ -131,12 +135,16 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
               "force": channel, "force_units": force_units, "normal_stress": normal,
               "normal_stress_units": str(normal_stress_units), "contact_area": float(contact_area),
               "normal_force": float(normal_force), "machine_stiffness": float(machine_stiffness),
+              "normal_stress_value": _real("normal_stress", normal_stress) if constant_stress else 0.0,
               "observable": str(observable)}
-    compared = None if compare is None else _as_parameters(compare)
+    rig = isinstance(compare, str) and compare == "rig"
+    compared = None if compare is None or rig else _as_parameters(compare)
     plan = {"omega_min": float(omega_min), "omega_max": float(omega_max), "points_per_decade": int(points),
             "resolution": float(resolution), "sensor_noise": float(sensor_noise), "estimator": str(estimator),
             "fit_slope": None if fit_slope is None else (float(fit_slope[0]), float(fit_slope[1])),
-            "compare_case": "" if compared is None else compared.case,
+            "compare_case": "rig" if rig else "" if compared is None else compared.case,
+            "friction_force": _real("friction_force", friction_force),
+            "slider_mass": _real("slider_mass", slider_mass),
             "overrides": [] if compared is None else compared._args()[1],
             "fit": "" if fit is None else str(fit),
             "fit_band": None if fit_band is None else (float(fit_band[0]), float(fit_band[1])),

@@ -101,6 +101,27 @@ def test_machine_stiffness_drives_the_compared_case_through_a_spring():
     assert np.all(np.isfinite(a.theory))
 
 
+def test_the_rig_case_is_built_from_the_record_and_the_rigs_knowns():
+    # A rig's record: the load point v t and the spring's force, mu x 10 MPa x 25 cm^2 = 15 kN.
+    rig = ss.Parameters("reference", drive="spring", k_drive=1e8, v=3e-5, F_drive=15000, F_kin=14850,
+                        k0=1e8 * 1e3 / 30, alpha=0.004, a=1e-5)
+    t, x = ss.synth(rig, sample_interval=0.02, duration=600, resolution=0, sensor_noise=0, seed=3)
+    xi = x - 3e-5 * t
+    mu = (15000 - 1e8 * (xi - xi.mean())) / 25e3
+    load_point = 3e-5 * t + np.random.default_rng(3).normal(0, 5e-9, t.size)  # read with 5 nm of noise
+    a = ss.analyze(t, load_point, force=mu, force_units="mu", normal_stress=10, contact_area=25e-4,
+                   machine_stiffness=1e8, slider_mass=2, compare="rig", fit="alpha,a")
+    assert a.model_parameters["F_drive"] == pytest.approx(15000, rel=1e-5)  # the stretch's mean
+    assert a.model_parameters["F_kin"] == pytest.approx(0.99 * a.model_parameters["F_drive"], rel=1e-9)  # held at 1%
+    assert a.model_parameters["M"] == 2
+    assert any("mu = 0.6" in note for note in a.notes), a.notes
+    fit = a.model_fit["parameters"]
+    assert a.ok and abs(fit["alpha"]["value"] - 0.004) < 3 * fit["alpha"]["standard_error"]
+    with pytest.raises(ValueError, match="^slider_mass: used only by compare rig"):
+        ss.analyze(t, load_point, force=mu, force_units="mu", normal_stress=10, contact_area=25e-4,
+                   machine_stiffness=1e8, slider_mass=2)
+
+
 def basalt():
     """The measured basalt record: t [s], x [um], friction mu, normal stress [MPa]."""
     return np.loadtxt(BASALT, skiprows=1, unpack=True)

@@ -18,17 +18,15 @@ namespace slidespec {
 
 namespace {
 
-std::string key_of(const std::string& assignment) { return assignment.substr(0, assignment.find('=')); }
-
-bool sets(const std::vector<std::string>& overrides, const std::string& key) {
-  return std::any_of(overrides.begin(), overrides.end(), [&](const std::string& a) { return key_of(a) == key; });
-}
+using detail::key_of;
+using detail::sets;
 
 using detail::short_number;
 
 double& field(Parameters& p, const std::string& name) {
   if (name == "alpha") return p.alpha;
   if (name == "a") return p.a;
+  if (name == "k0") return p.k0;
   return p.k_drive;
 }
 double value_of(Parameters p, const std::string& name) { return field(p, name); }
@@ -87,7 +85,7 @@ std::vector<std::string> parse_fit_parameters(const std::string& list) {
     const std::string name = list.substr(start, comma - start);
     const auto& known = fittable_parameters();
     if (std::find(known.begin(), known.end(), name) == known.end())
-      throw InputError("{fit}: '" + name + "' is not a model parameter a fit can vary; known: alpha, a, k_drive" +
+      throw InputError("{fit}: '" + name + "' is not a model parameter a fit can vary; known: alpha, a, k_drive, k0" +
                        util::did_you_mean(name, known) + " (or power-law)");
     if (std::find(names.begin(), names.end(), name) != names.end())
       throw InputError("{fit}: '" + name + "' is named twice");

@@ -17,6 +17,16 @@ namespace slidespec::detail {
 
 using util::short_number;
 
+/// KEY of a "KEY=VALUE" override.
+inline std::string key_of(const std::string& assignment) { return assignment.substr(0, assignment.find('=')); }
+
+/// Whether `overrides` set `key`: what the user sets is kept over what a record gives.
+inline bool sets(const std::vector<std::string>& overrides, const std::string& key) {
+  for (const std::string& assignment : overrides)
+    if (key_of(assignment) == key) return true;
+  return false;
+}
+
 /// A word and the value it names; a table may give several words for one value, the first
 /// of them its name.
 template <class Enum>

@@ -226,6 +226,15 @@ double parse_force(const std::string& text, const std::string& option) {
   return value * si_per(*named);
 }
 
+double parse_stress(const std::string& text, const std::string& option) {
+  const auto [value, unit] = number_and_unit(text, option, "74e6, in Pa, or 74MPa");
+  const auto named = unit.empty() ? std::optional(ForceUnit::Pa) : force_unit(unit);
+  if (!named || !is_stress(*named))
+    throw InputError(option + ": '" + unit + "' is not a stress unit (Pa, kPa, MPa, psi)");
+  if (!(value > 0)) throw InputError(option + ": '" + text + "' is not a stress > 0");
+  return value * si_per(*named);
+}
+
 double parse_area(const std::string& text, const std::string& option) {
   const auto [value, unit] = number_and_unit(text, option, "0.0025, in m^2, or 25cm2");
   std::string u = lower(unit);
@@ -734,6 +743,7 @@ class RecordReader {
     if (force_index_ >= 0) {
       const double normal = normal_index_ >= 0 ? value(normal_index_) : 1;
       record_.force.push_back(bounded(value(force_index_) * normal * newtons_per_, "N", where));
+      if (normal_load_per_ > 0) normal_load_sum_ += normal * normal_load_per_;
     }
     if (time_index_ >= 0) take_time(value(time_index_) * seconds_per_time_, where);
   }
@@ -932,13 +942,22 @@ class RecordReader {
     // The unit in words unless the header already writes it.
     std::string made_of = name;
     if (format_.force_unit || split_unit(name).unit.empty()) made_of += std::string(" (") + to_string(unit) + ")";
+    const double stress = format_.normal_stress;
+    if (stress > 0 && !(area > 0))
+      fail(line_number, "{normal_stress}: a normal load needs {contact_area} A (m^2, or 25cm2)");
     if (unit == ForceUnit::mu) {
-      if (format_.normal_force > 0 && !format_.normal_stress_column.empty())
-        fail(line_number, "{normal_force} and {normal_stress_column} both give mu's normal load; give one");
+      if ((format_.normal_force > 0) + (stress > 0) + !format_.normal_stress_column.empty() > 1)
+        fail(line_number,
+             "{normal_force}, {normal_stress} and {normal_stress_column} each give mu's normal load; "
+             "give one");
       if (format_.normal_force > 0) {
         if (area > 0) fail(line_number, "{contact_area}: mu x {normal_force} is a force already; the area is not used");
         newtons_per_ = format_.normal_force;
         made_of += " x normal force " + util::format_number(format_.normal_force) + " N";
+      } else if (stress > 0) {
+        newtons_per_ = stress * area;
+        made_of += " x normal stress " + util::format_number(stress) + " Pa x contact area " +
+                   util::format_number(area) + " m^2";
       } else {
         choose_normal_stress_column(line_number);
         const std::string& normal_name = names_[static_cast<std::size_t>(normal_index_)];
@@ -953,6 +972,7 @@ class RecordReader {
         newtons_per_ = si_per(*normal_unit) * area;
         made_of += " x " + normal_name + " x contact area " + util::format_number(area) + " m^2";
       }
+      normal_load_per_ = newtons_per_;
     } else {
       if (format_.normal_force > 0 || !format_.normal_stress_column.empty())
         fail(line_number, std::string(format_.normal_force > 0 ? "{normal_force}" : "{normal_stress_column}") +
@@ -965,11 +985,12 @@ class RecordReader {
         newtons_per_ = si_per(unit) * area;
         made_of += " x contact area " + util::format_number(area) + " m^2";
       } else {
-        if (area > 0)
+        if (area > 0 && !(stress > 0))
           fail(line_number, "{contact_area}: the force channel " + name + " is in " + to_string(unit) +
                                 ", a force already; the area is not used");
         newtons_per_ = si_per(unit);
       }
+      record_.normal_force = stress * area;
     }
     record_.force_channel = made_of;
   }
@@ -1003,6 +1024,8 @@ class RecordReader {
   // Uniform sampling is what a spectrum of samples assumes: a missing sample (a gap) or
   // a clock jump would fold into the spectrum silently, so both are refused here.
   void finish() {
+    if (normal_load_per_ > 0 && !record_.force.empty())
+      record_.normal_force = normal_load_sum_ / double(record_.force.size());
     if (times_.empty()) {
       record_.dt = format_.dt;
       detail::apply_window(record_, format_, source_);
@@ -1046,6 +1069,9 @@ class RecordReader {
   std::vector<std::string> names_;
   int time_index_ = -1, x_index_ = -1, force_index_ = -1, normal_index_ = -1;
   double newtons_per_ = 1;  // of the force column's unit (x the normal stress column's value for mu)
+  // mu's normal load [N] per unit of its normal-stress column (1 for a constant one); 0: not mu.
+  double normal_load_per_ = 0;
+  double normal_load_sum_ = 0;
   int last_line_ = 0;
   std::vector<double> times_;  // [s], as read
   std::vector<int> where_;     // the line (or sample) of each time
@@ -1064,6 +1090,8 @@ void check_format(const RecordFormat& format) {
     throw InputError("{contact_area}: must be an area > 0");
   if (format.normal_force < 0 || !std::isfinite(format.normal_force))
     throw InputError("{normal_force}: must be a force > 0");
+  if (format.normal_stress < 0 || !std::isfinite(format.normal_stress))
+    throw InputError("{normal_stress}: must be a stress > 0");
   if (format.machine_stiffness < 0 || !std::isfinite(format.machine_stiffness))
     throw InputError("{machine_stiffness}: must be a stiffness > 0");
   const Observable observable = chosen_observable(format);
@@ -1077,6 +1105,7 @@ void check_format(const RecordFormat& format) {
                          : format.force_unit                    ? "{force_units}"
                          : format.contact_area > 0              ? "{contact_area}"
                          : format.normal_force > 0              ? "{normal_force}"
+                         : format.normal_stress > 0             ? "{normal_stress}"
                          : !format.normal_stress_column.empty() ? "{normal_stress_column}"
                                                                 : nullptr;
     if (unused)

@@ -1,6 +1,7 @@
 // analyze(): the pipeline of `slidespec analyze` and Python's ss.analyze, and the rules of
 // what an analysis warns about, written once for both.
 #include <cmath>
+#include <numeric>
 #include <sstream>
 
 #include "analysis/names.hpp"
@@ -67,12 +68,34 @@ void fit_power_and_slope(const AnalysisPlan& plan, AnalysisReport& r) {
   }
 }
 
+/// What the rig case is built from: the stretch analysed, its measures and the plan's knowledge.
+RigTerms rig_terms(const AnalysisPlan& plan, const AnalysisReport& r, const std::vector<FrictionStep>& steps) {
+  RigTerms t;
+  t.speed = measured_speed(r.record, r.spectrum);
+  t.friction_force = plan.rig.friction_force;
+  if (!(t.friction_force > 0) && !r.record.force.empty())
+    t.friction_force =
+        std::accumulate(r.record.force.begin(), r.record.force.end(), 0.0) / double(r.record.force.size());
+  t.normal_force = r.record.normal_force;
+  t.machine_stiffness = r.record.machine_stiffness;
+  t.slider_mass = plan.rig.slider_mass;
+  t.steps = steps;
+  t.start = r.record.start_time;
+  t.end = r.record.start_time + double(r.record.samples() - 1) * r.record.dt;
+  const auto [low, high] = band_or(plan.fit_band, {r.spectrum.usable_low, r.spectrum.usable_high});
+  t.omega_low = low, t.omega_high = high;
+  return t;
+}
+
 /// The compared case on the record's terms, its fitted parameters, and its theory per point.
-void compare_model(const AnalysisPlan& plan, AnalysisReport& r) {
+void compare_model(const AnalysisPlan& plan, AnalysisReport& r, const std::vector<FrictionStep>& steps) {
   const RecordSpectrum& s = r.spectrum;
   std::vector<std::string> notes;
-  r.model =
-      record_model(plan.compare_case, plan.overrides, measured_speed(r.record, s), r.record.machine_stiffness, notes);
+  if (plan.compare_case == kRigCase)
+    r.model = rig_model(rig_terms(plan, r, steps), plan.overrides, notes);
+  else
+    r.model =
+        record_model(plan.compare_case, plan.overrides, measured_speed(r.record, s), r.record.machine_stiffness, notes);
   append(r.notes, as_notes(notes, "model_terms"));
   if (fits_model(plan.fit)) {
     const auto [low, high] = band_or(plan.fit_band, {s.usable_low, s.usable_high});
@@ -192,10 +215,22 @@ void check_plan(const AnalysisPlan& plan, double machine_stiffness) {
   if (plan.fit == "power-law" && plan.slope_band)
     throw InputError(named(Option::fit) + " power-law and " + named(Option::fit_slope) +
                      " both fit a power law; give one (" + named(Option::fit_band) + " sets the band)");
-  if (!plan.compare_case.empty()) {  // refused with the terms the record will add
+  if (plan.compare_case == kRigCase) {
+    if (!(machine_stiffness > 0))
+      throw InputError(named(Option::compare_case) + " rig: builds the case from the machine's spring; give " +
+                       named(Option::machine_stiffness) + " K");
+    build_case("reference", plan.overrides);
+  } else if (!plan.compare_case.empty()) {  // refused with the terms the record will add
     std::vector<std::string> ignored;
     record_model(plan.compare_case, record_terms(plan.overrides, 0, machine_stiffness, ignored), 0, 0, ignored);
   }
+  if (plan.rig.friction_force < 0 || !std::isfinite(plan.rig.friction_force))
+    throw InputError(named(Option::friction_force) + ": must be a force > 0");
+  if (plan.rig.slider_mass < 0 || !std::isfinite(plan.rig.slider_mass))
+    throw InputError(named(Option::slider_mass) + ": must be a mass > 0");
+  if ((plan.rig.friction_force > 0 || plan.rig.slider_mass > 0) && plan.compare_case != kRigCase)
+    throw InputError(named(plan.rig.friction_force > 0 ? Option::friction_force : Option::slider_mass) +
+                     ": used only by " + named(Option::compare_case) + " rig");
 }
 
 bool AnalysisReport::ok() const {
@@ -215,6 +250,9 @@ AnalysisReport analyze(Record record, const AnalysisPlan& plan) {
   r.request = plan.request;
   if (plan.normal_mass > 0 || plan.driving_mass > 0) r.mu = friction_coefficient(plan.normal_mass, plan.driving_mass);
   std::optional<Strokes> strokes;
+  // The rig's velocity steps lie outside the stretch analysed: measured on the whole record.
+  const std::vector<FrictionStep> steps =
+      plan.compare_case == kRigCase ? friction_steps(record, steady_segments(record)) : std::vector<FrictionStep>{};
   r.record = analyzed_stretch(std::move(record), plan, r, strokes);
   if (strokes) {
     std::vector<std::string> notes;
@@ -226,7 +264,7 @@ AnalysisReport analyze(Record record, const AnalysisPlan& plan) {
   r.spectrum.segments = r.segments;
   r.spectrum_verdict = detail::judge_spectrum(r.spectrum);
   fit_power_and_slope(plan, r);
-  if (!plan.compare_case.empty()) compare_model(plan, r);
+  if (!plan.compare_case.empty()) compare_model(plan, r, steps);
   r.warnings = warnings(r, plan);
   return r;
 }

@@ -1,5 +1,6 @@
 // A synthetic sensor record: one simulated slider read by a displacement sensor, so the
 // whole measured-data path can be tried (and tested) without a lab.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -24,6 +25,8 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
     throw InputError("{resolution}: must be a length >= 0 in metres");
   if (!(sensor.sensor_noise >= 0 && std::isfinite(sensor.sensor_noise)))
     throw InputError("{sensor_noise}: must be a length >= 0 in metres");
+  if (sensor.load_point && params.drive != Drive::spring)
+    throw InputError("{set} drive=spring: a load point pulls the slider only through a spring");
   const double samples = std::floor(sensor.duration / sensor.sample_interval) + 1;
   if (samples < 2 || samples > kMaxSamples) {
     std::ostringstream message;
@@ -42,6 +45,7 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
                 .observable = Observable::displacement,
                 .force_channel = {},
                 .machine_stiffness = 0,
+                .normal_force = 0,
                 .dt = sensor.sample_interval,
                 .start_time = 0,
                 .column = "x",
@@ -63,6 +67,20 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
     }
   });
 
+  // A rig reads the load point, v t, and the spring's force k_drive (v t + d0 - x) = F_drive - k_drive xi.
+  // The increments leave xi's start unknown (the stretch that holds the first random forces):
+  // xi is taken about its mean, so the force's mean over the record is F_drive.
+  if (sensor.load_point) {
+    double mean_xi = 0;
+    for (double xi_n : record.displacement) mean_xi += xi_n / double(record.displacement.size());
+    record.force.reserve(record.displacement.size());
+    for (double xi_n : record.displacement) record.force.push_back(params.F_drive - params.k_drive * (xi_n - mean_xi));
+    std::fill(record.displacement.begin(), record.displacement.end(), 0.0);
+    record.observable = Observable::slip;
+    record.machine_stiffness = params.k_drive;
+    record.force_channel = "F (N)";
+  }
+
   std::mt19937_64 noise_source(sensor.seed ^ 0x5e2503ULL);  // independent of the stepper's streams
   std::normal_distribution<double> noise(0.0, 1.0);
   for (std::size_t n = 0; n < record.displacement.size(); ++n) {
@@ -78,15 +96,23 @@ std::string record_csv(const Record& record, LengthUnit unit, const std::string&
   std::ostringstream out;
   std::istringstream lines(comments);
   for (std::string line; std::getline(lines, line);) out << "# " << line << "\n";
-  out << "t (s),x (" << to_string(unit) << ")\n";  // units in the header: analyze reads them
+  const bool force = !record.force.empty();
+  out << "t (s),x (" << to_string(unit) << ")" << (force ? ",F (N)" : "")
+      << "\n";  // units in the header: analyze reads them
   const double scale = 1 / metres_per(unit);
   char text[64];
   for (std::size_t n = 0; n < record.displacement.size(); ++n) {
     // 10 significant digits: time stamps of up to 1e7 samples at a round interval, and
     // readings of up to 1e9 resolution steps, print exactly.
-    std::snprintf(text, sizeof text, "%.10g,%.10g\n", record.start_time + static_cast<double>(n) * record.dt,
+    std::snprintf(text, sizeof text, "%.10g,%.10g", record.start_time + static_cast<double>(n) * record.dt,
                   record.displacement[n] * scale);
     out << text;
+    if (force) {
+      // 12 digits: kN forces keep the fluctuations of a stiff spring (k_drive xi ~ 1e-3 N).
+      std::snprintf(text, sizeof text, ",%.12g", record.force[n]);
+      out << text;
+    }
+    out << "\n";
   }
   return out.str();
 }

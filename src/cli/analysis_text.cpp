@@ -118,15 +118,23 @@ void power_law_lines(std::ostream& out, const PowerLawFit& p, const Verdict& ver
       << "# undetermined = " << words(p.undetermined) << "\n";
 }
 
+/// A fitted length in the record's unit as well ("a" in um on a record in um), else "".
+std::string lab_units(const std::string& name, double value, double error, LengthUnit length) {
+  if (name != "a") return "";
+  const double per = metres_per(length);
+  return " m (" + number(value / per) + " +- " + number(error / per) + " " + to_string(length) + ")";
+}
+
 void model_fit_lines(std::ostream& out, const ModelFit& m, const Verdict& verdict, const std::string& compare_case,
-                     const std::string& C, const std::string& unit) {
+                     const std::string& C, const std::string& unit, LengthUnit length) {
   out << "# model_fit = " << C << " = " << compare_case << "'s theory (" << (m.theory_order == 2 ? "second" : "first")
       << " order) + floor over " << number(m.omega_low) << " .. " << number(m.omega_high) << " rad/s, " << m.points
       << " points, dof " << m.dof << ", chi2/dof " << number(m.chi2_per_dof) << (m.converged ? "" : ", NOT converged")
       << "\n";
   for (std::size_t i = 0; i < m.names.size(); ++i)
     out << "# model_fit_" << m.names[i] << " = " << number(m.values[i]) << "  # +- " << number(m.errors[i])
-        << (m.names[i] == "floor" ? " " + unit + ", fitted" : "") << "\n";
+        << (m.names[i] == "floor" ? " " + unit + ", fitted" : "")
+        << lab_units(m.names[i], m.values[i], m.errors[i], length) << "\n";
   if (m.floor_given) out << "# model_fit_floor = " << number(m.floor) << "  # " << unit << ", given\n";
   out << "# model_fit_alpha2_over_N = " << number(m.amplitude) << "  # +- " << number(m.amplitude_error)
       << ", the level the band sets\n# model_fit_correlation =";
@@ -207,9 +215,12 @@ void print_fits(const AnalysisSource& source, const AnalysisReport& r) {
     const ModelFit& m = *r.model_fit;
     std::cerr << "slidespec: " << source.compare_case << " fitted over " << short_number(m.omega_low) << " .. "
               << short_number(m.omega_high) << " rad/s:";
+    const double per = metres_per(r.record.unit);  // a length in the record's unit, as the lab reads it
     for (std::size_t i = 0; i < m.names.size(); ++i)
-      std::cerr << (i ? ", " : " ") << m.names[i] << " = " << short_number(m.values[i]) << " +- "
-                << short_number(m.errors[i]);
+      std::cerr << (i ? ", " : " ") << m.names[i] << " = "
+                << (m.names[i] == "a" ? short_number(m.values[i] / per) + " +- " + short_number(m.errors[i] / per) +
+                                            " " + to_string(r.record.unit)
+                                      : short_number(m.values[i]) + " +- " + short_number(m.errors[i]));
     std::cerr << "; alpha^2/N = " << short_number(m.amplitude) << " +- " << short_number(m.amplitude_error)
               << "; chi2/dof " << short_number(m.chi2_per_dof) << " (" << m.dof << " dof)\n";
   }
@@ -234,7 +245,7 @@ std::string analysis_table(const AnalysisSource& source, const AnalysisReport& r
   record_lines(out, source, r);
   slope_and_alpha_lines(out, r);
   if (r.power_law) power_law_lines(out, *r.power_law, r.power_law_verdict, C, unit);
-  if (r.model_fit) model_fit_lines(out, *r.model_fit, r.model_fit_verdict, source.compare_case, C, unit);
+  if (r.model_fit) model_fit_lines(out, *r.model_fit, r.model_fit_verdict, source.compare_case, C, unit, r.record.unit);
   column_lines(out, r, C, unit);
   point_rows(out, r);
   return out.str();

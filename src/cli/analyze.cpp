@@ -27,6 +27,7 @@ struct AnalysisCommands::Options {
   std::string observable = "auto";
   std::string force_units;                            // empty: from the force column's header
   std::string contact_area, normal_force, stiffness;  // with their units, or bare in m^2, N, N/m
+  std::string normal_stress, friction_force;          // with their units, or bare in Pa, N
   std::string estimator = "auto";
   std::string window;             // T0:T1 in record time [s]
   std::string resample = "auto";  // auto, off, median or DT [s]
@@ -40,6 +41,7 @@ struct AnalysisCommands::Options {
   std::vector<double> fit_band;  // LO HI [rad/s]
   int theory_order = 2;          // 2: the second order where it applies
   double normal_mass = 0, driving_mass = 0;
+  double slider_mass = 0;  // [kg]
   std::string out = "analysis";
   bool quiet = false, no_plot = false;
   FigureStyle figure;
@@ -164,6 +166,8 @@ AnalysisPlan plan_of(const Options& o) {
   plan.order = o.theory_order == 2 ? ModelOrder::best : ModelOrder::first;
   plan.normal_mass = o.normal_mass;
   plan.driving_mass = o.driving_mass;
+  if (!o.friction_force.empty()) plan.rig.friction_force = parse_force(o.friction_force, "--friction-force");
+  plan.rig.slider_mass = o.slider_mass;
   return plan;
 }
 
@@ -174,6 +178,7 @@ void parse_format(Options& o) {
   if (!o.force_units.empty()) o.format.force_unit = parse_force_unit(o.force_units);
   if (!o.contact_area.empty()) o.format.contact_area = parse_area(o.contact_area, "--contact-area");
   if (!o.normal_force.empty()) o.format.normal_force = parse_force(o.normal_force, "--normal-force");
+  if (!o.normal_stress.empty()) o.format.normal_stress = parse_stress(o.normal_stress, "--normal-stress");
   if (!o.stiffness.empty())
     o.format.machine_stiffness = parse_stiffness(o.stiffness, o.format.contact_area, "--machine-stiffness");
 }
@@ -241,12 +246,12 @@ int command_synth(const Options& o) {
   for (const auto& [key, value] : describe(p)) comments << key << " = " << value << "\n";
   comments << "seed = " << sensor.seed << "\nsample_interval = " << sensor.sample_interval << " s\n"
            << "resolution = " << sensor.resolution << " m\nsensor_noise = " << sensor.sensor_noise << " m\n"
-           << "columns: t (s), x (" << to_string(unit) << ")\n";
+           << "columns: t (s), x (" << to_string(unit) << ")" << (sensor.load_point ? ", F (N)" : "") << "\n";
   io::write_atomically(o.synth_out + ".csv", record_csv(record, unit, comments.str()));
   std::cerr << "slidespec: wrote " << o.synth_out << ".csv (" << record.displacement.size()
             << " samples); analyse it with: slidespec analyze " << o.synth_out << ".csv --resolution "
             << util::format_number(sensor.resolution) << "m --sensor-noise " << util::format_number(sensor.sensor_noise)
-            << "m\n";
+            << "m" << (sensor.load_point ? " --machine-stiffness " + util::format_number(p.k_drive) : "") << "\n";
   return 0;
 }
 
@@ -303,6 +308,9 @@ void add_record_options(CLI::App& analyze, Options& o) {
   analyze.add_option("--contact-area", o.contact_area,
                      "contact area A (m^2, or 25cm2, 2500mm2): a stress x A is a force, and K in MPa/um x A is N/m");
   analyze.add_option("--normal-force", o.normal_force, "normal force for a friction column: F = mu x FN (N, or kN)");
+  analyze.add_option("--normal-stress", o.normal_stress,
+                     "constant normal stress sigma_n (Pa, or 74MPa), with --contact-area: mu's normal load, and "
+                     "the rig case's");
   analyze.add_option("--normal-stress-column", o.format.normal_stress_column,
                      "normal-stress column for a friction column: F = mu x sigma_n x A (default: a column naming a "
                      "normal stress, with --contact-area)");
@@ -340,10 +348,15 @@ void add_analysis_options(CLI::App& analyze, Options& o) {
   analyze.add_option("--fit-slope", o.slope_band, "fit C_x ~ omega^-n over LO HI [rad/s]")->expected(2);
   analyze.add_option("--compare-case", o.compare_case,
                      "overlay this model case's theory on the record's terms: its v the measured one, and with "
-                     "--machine-stiffness K driven through a spring k_drive = K (--set keeps what it sets)");
+                     "--machine-stiffness K driven through a spring k_drive = K (--set keeps what it sets); rig: "
+                     "the case built from the record and the rig (K, the mean friction, dF/dv across a velocity "
+                     "step), on the rig's scale");
+  analyze.add_option("--friction-force", o.friction_force,
+                     "the rig case's mean friction (N, or 15kN; default: the force channel's mean)");
+  analyze.add_option("--slider-mass", o.slider_mass, "the rig case's slider mass M [kg] (default: held at 1 kg)");
   analyze.add_option("--set", o.overrides, "override a parameter of the compared case, KEY=VALUE");
   analyze.add_option("--fit", o.fit,
-                     "alpha: fit the compared case's alpha; alpha,a (any of alpha, a, k_drive): fit these model "
+                     "alpha: fit the compared case's alpha; alpha,a (any of alpha, a, k_drive, k0): fit these model "
                      "parameters jointly with the floor, with covariance and what the band cannot determine; "
                      "power-law: C_x = A (omega/pivot)^s + floor jointly, with errors and correlations (the floor "
                      "fitted unless --resolution/--sensor-noise give it)");
@@ -390,6 +403,9 @@ void add_synth_options(CLI::App& synth, Options& o) {
                                 sensor_default.sensor_noise));
   synth.add_option("--seed", o.sensor.seed, with_default("random seed", static_cast<double>(sensor_default.seed)));
   synth.add_option("--units", o.synth_units, "unit of the x column: m|mm|um (default um)");
+  synth.add_flag("--load-point", o.sensor.load_point,
+                 "with drive = spring, what a rig records: x the load point's position, F (N) the spring's force "
+                 "(analyze with --machine-stiffness k_drive)");
   synth.add_option("--out", o.synth_out, "output prefix: PREFIX.csv (default record)");
 }
 
