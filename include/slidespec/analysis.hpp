@@ -579,6 +579,13 @@ struct ModelFit {
 ModelFit fit_model(const RecordSpectrum& spectrum, const Parameters& start, const std::vector<std::string>& names,
                    double omega_low, double omega_high, ModelOrder order = ModelOrder::best);
 
+/// One stretch of a synthetic record's drive: the load point at `speed_factor` x the case's v
+/// (0: a hold, the slider standing where it is; negative: backwards) for `duration` seconds.
+struct DriveStretch {
+  double speed_factor = 1;
+  double duration = 0;  ///< [s]
+};
+
 /// What a displacement sensor records of a simulated slider.
 struct SensorRequest {
   double sample_interval = 1e-3;  ///< [s]
@@ -591,10 +598,23 @@ struct SensorRequest {
   /// drive = spring: record what a rig does, the load point's position v t (read by this
   /// sensor) and the spring's force F_drive - k_drive xi [N], for the slip x - F/K.
   bool load_point = false;
+  /// The drive, stretch after stretch (holds, velocity steps, strokes); empty: the case's v
+  /// for `duration`. Given, it sets the record's length and `duration` is not read (not with
+  /// load_point: a rig's record is of one speed).
+  std::vector<DriveStretch> program;
 };
+
+/// A reciprocating tribometer's drive: `strokes` strokes of `stroke_length` [m] at the case's
+/// speed `v` [m/s], alternating in direction (the first forwards), with a hold of `dwell` [s]
+/// at each reversal. Throws InputError naming {strokes}, {stroke_length} or {dwell}.
+std::vector<DriveStretch> stroke_program(double strokes, double stroke_length, double v, double dwell);
 
 /// Simulates one realization of the model with the library's stepper (time step = the
 /// sample interval, exact for any step) and returns x = v t + xi as the sensor reads it.
+/// With a program, each stretch at speed f v is the case at that speed (eta1 scaled by 1/f,
+/// the forces kept; one realization per speed, continued where the speed returns), and
+/// backwards the slider's fluctuation is mirrored: x = the load point's path + sign(f) xi.
+/// A program's speeds are warmed up over 10 renewals first, so that every stretch is stationary.
 Record synthesize_record(const Parameters& params, const SensorRequest& sensor);
 
 /// The record as CSV: '#' lines from `comments`, a header "t,x", time in s, x in `unit`, and

@@ -58,6 +58,23 @@ double successive_scatter(const std::vector<double>& values, std::size_t first, 
   return differences.empty() ? 0 : 1.4826 * median(differences) / std::sqrt(2.0);
 }
 
+// A stroke keeps this many blocks: coarser blocks would straddle the reversals of a noisy
+// slider's strokes and merge them (twice the blocks a sliding stretch needs).
+constexpr std::size_t kStrokeBlocks = 2 * kSteadyBlocks;
+
+/// Stretches of one sliding direction among the blocks sliding at half the fastest speed or
+/// more: 1 for a slide, the strokes of a reciprocating record.
+std::size_t direction_runs(const std::vector<double>& speed, double fastest) {
+  std::size_t runs = 0;
+  double direction = 0;
+  for (double v : speed) {
+    if (std::fabs(v) < 0.5 * fastest || v * direction > 0) continue;
+    direction = v;
+    ++runs;
+  }
+  return runs;
+}
+
 struct Group {
   std::size_t first, last;  // blocks [first, last)
   SegmentKind kind;
@@ -124,6 +141,7 @@ std::optional<BlockSpeeds> block_speeds(const std::vector<double>& x, double dt)
     s.fastest = std::fabs(*std::max_element(s.speed.begin(), s.speed.end(),
                                             [](double a, double b) { return std::fabs(a) < std::fabs(b); }));
     if (2 * kScatters * s.scatter <= kSlowShare * s.fastest || blocks / 2 < kCoarsestBlocks) return s;
+    if (blocks / 2 < kStrokeBlocks * direction_runs(s.speed, s.fastest)) return s;
   }
 }
 

@@ -1,5 +1,6 @@
 #include "cli/analyze.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -8,9 +9,11 @@
 
 #include "analysis/report.hpp"
 #include "cli/analysis_text.hpp"
+#include "cli/analyze_many.hpp"
 #include "cli/command.hpp"
 #include "cli/outputs.hpp"
 #include "cli/plot.hpp"
+#include "cli/run_and_write.hpp"
 #include "io/atomic_file.hpp"
 #include "io/tables.hpp"
 #include "slidespec/analysis.hpp"
@@ -21,7 +24,8 @@ namespace slidespec::cli {
 
 struct AnalysisCommands::Options {
   // analyze
-  std::string file;
+  std::vector<std::string> files;  // as given: records or glob patterns
+  std::string file;                // the record analysed
   RecordFormat format;
   std::string units;  // empty: from the header, else m
   std::string observable = "auto";
@@ -52,6 +56,10 @@ struct AnalysisCommands::Options {
   std::vector<std::string> synth_overrides;
   SensorRequest sensor;
   std::string synth_resolution, synth_sensor_noise;  // lengths, bare in m or with a unit
+  double strokes = 0;                                // 0: no strokes
+  std::string stroke_length;                         // bare in m or with a unit
+  double dwell = 0;                                  // [s]
+  std::string program;                               // F1:T1,F2:T2,...
   std::string synth_units = "um";
   std::string synth_out = "record";
 };
@@ -215,19 +223,125 @@ int write_analysis(const Options& o, const AnalysisReport& report) {
   return status;
 }
 
-int command_analyze(Options o) {
+/// Every option read and checked, before any record is: the plan they ask for.
+AnalysisPlan prepare(Options& o) {
   o.figure.check();
   io::check_output_prefix(o.out);
   parse_format(o);
   AnalysisPlan plan = plan_of(o);
-  check_plan(plan, o.format.machine_stiffness);  // before any reading
+  check_plan(plan, o.format.machine_stiffness);
   if (!o.window.empty()) o.format.window = parse_window(o.window);
   parse_resample(o.resample, o.format);
-  Record record = read_record_file(o.file, o.format);
-  if (o.segments) return list_segments(o, record);
+  return plan;
+}
+
+/// The analysis of a record read: the floor's lengths in its unit, then the plan.
+AnalysisReport analyze_read(const Options& o, AnalysisPlan plan, Record record) {
   if (!o.resolution.empty()) plan.request.resolution = parse_length(o.resolution, record.unit, "--resolution");
   if (!o.sensor_noise.empty()) plan.request.sensor_noise = parse_length(o.sensor_noise, record.unit, "--sensor-noise");
-  return write_analysis(o, analyze(std::move(record), plan));
+  return analyze(std::move(record), plan);
+}
+
+/// analyze A B C: each record analysed as one is, into its own OUT_STEM outputs, with a line
+/// each on stderr; a record refused is reported and the rest go on. The combined OUT.tsv and
+/// .json list the records done, also when a signal stops the command between two.
+int analyze_many(Options o) {
+  if (o.segments) throw InputError("--segments lists one record's segments: give one record");
+  const AnalysisPlan plan = prepare(o);
+  const std::vector<std::string> records = expand_record_paths(o.files);
+  const std::vector<std::string> prefixes = record_prefixes(o.out, records);
+  for (const std::string& prefix : prefixes) io::check_output_prefix(prefix);
+  catch_stop_signals();
+  if (!o.no_plot) start_plotter();
+  std::vector<RecordRow> rows;
+  bool written = true;
+  for (std::size_t k = 0; k < records.size() && !stop_asked(); ++k) {
+    if (!o.quiet) std::cerr << "slidespec: analyze " << k + 1 << "/" << records.size() << ": " << records[k] << "\n";
+    Options one = o;
+    one.file = records[k];
+    one.out = prefixes[k];
+    one.quiet = true;
+    try {
+      const AnalysisReport report = analyze_read(one, plan, read_record_file(one.file, one.format));
+      write_analysis(one, report);
+      rows.push_back(record_row(records[k], prefixes[k], report, !o.window.empty()));
+    } catch (const InputError& e) {
+      rows.push_back(refused_row(records[k], worded(e.what(), FrontEnd::command_line)));
+      std::cerr << "slidespec: error: " << records[k] << ": " << rows.back().reason << "\n";
+    } catch (const io::WriteError& e) {
+      rows.push_back(refused_row(records[k], std::string("not written: ") + e.what()));
+      std::cerr << "slidespec: failed: " << records[k] << ": " << rows.back().reason << "\n";
+      written = false;
+    }
+  }
+  io::OutputSet combined;
+  combined.add(o.out + ".tsv", records_table(rows, records.size()));
+  combined.add(o.out + ".json", records_json(rows, records.size()));
+  combined.commit();
+  const auto failed = std::count_if(rows.begin(), rows.end(), [](const RecordRow& r) { return !r.ok; });
+  if (!o.quiet)
+    std::cerr << "slidespec: wrote " << o.out << ".tsv, .json (" << rows.size() << " of " << records.size()
+              << " records, " << failed << " not ok)\n";
+  if (stop_asked()) return stopped_status();
+  if (!written) return 1;
+  return failed > 0 ? kNotWhatItClaims : 0;
+}
+
+int command_analyze(Options o) {
+  if (many_records(o.files)) return analyze_many(std::move(o));
+  if (!o.files.empty()) o.file = o.files.front();
+  AnalysisPlan plan = prepare(o);  // before any reading
+  Record record = read_record_file(o.file, o.format);
+  if (o.segments) return list_segments(o, record);
+  return write_analysis(o, analyze_read(o, std::move(plan), std::move(record)));
+}
+
+/// "F1:T1,F2:T2,...": the load point at F x the case's v for T seconds, stretch after stretch.
+std::vector<DriveStretch> parse_program(const std::string& text) {
+  std::vector<DriveStretch> program;
+  std::stringstream stretches(text);
+  for (std::string stretch; std::getline(stretches, stretch, ',');) {
+    const auto colon = stretch.find(':');
+    const std::optional<double> factor =
+        colon == std::string::npos ? std::nullopt : util::parse_number(stretch.substr(0, colon));
+    const std::optional<double> duration =
+        colon == std::string::npos ? std::nullopt : util::parse_number(stretch.substr(colon + 1));
+    if (!factor || !duration || !std::isfinite(*factor) || !(*duration > 0) || !std::isfinite(*duration))
+      throw InputError("--program: '" + stretch +
+                       "' is not F:T (F x the case's v, 0 a hold, for T > 0 seconds), e.g. 1:100,0:2,3:100");
+    program.push_back({*factor, *duration});
+  }
+  if (program.empty() || text.back() == ',') throw InputError("--program: an empty stretch in '" + text + "'");
+  return program;
+}
+
+/// The drive synth's options ask for: strokes, a program, or none (the case's v throughout).
+std::vector<DriveStretch> drive_of(const Options& o, const Parameters& p) {
+  if (!o.program.empty()) return parse_program(o.program);
+  if (o.strokes == 0) return {};
+  return stroke_program(o.strokes, parse_length(o.stroke_length, LengthUnit::m, "--stroke-length"), p.v, o.dwell);
+}
+
+/// The CSV's '#' lines: what made the record, enough to make it again.
+std::string synth_comments(const Options& o, const Parameters& p, const SensorRequest& sensor) {
+  std::ostringstream comments;
+  comments << "slidespec " << SLIDESPEC_VERSION << " synth: a simulated slider read by a displacement sensor\n"
+           << "case = " << o.synth_case << "\n"
+           << "label = " << io::run_label(o.synth_case, p) << "\n";
+  for (const auto& [key, value] : describe(p)) comments << key << " = " << value << "\n";
+  comments << "seed = " << sensor.seed << "\nsample_interval = " << sensor.sample_interval << " s\n"
+           << "resolution = " << sensor.resolution << " m\nsensor_noise = " << sensor.sensor_noise << " m\n";
+  if (o.strokes > 0)
+    comments << "strokes = " << o.strokes << " of " << o.stroke_length << " (dwell " << o.dwell << " s)\n";
+  if (!o.program.empty()) {
+    comments << "program (speed / v : seconds) =";
+    for (const DriveStretch& stretch : sensor.program)
+      comments << " " << util::format_number(stretch.speed_factor) << ":" << util::format_number(stretch.duration);
+    comments << "\n";
+  }
+  comments << "columns: t (s), x (" << to_string(parse_length_unit(o.synth_units)) << ")"
+           << (sensor.load_point ? ", F (N)" : "") << "\n";
+  return comments.str();
 }
 
 int command_synth(const Options& o) {
@@ -238,16 +352,9 @@ int command_synth(const Options& o) {
   if (!o.synth_resolution.empty()) sensor.resolution = parse_length(o.synth_resolution, LengthUnit::m, "--resolution");
   if (!o.synth_sensor_noise.empty())
     sensor.sensor_noise = parse_length(o.synth_sensor_noise, LengthUnit::m, "--sensor-noise");
+  sensor.program = drive_of(o, p);
   const Record record = synthesize_record(p, sensor);
-  std::ostringstream comments;
-  comments << "slidespec " << SLIDESPEC_VERSION << " synth: a simulated slider read by a displacement sensor\n"
-           << "case = " << o.synth_case << "\n"
-           << "label = " << io::run_label(o.synth_case, p) << "\n";
-  for (const auto& [key, value] : describe(p)) comments << key << " = " << value << "\n";
-  comments << "seed = " << sensor.seed << "\nsample_interval = " << sensor.sample_interval << " s\n"
-           << "resolution = " << sensor.resolution << " m\nsensor_noise = " << sensor.sensor_noise << " m\n"
-           << "columns: t (s), x (" << to_string(unit) << ")" << (sensor.load_point ? ", F (N)" : "") << "\n";
-  io::write_atomically(o.synth_out + ".csv", record_csv(record, unit, comments.str()));
+  io::write_atomically(o.synth_out + ".csv", record_csv(record, unit, synth_comments(o, p, sensor)));
   std::cerr << "slidespec: wrote " << o.synth_out << ".csv (" << record.displacement.size()
             << " samples); analyse it with: slidespec analyze " << o.synth_out << ".csv --resolution "
             << util::format_number(sensor.resolution) << "m --sensor-noise " << util::format_number(sensor.sensor_noise)
@@ -287,7 +394,11 @@ namespace {
 
 /// analyze's options that read the record: its columns, units, channels, sampling and window.
 void add_record_options(CLI::App& analyze, Options& o) {
-  analyze.add_option("file", o.file, "CSV/TSV record ('-': stdin): a time column (or --dt) and a displacement column")
+  analyze
+      .add_option("file", o.files,
+                  "CSV/TSV record ('-': stdin): a time column (or --dt) and a displacement column; several records "
+                  "(or a quoted glob, 'runs/*.csv') are each analysed into PREFIX_STEM.tsv/.json/.png, and listed "
+                  "in PREFIX.tsv/.json")
       ->required();
   analyze.add_option("--column", o.format.column, "displacement column (default: x, or the only other column)");
   analyze.add_option("--time-column", o.format.time_column, "time column [s] (default: t or time)");
@@ -402,10 +513,27 @@ void add_synth_options(CLI::App& synth, Options& o) {
                                 "the quantizer",
                                 sensor_default.sensor_noise));
   synth.add_option("--seed", o.sensor.seed, with_default("random seed", static_cast<double>(sensor_default.seed)));
+  CLI::Option* strokes =
+      synth.add_option("--strokes", o.strokes,
+                       "a reciprocating record: K strokes of --stroke-length at the case's v, alternating in "
+                       "direction (the record's length follows; no --duration)");
+  CLI::Option* length =
+      synth.add_option("--stroke-length", o.stroke_length, "a stroke's length, bare in m or with a unit (2mm)");
+  CLI::Option* dwell = synth.add_option("--dwell", o.dwell, "a hold of T seconds at each reversal (default 0)");
+  CLI::Option* program = synth.add_option(
+      "--program", o.program,
+      "the drive, stretch after stretch: F1:T1,F2:T2,... (F x the case's v for T seconds; 0 a hold, negative "
+      "backwards; each speed the case at that speed), e.g. 1:100,0:2,1:100,3:100,0:10,0.3:290 (no --duration)");
+  strokes->needs(length);
+  length->needs(strokes);
+  dwell->needs(strokes);
+  for (CLI::Option* drive : {strokes, program}) drive->excludes(synth.get_option("--duration"));
+  strokes->excludes(program);
   synth.add_option("--units", o.synth_units, "unit of the x column: m|mm|um (default um)");
   synth.add_flag("--load-point", o.sensor.load_point,
                  "with drive = spring, what a rig records: x the load point's position, F (N) the spring's force "
                  "(analyze with --machine-stiffness k_drive)");
+  for (CLI::Option* drive : {strokes, program}) drive->excludes(synth.get_option("--load-point"));
   synth.add_option("--out", o.synth_out, "output prefix: PREFIX.csv (default record)");
 }
 

@@ -1,6 +1,9 @@
 // The options the model-facing commands share, analyze and synth as commands, and the
 // list of every command.
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 #include <limits>
@@ -9,6 +12,7 @@
 #include <vector>
 
 #include "cli/analyze.hpp"
+#include "cli/analyze_many.hpp"
 #include "cli/command.hpp"
 #include "io/tables.hpp"
 #include "util/numbers.hpp"
@@ -64,7 +68,9 @@ class AnalysisCommand final : public Command {
   Files files() const override {
     Files files;
     const CLI::App& c = subcommand();
-    if (c.get_name() == "analyze") {
+    if (c.get_name() == "analyze" && many_records(given("file"))) {
+      many_files(files);
+    } else if (c.get_name() == "analyze") {
       for (const std::string& path : given("file")) files.input(path, "analyze");
       files.outputs_of(one("--out", "analysis"), "--out", {".tsv", ".json", "." + one("--format", "png")});
     } else {
@@ -84,6 +90,22 @@ class AnalysisCommand final : public Command {
   }
 
  private:
+  /// analyze A B C: each record's outputs and the combined table. A record that cannot be
+  /// read is not refused here but reported as the records are analysed, and the rest go on;
+  /// the records that can are inputs, which no output may replace.
+  void many_files(Files& files) const {
+    const std::string out = one("--out", "analysis");
+    const std::vector<std::string> records = expand_record_paths(given("file"));
+    const std::vector<std::string> prefixes = record_prefixes(out, records);
+    for (std::size_t k = 0; k < records.size(); ++k) {
+      std::error_code ignored;
+      if (std::filesystem::is_regular_file(records[k], ignored) && access(records[k].c_str(), R_OK) == 0)
+        files.input(records[k], "analyze");
+      files.outputs_of(prefixes[k], "--out", {".tsv", ".json", "." + one("--format", "png")});
+    }
+    files.outputs_of(out, "--out", {".tsv", ".json"});
+  }
+
   std::vector<std::string> given(const std::string& name) const {
     const CLI::Option* option = subcommand().get_option_no_throw(name);
     return option == nullptr || option->count() == 0 ? std::vector<std::string>{} : option->results();

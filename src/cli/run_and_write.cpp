@@ -51,6 +51,8 @@ void refuse_state_left_at(const std::string& prefix, const std::string& option) 
 
 bool stopped_by_signal(const RunResult& result) { return !result.complete && stop_requested; }
 
+bool stop_asked() { return stop_requested; }
+
 int stopped_status() { return 128 + stop_signal; }
 
 void share_progress(std::vector<RunOptions>& runs, const std::vector<double>& work, Progress& progress) {

@@ -27,6 +27,8 @@ void catch_stop_signals();
 void refuse_state_left_at(const std::string& prefix, const std::string& option);
 /// Whether a signal stopped the run that came to `result` before its end.
 bool stopped_by_signal(const RunResult& result);
+/// Whether SIGINT or SIGTERM has asked to stop since catch_stop_signals.
+bool stop_asked();
 /// The exit status of a command a signal stopped: 128 + the signal.
 int stopped_status();
 

@@ -2,6 +2,7 @@
 // spectrum of their steady sliding against the noise put in.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -216,6 +217,45 @@ TEST(Strokes, ErrorBarsAreCalibratedOverSeeds) {
   EXPECT_GT(rms, 0.85);
   EXPECT_LT(rms, 1.15);
   EXPECT_GT(share, 0.92);
+}
+
+// A tribometer dwelling at each reversal: 50 strokes of 20 s at 100 um/s with a hold of `dwell` s
+// between strokes (shorter than a block's median can see, or a hold of its own).
+double dwelling_speed(double t, double dwell) {
+  const double phase = std::fmod(t, 2 * (20 + dwell));
+  if (phase < 20) return 100e-6;
+  if (phase < 20 + dwell) return 0;
+  if (phase < 40 + dwell) return -100e-6;
+  return 0;
+}
+
+TEST(Strokes, StrokesWithHoldsAtTheirEndsAreFoundAndOnlyTheirSlidingIsAnalysed) {
+  for (const double dwell : {0.5, 3.0}) {
+    const double period = 20 + dwell;
+    const Record record = make_record(
+        50 * period - dwell, [&](double t) { return dwelling_speed(t, dwell); }, 21);
+    const std::vector<SteadySegment> segments = steady_segments(record);
+    const std::optional<Strokes> strokes = find_strokes(segments, record.dt);
+    ASSERT_TRUE(strokes) << "dwell " << dwell;
+    ASSERT_EQ(strokes->middles.size(), 50u) << "dwell " << dwell;
+    EXPECT_NEAR(strokes->speed, 100e-6, 1e-6);
+    // Each middle inside its stroke's sliding, 10% of the stroke in from each end; none in a dwell.
+    for (std::size_t k = 0; k < 50; ++k) {
+      const SteadySegment& middle = strokes->middles[k];
+      EXPECT_GE(middle.start, double(k) * period + 1) << "dwell " << dwell << ", stroke " << k;
+      EXPECT_LE(middle.end, double(k) * period + 19) << "dwell " << dwell << ", stroke " << k;
+      EXPECT_GT(middle.end - middle.start, 12) << "dwell " << dwell << ", stroke " << k;
+      EXPECT_NEAR(std::fabs(middle.mean_speed), 100e-6, 2e-6);
+    }
+    if (dwell >= 2) {
+      EXPECT_EQ(std::count_if(segments.begin(), segments.end(),
+                              [](const SteadySegment& s) { return s.kind == SegmentKind::hold; }),
+                49);
+    }
+    std::vector<std::string> notes;
+    const RecordSpectrum s = analyze_strokes(record, *strokes, {}, notes);
+    EXPECT_GE(coverage(s), 0.85) << "dwell " << dwell;
+  }
 }
 
 // Strokes alone make a record reciprocating: a record with one reversal is two slides.
