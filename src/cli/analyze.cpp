@@ -262,12 +262,15 @@ int analyze_many(Options o) {
     one.out = prefixes[k];
     one.quiet = true;
     try {
+      refuse_unreadable_record(records[k]);
       const AnalysisReport report = analyze_read(one, plan, read_record_file(one.file, one.format));
       write_analysis(one, report);
       rows.push_back(record_row(records[k], prefixes[k], report, !o.window.empty()));
     } catch (const InputError& e) {
       rows.push_back(refused_row(records[k], worded(e.what(), FrontEnd::command_line)));
-      std::cerr << "slidespec: error: " << records[k] << ": " << rows.back().reason << "\n";
+      // The reader's refusals name the file already.
+      const bool named = rows.back().reason.rfind(records[k] + ":", 0) == 0;
+      std::cerr << "slidespec: error: " << (named ? "" : records[k] + ": ") << rows.back().reason << "\n";
     } catch (const io::WriteError& e) {
       rows.push_back(refused_row(records[k], std::string("not written: ") + e.what()));
       std::cerr << "slidespec: failed: " << records[k] << ": " << rows.back().reason << "\n";

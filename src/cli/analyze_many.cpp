@@ -1,6 +1,7 @@
 #include "cli/analyze_many.hpp"
 
 #include <glob.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -75,6 +76,13 @@ std::vector<std::string> expand_record_paths(const std::vector<std::string>& arg
     if (found != 0) throw InputError("analyze: the pattern '" + argument + "' matches no file");
   }
   return paths;
+}
+
+void refuse_unreadable_record(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) throw InputError(path + ": a directory, not a record");
+  if (!std::filesystem::exists(path, error)) throw InputError(path + ": no such file");
+  if (access(path.c_str(), R_OK) != 0) throw InputError(path + ": not readable");
 }
 
 std::vector<std::string> record_prefixes(const std::string& out, const std::vector<std::string>& records) {

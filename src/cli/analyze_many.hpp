@@ -18,6 +18,10 @@ bool many_records(const std::vector<std::string>& arguments);
 /// no file) expanded in name order. Throws InputError for a pattern that matches no file.
 std::vector<std::string> expand_record_paths(const std::vector<std::string>& arguments);
 
+/// Refuses (InputError naming it) a record that is a directory or not readable: among many
+/// records it is reported as they are analysed, not before (check_files sees only the others).
+void refuse_unreadable_record(const std::string& path);
+
 /// Each record's output prefix: OUT_STEM (OUT_run1 for run1.csv). Throws InputError for
 /// standard input among many, or two records of one stem (their outputs would collide).
 std::vector<std::string> record_prefixes(const std::string& out, const std::vector<std::string>& records);

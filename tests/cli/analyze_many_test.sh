@@ -43,6 +43,14 @@ row bad | cut -f16 | grep -q "line 3" || fail "bad: no reason: $(row bad)"
 grep -q '"named": 4' "$work/many.json" || fail "the combined JSON"
 [ "$(grep -c '"ok": true' "$work/many.json")" -eq 3 ] || fail "the combined JSON's ok"
 
+# A directory and a missing file among the records: each reported, the rest go on.
+"$bin" analyze "$work/g/plain.csv" "$work/g" "$work/g/none.csv" --no-plot --out "$work/odd" 2> "$work/odd.err"
+status=$?
+[ $status -eq 3 ] || fail "analyze with a directory and a missing file among the records exited $status, expected 3"
+grep -q "^slidespec: error: $work/g: a directory, not a record$" "$work/odd.err" || fail "a directory: $(cat "$work/odd.err")"
+grep -q "^slidespec: error: $work/g/none.csv: no such file$" "$work/odd.err" || fail "a missing file: $(cat "$work/odd.err")"
+[ "$(grep -vc '^#' "$work/odd.tsv")" -eq 4 ] || fail "the table of a directory and a missing file"
+
 # A quoted glob: the shell leaves it, analyze expands it; all records good, exit 0; the
 # figures too.
 rm "$work/g/bad.csv"
