@@ -79,10 +79,7 @@ expect_refused program-and-strokes "program" synth --program 1:10 --strokes 2 --
 mkdir -p "$work/slow"
 for k in 1 2 3 4 5 6 7 8; do synth_fast --duration 2000 --seed $k --out "$work/slow/r$k" 2> /dev/null; done
 start_in_background analyze "$work/slow/"r*.csv --no-plot --out "$work/cut"
-for _ in $(seq 600); do [ -s "$work/cut_r1.json" ] && break; sleep 0.1; done
-kill -INT $pid
-wait $pid
-status=$?
+interrupt_once_written "$work/cut_r1.json"
 [ $status -eq 130 ] || fail "an interrupted analyze of many exited $status, expected 130"
 [ -s "$work/cut.tsv" ] || fail "an interrupt left no combined table"
 rows=$(grep -vc '^#' "$work/cut.tsv")

@@ -30,3 +30,12 @@ start_in_background() {
   ( exec "$bin" "$@" ) &
   pid=$!
 }
+
+# interrupt_once_written FILE: waits (a minute at most) for FILE to hold something, then
+# interrupts the background command $pid and waits for it; its exit status in $status.
+interrupt_once_written() {
+  for _ in $(seq 600); do [ -s "$1" ] && break; sleep 0.1; done
+  kill -INT "$pid"
+  wait "$pid"
+  status=$?
+}
