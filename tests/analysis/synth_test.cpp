@@ -96,6 +96,18 @@ TEST(Synth, TheRecordFollowsTheProgram) {
   EXPECT_GT(std::fabs(x(5.5) - x(5)), 1e-3);  // the next stroke moves
 }
 
+TEST(Synth, ARigsLoadPointRecordTakesNoProgram) {
+  SensorRequest sensor = exact_sensor({{1, 10}, {0, 1}}, 1);
+  sensor.load_point = true;
+  const Parameters spring = ParameterBuilder("fast").set("drive", "spring").set("k_drive", "1000").build();
+  try {
+    synthesize_record(spring, sensor);
+    ADD_FAILURE() << "a load-point record with a program";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("{program}", 0), 0u) << e.what();
+  }
+}
+
 TEST(Synth, AProgramStretchOfNoLengthOrSpeedIsRefused) {
   for (const DriveStretch bad : {DriveStretch{1, 0}, DriveStretch{1, -1}, DriveStretch{std::nan(""), 1}}) {
     try {
