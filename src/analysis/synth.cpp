@@ -24,6 +24,17 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
     throw InputError("{resolution}: must be a length >= 0 in metres");
   if (!(sensor.sensor_noise >= 0 && std::isfinite(sensor.sensor_noise)))
     throw InputError("{sensor_noise}: must be a length >= 0 in metres");
+  // A step q at least the whole distance slid leaves a record of one or two readings: its
+  // spectrum would be the quantization's, none of the slider's.
+  const double slid = params.v * sensor.duration;
+  if (sensor.resolution >= slid) {
+    std::ostringstream message;
+    message << "{resolution}: " << sensor.resolution
+            << " m is no less than the whole distance slid, v {duration} = " << slid
+            << " m: the record would be one or two readings, no spectrum of the slider; give a resolution "
+            << "well below it";
+    throw InputError(message.str());
+  }
   const double samples = std::floor(sensor.duration / sensor.sample_interval) + 1;
   if (samples < 2 || samples > kMaxSamples) {
     std::ostringstream message;

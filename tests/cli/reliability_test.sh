@@ -207,6 +207,66 @@ if [ "${SLIDESPEC_TEST_SAMPLE:-1}" -le 1 ]; then
   [ -e coast.state ] || fail "SIGTERM inside a long realization: no state saved"
 fi
 
+# --- A window over a hold is no sliding: marked not ok (exit 3), its outputs written. Slide at
+# 10 um/s for 40 s, hold 40 s, slide 40 s, read by a sensor of 0.01 um noise.
+awk 'BEGIN { print "t (s),x (um)"; srand(5)
+             for (k = 0; k < 12000; ++k) { t = k * 0.01; x = t < 40 ? 10 * t : t < 80 ? 400 : 400 + 10 * (t - 80)
+                                            printf "%.2f,%.4f\n", t, x + 0.01 * (rand() - 0.5) } }' > held.csv
+"$bin" analyze held.csv --window 50:70 --out inhold --no-plot --quiet 2> err
+status=$?
+[ $status -eq 3 ] || fail "a window over a hold: exit status $status, expected 3: $(cat err)"
+grep -q -- "--window lies in a hold" err || fail "a window over a hold: no message saying so: $(cat err)"
+grep -q "^# spectrum_ok = false" inhold.tsv && grep -q '"ok": false' inhold.json \
+  || fail "a window over a hold is not marked in its outputs"
+"$bin" analyze held.csv --window 5:35 --out inslide --no-plot --quiet 2> err \
+  || fail "a window over the sliding before the hold: $(cat err)"
+
+# --- A run resumed into another prefix removes the state it was resumed from once its
+# outputs are written (that state would refuse a fresh run there); a part's stays for merge.
+start_in_background run $band --precision 0.02 --seed 3 --out from --quiet --no-plot --checkpoint-every 0.05
+for _ in $(seq 200); do [ -s from.state ] && break; sleep 0.05; done
+kill -INT $pid
+wait $pid
+if [ -e from.state ]; then
+  "$bin" run --resume from --out into --no-plot 2> err || fail "a run resumed into another prefix: $(cat err)"
+  [ -e into.tsv ] && [ ! -e into.state ] || fail "a run resumed into another prefix: its outputs missing"
+  [ -e from.state ] && fail "a run resumed into another prefix left the state it was resumed from"
+  grep -q "removed from.state: its run finished, written as into" err || fail "the removal is not said: $(cat err)"
+  "$bin" run $band --precision 0.02 --seed 3 --out from --quiet --no-plot || fail "a fresh run where the state was"
+  cmp -s <(grep -v '^#' from.tsv) <(grep -v '^#' into.tsv) || fail "the run resumed into another prefix differs from the undisturbed one"
+else
+  fail "an interrupted run saved no state to resume"
+fi
+"$bin" run --resume pa --out pa2 --save-state pa2.state --quiet --no-plot 2> err || fail "a part resumed elsewhere: $(cat err)"
+[ -e pa.state ] || fail "a part resumed into another prefix removed the state it was resumed from"
+
+# --- A signal ends analyze and synth without leaving their lock: a record on standard input
+# that does not end holds analyze in its reading; a long synth is ended while it works.
+mkfifo feed
+for sig in TERM INT HUP; do
+  "$bin" analyze - --out sig --no-plot --quiet < feed 2> /dev/null &
+  pid=$!
+  exec 7> feed
+  printf 't,x\n0,0\n' >&7
+  for _ in $(seq 100); do [ -e sig.lock ] && break; sleep 0.05; done
+  [ -e sig.lock ] || fail "analyze $sig: no lock taken while it reads"
+  kill -s $sig $pid
+  wait $pid
+  status=$?
+  exec 7>&-
+  [ $status -ge 128 ] || fail "analyze ended by SIG$sig: exit status $status"
+  [ -e sig.lock ] && fail "analyze ended by SIG$sig left sig.lock"
+  start_in_background synth --duration 1e5 --sample-interval 0.01 --out syn
+  for _ in $(seq 100); do [ -e syn.lock ] && break; sleep 0.05; done
+  sleep 0.2
+  kill -s $sig $pid
+  wait $pid
+  status=$?
+  [ $status -ge 128 ] || fail "synth ended by SIG$sig: exit status $status"
+  [ -e syn.lock ] && fail "synth ended by SIG$sig left syn.lock"
+  ls syn.* > /dev/null 2>&1 && fail "synth ended by SIG$sig left files: $(ls syn.*)"
+done
+
 # --- Messages name the cause: a stiff spring's omega_s sets the step, not --omega-max or the
 # estimator; a spring near the stall puts omega_s high, not --omega-min.
 expect_refused "a spring whose omega_s needs a step below the renewals' resolution" \
