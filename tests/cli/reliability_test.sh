@@ -230,7 +230,9 @@ grep -q "^# spectrum_ok = false" inhold.tsv && grep -q '"ok": false' inhold.json
 
 # --- A run resumed into another prefix removes the state it was resumed from once its
 # outputs are written (that state would refuse a fresh run there); a part's stays for merge.
-start_in_background run $band --precision 0.02 --seed 3 --out from --quiet --no-plot --checkpoint-every 0.05
+# (A run of seconds: the one used for the sweep's interrupt above.)
+long_run="--omega-min 0.1 --omega-max 1e4 --precision 0.003 --seed 3"
+start_in_background run $long_run --out from --quiet --no-plot --checkpoint-every 0.05
 for _ in $(seq 200); do [ -s from.state ] && break; sleep 0.05; done
 kill -INT $pid
 wait $pid
@@ -239,7 +241,7 @@ if [ -e from.state ]; then
   [ -e into.tsv ] && [ ! -e into.state ] || fail "a run resumed into another prefix: its outputs missing"
   [ -e from.state ] && fail "a run resumed into another prefix left the state it was resumed from"
   grep -q "removed from.state: its run finished, written as into" err || fail "the removal is not said: $(cat err)"
-  "$bin" run $band --precision 0.02 --seed 3 --out from --quiet --no-plot || fail "a fresh run where the state was"
+  "$bin" run $long_run --out from --quiet --no-plot || fail "a fresh run where the state was"
   cmp -s <(grep -v '^#' from.tsv) <(grep -v '^#' into.tsv) || fail "the run resumed into another prefix differs from the undisturbed one"
 else
   fail "an interrupted run saved no state to resume"
@@ -251,6 +253,7 @@ fi
 # that does not end holds analyze in its reading; a long synth is ended while it works.
 mkfifo feed
 for sig in TERM INT HUP; do
+  rm -f sig.lock syn.lock
   "$bin" analyze - --out sig --no-plot --quiet < feed 2> /dev/null &
   pid=$!
   exec 7> feed
