@@ -295,8 +295,8 @@ TEST(Run, AStallCaseDrivenThroughASpringSlidesAtV) {
 // equilibrium sets, v (1 + F / (F_drive - F_kin)), and passes marks only forward. The plan
 // counts the renewals beyond those of sliding at 2 v at six realization-steps each
 // (docs/run.md): against the marks 4096 realizations pass in 12.5 ms, within three standard
-// errors of their scatter (3.6 m/s of 53: a tenth off shows). (Counting the random forces' spread accelerating the mass over
-// the realization instead planned 0.26 m/s against about 50.)
+// errors of their scatter (3.6 m/s of 53: a tenth off shows). (Counting the random forces' spread accelerating the mass
+// over the realization instead planned 0.26 m/s against about 50.)
 TEST(Run, TheRenewalsOfACoastingBlockAreThoseThePlanCounts) {
   const Parameters p = ParameterBuilder().set("F_drive=5.000001").build();
   SubBand band;
