@@ -99,6 +99,7 @@ WaitingPlotter start_server() {
   }
   plotter.pid = child;
   plotter.socket = ends[0];
+  io::stop_on_signals(child);
   return plotter;
 }
 
@@ -119,6 +120,7 @@ int finish(WaitingPlotter& plotter, const std::vector<std::string>& args) {
   while (waitpid(plotter.pid, &status, 0) < 0)
     if (errno != EINTR) return 127;
   plotter.pid = -1;
+  io::stop_on_signals(0);
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
   return WIFEXITED(status) ? WEXITSTATUS(status) : 127;
 }

@@ -99,6 +99,46 @@ void sync_directory(const std::string& path) {
 }
 }  // namespace
 
+namespace {
+// What a signal handler removes: lock files held and temporaries of uncommitted sets, as
+// plain bytes in fixed slots. A slot is published by writing its path and then its first
+// byte, and withdrawn by clearing that byte, so the handler reads no half-made name.
+constexpr int kMostRemovable = 64;
+char removable[kMostRemovable][4096];
+std::atomic<int> removable_count{0};
+std::atomic<pid_t> removable_owner{0};  // a child forked to run the plotter removes none
+std::atomic<pid_t> child_stopped{0};
+
+void publish_removable(const std::string& path) {
+  if (path.empty() || path.size() >= sizeof removable[0]) return;
+  int k = 0;
+  const int count = removable_count.load();
+  while (k < count && removable[k][0] != '\0') ++k;
+  if (k == kMostRemovable) return;
+  std::memcpy(removable[k] + 1, path.c_str() + 1, path.size());
+  std::atomic_signal_fence(std::memory_order_seq_cst);
+  removable[k][0] = path[0];
+  removable_owner = ::getpid();
+  if (k == count) removable_count = k + 1;
+}
+
+void withdraw_removable(const std::string& path) {
+  const int count = removable_count.load();
+  for (int k = 0; k < count; ++k)
+    if (removable[k][0] != '\0' && path == removable[k]) removable[k][0] = '\0';
+}
+
+extern "C" void remove_files_and_end(int signal) {
+  // The plotter would go on writing a temporary removed here, or read a table gone.
+  if (const pid_t child = child_stopped.load(); child > 0) ::kill(child, SIGKILL);
+  if (::getpid() == removable_owner.load())
+    for (int k = 0; k < removable_count.load(); ++k)
+      if (removable[k][0] != '\0') ::unlink(removable[k]);
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+}  // namespace
+
 void write_atomically(const std::string& path, const std::string& content) {
   OutputSet one;
   one.add(path, content);
@@ -107,13 +147,22 @@ void write_atomically(const std::string& path, const std::string& content) {
 
 OutputSet::~OutputSet() {
   for (const Pending& p : pending_)
-    if (!p.temp.empty()) ::unlink(p.temp.c_str());
+    if (!p.temp.empty()) {
+      ::unlink(p.temp.c_str());
+      withdraw_removable(p.temp);
+    }
+}
+
+void OutputSet::forget_pending() {
+  for (const Pending& p : pending_) withdraw_removable(p.temp);
+  pending_.clear();
 }
 
 void OutputSet::add(const std::string& path, const std::string& content) {
   std::string temp = path + ".tmp.XXXXXX";
   const int fd = mkstemp(temp.data());
   if (fd < 0) throw WriteError("cannot create " + temp + ": " + std::strerror(errno));
+  publish_removable(temp);
   write_all(fd, temp, content);
   pending_.push_back({path, temp});
 }
@@ -123,6 +172,7 @@ std::string OutputSet::add_written_by_other(const std::string& path, const std::
   const int fd = mkstemps(temp.data(), static_cast<int>(extension.size()));
   if (fd < 0) throw WriteError("cannot create " + temp + ": " + std::strerror(errno));
   ::close(fd);
+  publish_removable(temp);
   pending_.push_back({path, temp});
   return temp;
 }
@@ -137,6 +187,7 @@ void OutputSet::drop(const std::string& path) {
   for (auto p = pending_.begin(); p != pending_.end(); ++p)
     if (p->path == path) {
       ::unlink(p->temp.c_str());
+      withdraw_removable(p->temp);
       p->temp.clear();
       return;
     }
@@ -170,7 +221,7 @@ void OutputSet::commit() {
       remove_backups();
       for (const Pending& p : pending_)
         if (!p.temp.empty()) ::unlink(p.temp.c_str());
-      pending_.clear();
+      forget_pending();
       throw WriteError("cannot keep the old " + kept + " while replacing it: " + why);
     }
   }
@@ -191,7 +242,7 @@ void OutputSet::commit() {
     const std::string failed = pending_[k].path;
     for (std::size_t j = k; j < pending_.size(); ++j)
       if (!pending_[j].temp.empty()) ::unlink(pending_[j].temp.c_str());
-    pending_.clear();
+    forget_pending();
     throw WriteError("cannot write " + failed + ": " + why + " (no output of the set was changed)");
   }
   remove_backups();
@@ -201,36 +252,14 @@ void OutputSet::commit() {
     sync_directory(p.path);
   }
   remove_stale_temporaries(committed);
-  pending_.clear();
+  forget_pending();
 }
-
-namespace {
-// The lock files held, for a signal handler to remove: plain bytes, written before the
-// count that publishes them, so the handler reads no half-made string.
-constexpr int kMostLockFiles = 16;
-char lock_files[kMostLockFiles][4096];
-std::atomic<int> lock_file_count{0};
-std::atomic<pid_t> lock_owner{0};  // a child forked to run the plotter holds none
-
-void publish_lock_file(const std::string& path) {
-  const int k = lock_file_count.load();
-  if (k == kMostLockFiles || path.size() >= sizeof lock_files[0]) return;
-  std::memcpy(lock_files[k], path.c_str(), path.size() + 1);
-  lock_owner = ::getpid();
-  lock_file_count = k + 1;
-}
-
-extern "C" void remove_locks_and_end(int signal) {
-  if (::getpid() == lock_owner.load())
-    for (int k = 0; k < lock_file_count.load(); ++k) ::unlink(lock_files[k]);
-  std::signal(signal, SIG_DFL);
-  std::raise(signal);
-}
-}  // namespace
 
 void remove_locks_on_signals() {
-  for (const int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) std::signal(signal, remove_locks_and_end);
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) std::signal(signal, remove_files_and_end);
 }
+
+void stop_on_signals(pid_t child) { child_stopped = child; }
 
 OutputLock::OutputLock(const std::vector<std::string>& prefixes) {
   for (const std::string& prefix : prefixes) {
@@ -253,7 +282,7 @@ OutputLock::OutputLock(const std::vector<std::string>& prefixes) {
       if (::fstat(fd, &opened) == 0 && ::stat(path.c_str(), &named) == 0 && opened.st_ino == named.st_ino &&
           opened.st_dev == named.st_dev) {
         held_.push_back({path, fd});
-        publish_lock_file(path);
+        publish_removable(path);
         break;
       }
       ::close(fd);
@@ -263,8 +292,8 @@ OutputLock::OutputLock(const std::vector<std::string>& prefixes) {
 }
 
 OutputLock::~OutputLock() {
-  lock_file_count = 0;  // one lock is alive at a time: a command's
   for (const Held& h : held_) {
+    withdraw_removable(h.path);
     ::unlink(h.path.c_str());
     ::close(h.fd);
   }

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <sys/types.h>
 #include <vector>
 
 namespace slidespec::io {
@@ -54,6 +55,7 @@ class OutputSet {
     std::string path, temp;
   };
   std::vector<Pending> pending_;
+  void forget_pending();
 };
 
 /// While alive, holds an exclusive lock on PREFIX.lock for each prefix (flock, released
@@ -76,9 +78,13 @@ class OutputLock {
 };
 
 /// From now on SIGINT, SIGTERM, SIGHUP and SIGQUIT remove the lock files this process holds
-/// before they end it as they would have: a command killed by a signal leaves no PREFIX.lock
-/// (run replaces the INT and TERM handlers with its own, which save its state first).
+/// and the temporaries of its uncommitted output sets before they end it as they would have: a command killed by a
+/// signal leaves no PREFIX.lock (run replaces the INT and TERM handlers with its own, which save its state first).
 void remove_locks_on_signals();
+
+/// From now on those signals first end `child` (the plotter, drawing into a temporary that
+/// they remove); 0 names none.
+void stop_on_signals(pid_t child);
 
 /// Removes `path` (a finished run's state) and flushes its directory, so the removal
 /// itself is durable; a file already gone is fine.

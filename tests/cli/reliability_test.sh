@@ -277,6 +277,28 @@ for sig in TERM INT HUP; do
   ls syn.* > /dev/null 2>&1 && fail "synth ended by SIG$sig left files: $(ls syn.*)"
 done
 
+# --- A signal while the figure is drawn: analyze ends its plotter and leaves no temporary
+# (a plotter that never finishes holds analyze in its figure).
+printf '#!/bin/sh\necho $$ > "%s/plotter.pid"\nexec sleep 60\n' "$PWD" > slow_plotter
+chmod +x slow_plotter
+for sig in TERM INT; do
+  rm -f plotter.pid
+  SLIDESPEC_PYTHON=$PWD/slow_plotter "$bin" analyze rec.csv --out fig --quiet 2> /dev/null &
+  pid=$!
+  for _ in $(seq 200); do ls fig.png.tmp.* > /dev/null 2>&1 && [ -s plotter.pid ] && break; sleep 0.05; done
+  ls fig.png.tmp.* > /dev/null 2>&1 || fail "analyze with a slow plotter: no figure temporary while it draws"
+  kill -s $sig $pid
+  wait $pid
+  status=$?
+  [ $status -ge 128 ] || fail "analyze ended by SIG$sig in its figure: exit status $status"
+  ls fig.* > /dev/null 2>&1 && fail "analyze ended by SIG$sig in its figure left files: $(ls fig.*)"
+  # Killed but not yet reaped (a zombie, where no init reaps) counts as ended.
+  case $(cut -d' ' -f3 "/proc/$(cat plotter.pid)/stat" 2> /dev/null) in
+    "" | Z*) ;;
+    *) fail "analyze ended by SIG$sig left its plotter running" ;;
+  esac
+done
+
 # --- Messages name the cause: a stiff spring's omega_s sets the step, not --omega-max or the
 # estimator; a spring near the stall puts omega_s high, not --omega-min.
 expect_refused "a spring whose omega_s needs a step below the renewals' resolution" \
