@@ -203,8 +203,8 @@ int write_analysis(const Options& o, const AnalysisReport& report) {
   io::OutputSet outputs;  // the table, the JSON and the picture appear together or not at all
   outputs.add(o.out + ".tsv", analysis_table(source, report));
   const nlohmann::ordered_json model_parameters = report.model ? io::parameters_json(*report.model) : nullptr;
-  outputs.add(o.out + ".json",
-              analysis_json(report, o.file, o.compare_case, model_parameters, FrontEnd::command_line).dump(2) + "\n");
+  outputs.add(o.out + ".json", io::json_file_text(analysis_json(report, o.file, o.compare_case, model_parameters,
+                                                                FrontEnd::command_line)));
   const std::string figure = o.figure.path(o.out);
   const bool plotted =
       !o.no_plot && plot({outputs.temporary(o.out + ".tsv")},

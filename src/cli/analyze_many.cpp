@@ -1,5 +1,7 @@
 #include "cli/analyze_many.hpp"
 
+#include "io/tables.hpp"
+
 #include <glob.h>
 #include <unistd.h>
 
@@ -171,7 +173,7 @@ std::string records_json(const std::vector<RecordRow>& rows, std::size_t named) 
          {"strokes", r.strokes},
          {"ok", r.ok},
          {"reason", r.reason}});
-  return doc.dump(2) + "\n";
+  return io::json_file_text(doc);
 }
 
 }  // namespace slidespec::cli

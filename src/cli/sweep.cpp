@@ -247,7 +247,7 @@ std::string sweep_json(const std::vector<SweepAxis>& axes, const std::vector<Swe
       entry["points"].push_back(io::run_point_json(run.parameters, point));
     doc["runs"].push_back(entry);
   }
-  return doc.dump(2) + "\n";
+  return io::json_file_text(doc);
 }
 
 }  // namespace slidespec::cli

@@ -48,6 +48,10 @@ nlohmann::ordered_json parameters_json(const Parameters& p) {
   return block;
 }
 
+std::string json_file_text(const nlohmann::ordered_json& doc) {
+  return doc.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+}
+
 std::string versions() {
   std::ostringstream out;
   out << "slidespec " << SLIDESPEC_VERSION << ", " << fftw_version << ", Eigen " << EIGEN_WORLD_VERSION << "."
@@ -254,7 +258,7 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                                 {"realizations", band.realizations},
                                 {"rounds", band.rounds}});
   for (const RunPoint& point : result.points) doc["points"].push_back(run_point_json(p, point));
-  return doc.dump(2) + "\n";
+  return json_file_text(doc);
 }
 
 }  // namespace slidespec::io

@@ -25,6 +25,11 @@ nlohmann::ordered_json parameters_json(const Parameters& p);
 /// program, as a run's outputs record it.
 std::string versions();
 
+/// A JSON document as an output file holds it (indented, newline-ended). Text that is not
+/// UTF-8 (a Latin-1 header of a record, say) is written with U+FFFD in place of the bytes
+/// it cannot hold, rather than failing the whole output set.
+std::string json_file_text(const nlohmann::ordered_json& doc);
+
 /// '#' lines: version, case (and label when keys were set), every parameter, and the
 /// landmarks of the theory. `case_name` may be a label "CASE + KEY=V, ...".
 std::string metadata_lines(const Parameters& p, const std::string& case_name);

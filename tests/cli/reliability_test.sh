@@ -277,6 +277,14 @@ for sig in TERM INT HUP; do
   ls syn.* > /dev/null 2>&1 && fail "synth ended by SIG$sig left files: $(ls syn.*)"
 done
 
+# --- A header that is not UTF-8 (Latin-1 "L\xe4nge") is written into the JSON with U+FFFD,
+# not a failed output set; among many records the others and the combined table follow.
+{ printf 't (s),L\344nge (um)\n'; for k in $(seq 0 999); do echo "$k,$((k * 5 + k % 7))"; done; } > latin1.csv
+"$bin" analyze latin1.csv --no-plot --out lat --quiet 2> err || fail "a Latin-1 header: exit status $?: $(cat err)"
+grep -q "L$(printf '\357\277\275')nge" lat.json || fail "a Latin-1 header: not written with U+FFFD"
+"$bin" analyze latin1.csv rec.csv --no-plot --out latmany --quiet 2> err || fail "a Latin-1 header among records: $(cat err)"
+[ -s latmany.json ] && [ -s latmany_rec.json ] || fail "a Latin-1 header among records: outputs missing"
+
 # --- A signal while the figure is drawn: analyze ends its plotter and leaves no temporary
 # (a plotter that never finishes holds analyze in its figure).
 printf '#!/bin/sh\necho $$ > "%s/plotter.pid"\nexec sleep 60\n' "$PWD" > slow_plotter
