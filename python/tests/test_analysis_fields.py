@@ -31,20 +31,26 @@ def command_line_fields(tmp_path, columns, options):
     return document
 
 
-# The options these records' notes name, as the command line and Python spell them: the
+# The options these records' texts name, as the command line and Python spell them: the
 # library's words are the same, each front end names its own options.
-SPELLINGS = {"--set ": ""}
+SPELLINGS = {"--set ": "", "--compare-case": "compare", "--fit": "fit", "--machine-stiffness": "machine_stiffness"}
 
 
-def in_pythons_words(text):
-    for command_line, python in SPELLINGS.items():
-        text = text.replace(command_line, python)
-    return text
+def in_pythons_words(value):
+    """The command line's document with each text as Python words it."""
+    if isinstance(value, dict):
+        return {key: in_pythons_words(v) for key, v in value.items()}
+    if isinstance(value, list):
+        return [in_pythons_words(v) for v in value]
+    if isinstance(value, str):
+        for command_line, python in SPELLINGS.items():
+            value = value.replace(command_line, python)
+    return value
 
 
 def assert_same_fields(got, expected):
     assert list(got) == list(expected)
-    expected["notes"] = [in_pythons_words(note) for note in expected["notes"]]
+    expected = in_pythons_words(expected)
     for key in expected:
         assert bits(got[key]) == bits(expected[key]), key
 
@@ -77,13 +83,19 @@ def test_strokes_are_the_command_lines_json_to_the_last_bit(tmp_path):
     assert_same_fields(got, expected)
 
 
-def test_the_rig_case_is_the_command_lines_json_to_the_last_bit(tmp_path):
+def rig_record():
+    """A rig's record: t, the load point v t read with 5 nm of noise, and the friction mu of
+    the spring's force over 10 MPa x 25 cm^2."""
     rig = ss.Parameters("reference", drive="spring", k_drive=1e8, v=3e-5, F_drive=15000, F_kin=14850,
                         k0=1e8 * 1e3 / 30, alpha=0.004, a=1e-5)
     t, x = ss.synth(rig, sample_interval=0.02, duration=300, resolution=0, sensor_noise=0, seed=3)
     xi = x - 3e-5 * t
     mu = (15000 - 1e8 * (xi - xi.mean())) / 25e3
-    load_point = 3e-5 * t + np.random.default_rng(3).normal(0, 5e-9, t.size)
+    return t, 3e-5 * t + np.random.default_rng(3).normal(0, 5e-9, t.size), mu
+
+
+def test_the_rig_case_is_the_command_lines_json_to_the_last_bit(tmp_path):
+    t, load_point, mu = rig_record()
     expected = command_line_fields(
         tmp_path, {"t": t, "x": load_point, "channel": mu},
         ["--force-column", "channel", "--force-units", "mu", "--normal-stress", "10MPa", "--contact-area", "0.0025",
@@ -92,6 +104,21 @@ def test_the_rig_case_is_the_command_lines_json_to_the_last_bit(tmp_path):
                      machine_stiffness=1e8, slider_mass=2, compare="rig", fit="alpha,a").to_dict()
     del got["points"]
     assert got["compare_case"] == "rig" and got["model_parameters"]["M"] == 2 and "mu" not in got
+    assert_same_fields(got, expected)
+
+
+def test_a_force_record_is_the_command_lines_json_to_the_last_bit(tmp_path):
+    t, load_point, mu = rig_record()
+    expected = command_line_fields(
+        tmp_path, {"t": t, "x": load_point, "channel": mu},
+        ["--force-column", "channel", "--force-units", "mu", "--normal-force", "25000", "--observable", "force",
+         "--fit", "power-law"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        got = ss.analyze(t, load_point, force=mu, force_units="mu", normal_force=25000, observable="force",
+                         fit="power-law").to_dict()
+    del got["points"]
+    assert got["observable"]["spectrum"] == "C_F" and got["mean_force"] > 0 and "power_law_fit" in got
     assert_same_fields(got, expected)
 
 
