@@ -6,15 +6,21 @@
 # changed), finished work lost (a run that finished or was interrupted and cannot be
 # brought back bitwise) and nonsense accepted (a refusal expected, exit 0 seen).
 # Usage: SLIDESPEC=build/slidespec [PYTHONPATH=build/python] tools/adversarial_sweep.sh [PART]
-# PART: refusals (files, numbers, options, figures, JSON, units: 826 attacks, 5 min),
-# results (stalls, theory, streams, memory, failed writes, Python: 74, 1 min), signals
-# (interrupts and resumes: 40, 1 min), or all (the default; times on 2 busy cores). Not
-# part of ctest.
+# PART: refusals (files, numbers, options, figures, JSON, units), results (stalls, theory,
+# streams, memory, failed writes, Python: 80 attacks, 1 min), signals (interrupts, resumes,
+# locks), or all (the default: 977 attacks, about 8 min on 2 busy cores). Not part of ctest.
+# PYTHONPATH may be relative: it is made absolute, as the attacks run in a scratch directory.
 set -u
 part=${1:-all}
 case "$part" in all | refusals | results | signals) ;; *) echo "unknown part '$part'" >&2; exit 2 ;; esac
 in_part() { [ "$part" = all ] || [ "$part" = "$1" ]; }
 bin=$(realpath "${SLIDESPEC:?set SLIDESPEC to the slidespec executable}")
+if [ -n "${PYTHONPATH:-}" ]; then
+  absolute=""
+  IFS=: read -ra entries <<< "$PYTHONPATH"
+  for entry in "${entries[@]}"; do absolute+="$(realpath -m "$entry"):"; done
+  export PYTHONPATH=${absolute%:}
+fi
 work=$(mktemp -d)
 logs=$(mktemp -d)
 trap 'rm -rf "$work" "$logs"' EXIT
@@ -603,7 +609,7 @@ if in_part refusals; then
   # before any (a late refusal shows as a hang), naming F_drive.
   refuse_naming "F_drive=5.000001, default band" "parameter F_drive: 5.000001 N" run --set F_drive=5.000001 --no-plot
   refuse_naming "F_drive=5.000001 at 10..100, a budget" "parameter F_drive: 5.000001 N" \
-    run --set F_drive=5.000001 --omega-min 10 --omega-max 100 --work-budget 1e10 --no-plot
+    run --set F_drive=5.000001 --omega-min 10 --omega-max 100 --realizations 8 --work-budget 1e9 --no-plot
   refuse_naming "F_drive=5+1e-12, default band" "parameter F_drive" run --set F_drive=5.000000000001 --no-plot
   refuse_naming "F_drive=5.000001 at 1..10" "parameter F_drive" run --set F_drive=5.000001 --omega-min 1 --omega-max 10 \
     --no-plot
@@ -615,6 +621,21 @@ if in_part refusals; then
     run --set drive=spring --set k_drive=200 --set F_drive=5.000001 --no-plot
   refuse_naming "spring near the stall in a sweep" "omega_s" \
     sweep k_drive=200,1e3 --set drive=spring --set F_drive=5.000001 --no-plot
+  # The outsider's last sweep: a coasting block at 100..1000 rad/s was planned at 5.6 m/s and
+  # ran minutes; columns named alike; times no double holds; a NUL cutting a message short;
+  # a sensor step swallowing the signal; a sweep range rounding to one value twice.
+  refuse_naming "F_drive=5.000001 at 100..1000, 5%" "parameter F_drive: 5.000001 N" \
+    run --set F_drive=5.000001 --omega-min 100 --omega-max 1000 --precision 0.05 --no-plot
+  awk 'BEGIN { print "t,x"; for (k = 0; k < 400; ++k) print k "e300," k * 1e-6 }' > t1e300.csv
+  refuse_naming "times x 1e300" "beyond 1e+30 s" analyze ../t1e300.csv --out a --no-plot
+  awk 'BEGIN { print "t,t,x"; for (k = 0; k < 400; ++k) print k * 0.01 "," k * 0.01 "," k * 1e-6 }' > tt.csv
+  refuse_naming "two time columns t,t,x" "2 columns 't'" analyze ../tt.csv --out a --no-plot
+  awk 'BEGIN { print "t,x,x"; for (k = 0; k < 400; ++k) print k * 0.01 "," k * 1e-6 "," k * 2e-6 }' > xx.csv
+  refuse_naming "x,x with --column x" "2 columns 'x'" analyze ../xx.csv --column x --out a --no-plot
+  printf 't,x\n0,1\n0.01,"2\0003"\n0.02,4\n' > nul.csv
+  refuse_naming "a NUL in a quoted field" "'2\\\\x003' is not a number" analyze ../nul.csv --out a --no-plot
+  refuse_naming "synth --resolution 1e308" "resolution" synth --resolution 1e308 --out s
+  refuse_naming "sweep N=10..12 log 5" "more than once" sweep "N=10..12 log 5" --no-plot
 fi
 if in_part results; then
   # A write the system refuses is a failure (1): standard output, a file-size limit, a figure.
@@ -643,11 +664,19 @@ if in_part results; then
   not_claimed "analyze a constant record" analyze ../flat.csv --out a --no-plot
   not_claimed "analyze an all-zero record" analyze ../zero.csv --out a --no-plot
   not_claimed "analyze --dt 1e-170" analyze $R --dt 1e-170 --out a --no-plot
+  # A window over a hold (10 um/s, held 40 s, 10 um/s) is the sensor at rest: exit 3.
+  awk 'BEGIN { print "t (s),x (um)"; srand(5)
+               for (k = 0; k < 12000; ++k) { t = k * 0.01; x = t < 40 ? 10 * t : t < 80 ? 400 : 400 + 10 * (t - 80)
+                                              printf "%.2f,%.4f\n", t, x + 0.01 * (rand() - 0.5) } }' > held.csv
+  not_claimed "analyze --window over a hold" analyze ../held.csv --window 50:70 --out a --no-plot
   # Python: arguments that would be ignored; the interpreter exiting while a daemon thread
   # runs ss.run ends cleanly (3 times).
   if [ -n "${PYTHONPATH:-}" ]; then
     for call in 'ss.run("reference", progress="yes")' \
-        'ss.run(ss.Parameters("reference", drive="spring", k_drive=[1e4]))'; do
+        'ss.run(ss.Parameters("reference", drive="spring", k_drive=[1e4]))' \
+        'ss.analyze(None, [0.0, 1.0, 2.0] * 100, dt=0.01, machine_stiffness=0)' \
+        'ss.analyze(None, [0.0, 1.0, 2.0] * 100, dt=0)' 'ss.analyze("rec.csv", [0.0, 1.0, 2.0] * 100)' \
+        'ss.analyze(None, [0.0, 1.0, 2.0] * 100, dt=0.01, fit_slope=(1,))'; do
       python_refused "$call"
     done
     for k in 1 2 3; do
@@ -665,25 +694,26 @@ fi
 if in_part signals; then
   # A signal inside one long realization (a block coasting near the stall, its warm-up or
   # its steps) ends the run within about a second, saving its state: else a hang.
-  for sig in INT TERM; do
-    for delay in 0.3 2; do
-      attacks=$((attacks + 1))
-      rm -f coast.*
-      "$bin" run --set F_drive=5.000001 --omega-min 10 --omega-max 100 --out coast --no-plot --quiet 2> /dev/null &
-      pid=$!
-      sleep $delay
-      kill -s $sig $pid 2> /dev/null
-      waited=0
-      while kill -0 $pid 2> /dev/null && [ $waited -lt 30 ]; do sleep 0.1; waited=$((waited + 1)); done
-      if kill -0 $pid 2> /dev/null; then
-        hangs=$((hangs + 1)); report HANG "SIG$sig after $delay s inside a long realization: still running 3 s later"
-        kill -KILL $pid 2> /dev/null
-      fi
-      wait $pid 2> /dev/null
-      status=$?
-      [ $status -ge 128 ] || { nonsense=$((nonsense + 1)); report NONSENSE "SIG$sig in a long realization: exit $status"; }
-      [ -e coast.state ] || { work_lost=$((work_lost + 1)); report LOST "SIG$sig in a long realization: no state"; }
-    done
+  # (At 100..1000 rad/s a second in, a fixed count: a precision there is refused.)
+  for attack_case in "INT 0.3 10" "INT 2 10" "TERM 0.3 10" "TERM 2 10" "INT 1 100"; do
+    read -r sig delay low <<< "$attack_case"
+    attacks=$((attacks + 1))
+    rm -f coast.*
+    "$bin" run --set F_drive=5.000001 --omega-min $low --omega-max $((low * 10)) --realizations 8 --out coast \
+      --no-plot --quiet 2> /dev/null &
+    pid=$!
+    sleep $delay
+    kill -s $sig $pid 2> /dev/null
+    waited=0
+    while kill -0 $pid 2> /dev/null && [ $waited -lt 30 ]; do sleep 0.1; waited=$((waited + 1)); done
+    if kill -0 $pid 2> /dev/null; then
+      hangs=$((hangs + 1)); report HANG "SIG$sig after $delay s inside a long realization at $low..: still running 3 s later"
+      kill -KILL $pid 2> /dev/null
+    fi
+    wait $pid 2> /dev/null
+    status=$?
+    [ $status -ge 128 ] || { nonsense=$((nonsense + 1)); report NONSENSE "SIG$sig in a long realization: exit $status"; }
+    [ -e coast.state ] || { work_lost=$((work_lost + 1)); report LOST "SIG$sig in a long realization: no state"; }
   done
   # An interrupt in a sweep's last run is an interrupt (130/143), as in an earlier run (at
   # 0.3%, so that the last run lasts seconds: at 1% the whole sweep takes half a second).
@@ -699,6 +729,47 @@ if in_part signals; then
     status=$?
     [ $status -ge 128 ] || { nonsense=$((nonsense + 1)); report NONSENSE "sweep, $sig in its last run: exit $status"; }
   done
+  # A run resumed into another prefix leaves no state behind at the one it came from.
+  attacks=$((attacks + 1))
+  rm -f from.* into.*
+  "$bin" run --omega-min 10 --omega-max 1000 --precision 0.1 --seed 5 --out from --no-plot --quiet \
+    --checkpoint-every 0.05 2> /dev/null &
+  pid=$!
+  sleep 0.5
+  kill -INT $pid 2> /dev/null
+  wait $pid 2> /dev/null
+  if [ -e from.state ]; then
+    "$bin" run --resume from --out into --no-plot --quiet 2> /dev/null
+    if ! cmp -s <(grep -v '^#' into.tsv) <(grep -v '^#' whole.tsv); then
+      work_lost=$((work_lost + 1)); report LOST "resumed into another prefix: the table differs"
+    elif [ -e from.state ]; then
+      other=$((other + 1)); report LEFT "resumed into another prefix: from.state stayed"
+    fi
+  fi
+  # A signal ends analyze (reading a record that does not end) and synth without their lock.
+  mkfifo feed
+  for sig in INT TERM HUP QUIT; do
+    attacks=$((attacks + 1))
+    "$bin" analyze - --out sig --no-plot --quiet < feed 2> /dev/null &
+    pid=$!
+    exec 7> feed
+    printf 't,x\n0,0\n' >&7
+    sleep 0.5
+    kill -s $sig $pid 2> /dev/null
+    wait $pid 2> /dev/null
+    exec 7>&-
+    [ -e sig.lock ] && { other=$((other + 1)); report LEFT "analyze ended by SIG$sig left its lock"; }
+    rm -f sig.*
+    attacks=$((attacks + 1))
+    "$bin" synth --duration 1e5 --sample-interval 0.01 --out syn 2> /dev/null &
+    pid=$!
+    sleep 0.5
+    kill -s $sig $pid 2> /dev/null
+    wait $pid 2> /dev/null
+    [ -e syn.lock ] && { other=$((other + 1)); report LEFT "synth ended by SIG$sig left its lock"; }
+    rm -f syn.*
+  done
+  rm -f feed core core.*
   # Two parts at once onto one --save-state: one is refused, the other's state stays whole.
   attacks=$((attacks + 1))
   rm -f same.state

@@ -147,6 +147,9 @@ struct Record {
   /// interval of the parts the record's time span overlaps.
   double interpolation_interval = 0;
   std::vector<std::string> notes;  ///< every choice made about the sampling, in words
+  /// Read with a window: the share of its samples that lie in holds of the whole record
+  /// (steady_segments of the record read without the window); 0 when not known.
+  double window_hold_share = 0;
 
   std::size_t samples() const { return displacement.empty() ? force.size() : displacement.size(); }
 };

@@ -2,7 +2,9 @@
 // throw it (a parameter, a request, a damaged file, a name it does not know).
 #pragma once
 
+#include <cstdio>
 #include <stdexcept>
+#include <string>
 
 namespace slidespec {
 
@@ -10,7 +12,26 @@ namespace slidespec {
 /// (or option) and what is wrong with it; the CLI prints it and exits with status 2.
 class InputError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit InputError(const std::string& what) : std::runtime_error(printable(what)) {}
+
+ private:
+  /// `text` with its control bytes written as \xNN: a NUL inside a quoted field would end
+  /// the message there, a newline in a file name would break its one line.
+  static std::string printable(const std::string& text) {
+    std::string out;
+    out.reserve(text.size());
+    for (const char c : text) {
+      const auto byte = static_cast<unsigned char>(c);
+      if (byte >= 0x20 && byte != 0x7f) {
+        out.push_back(c);
+        continue;
+      }
+      char escaped[5];
+      std::snprintf(escaped, sizeof escaped, "\\x%02x", static_cast<unsigned>(byte));
+      out += escaped;
+    }
+    return out;
+  }
 };
 
 /// Bad input that is a file the system will not give: missing, unreadable, or a place

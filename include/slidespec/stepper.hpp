@@ -36,6 +36,10 @@ struct StepperConfig {
   /// end well within a second however many renewals its steps hold: once set, the stepper
   /// throws StepperStopped. Pieces change no number (a lane's steps are the same sequence).
   const std::atomic<bool>* stop = nullptr;
+  /// Told the realization-steps (steps x realizations) of each piece of the warm-up as it
+  /// ends, on the stepping thread: near the stall one warm-up can take minutes, which a
+  /// progress line should show.
+  std::function<void(std::int64_t)> warm_up_progress;
 };
 
 /// What a stepper throws when its config's stop is set.

@@ -1,11 +1,12 @@
 """Measured records: their analysis, and synthetic ones."""
 
+import os as _os
 import warnings as _warnings
 
 import numpy as _np
 
 from . import _core
-from ._checks import _MOST_INT, _MOST_U64, _real, _whole
+from ._checks import _MOST_INT, _MOST_U64, _pair, _real, _whole
 from ._kinds import ModelWarning, RecordWarning
 from ._parameters import _SENSOR, _as_parameters
 from ._results import _Table, _value
@@ -51,7 +52,7 @@ class Analysis(_Table):
 
 
 def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, normal_stress=None,
-            normal_stress_units="MPa", contact_area=0.0, normal_force=0.0, machine_stiffness=0.0,
+            normal_stress_units="MPa", contact_area=0.0, normal_force=0.0, machine_stiffness=None,
             observable="auto", resolution=0.0, sensor_noise=0.0, omega_min=0.0, omega_max=0.0, points=8,
             fit_slope=None, compare=None, fit=None, fit_band=None, theory_order=2, time_tolerance=0.01,
             estimator="auto", window=None, resample="auto", friction_force=0.0, slider_mass=0.0):
@@ -63,7 +64,7 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
     force: the force channel (numpy array) in force_units "N", "kN", "MPa", "kPa" or "mu";
       a stress times contact_area [m^2], mu times normal_force [N] or times normal_stress
       (an array, or one number, in normal_stress_units "MPa" or "kPa") and contact_area.
-    machine_stiffness: K [N/m]: the observable is the slip x - F/K, and a compared case is
+    machine_stiffness: K [N/m] > 0 (None: no machine): the observable is the slip x - F/K, and a compared case is
       driven through a spring k_drive = K. observable: "auto" (slip with K, force with a
       force, else displacement), "displacement", "force" (C_F [N^2 s]) or "slip".
     resolution: the sensor's quantization step q [m]; sensor_noise: its rms noise [m];
@@ -102,6 +103,9 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
     (the sensor finer than resolution says, or a quantization floor that is not white). Raises ValueError for a
     malformed record or request.
     """
+    if isinstance(t, (str, bytes, _os.PathLike)):
+        raise TypeError(f"t: expected the sample times [s] (an array) or None, got the path {t!r}; analyze takes "
+                        "arrays: load the record first (numpy.loadtxt), or run `slidespec analyze FILE`")
     if x is None and force is None:
         raise ValueError("x: no positions given; give x [units], or force= (with force_units=) for a record "
                          "of a force alone")
@@ -137,6 +141,13 @@ def _format_and_plan(*, dt, units, force, force_units, normal_stress, normal_str
         if not isinstance(value, str):
             raise TypeError(f"{name}: expected a word (str), got {type(value).__name__} {value!r}")
     dt = 0.0 if dt is None else _real("dt", dt)
+    if t is None and not dt > 0:
+        raise ValueError(f"dt: {dt} s; without the sample times t, give the sampling interval dt > 0 [s]")
+    if machine_stiffness is not None and not _real("machine_stiffness", machine_stiffness) > 0:
+        raise ValueError(f"machine_stiffness: {machine_stiffness} N/m; a stiffness K > 0 gives the slip x - F/K "
+                         "(None: no slip)")
+    fit_slope = None if fit_slope is None else _pair("fit_slope", fit_slope)
+    fit_band = None if fit_band is None else _pair("fit_band", fit_band)
     time_tolerance = _real("time_tolerance", time_tolerance)
     omega_min, omega_max = _real("omega_min", omega_min), _real("omega_max", omega_max)
     resolution, sensor_noise = _real("resolution", resolution), _real("sensor_noise", sensor_noise)
@@ -159,7 +170,7 @@ def _format_and_plan(*, dt, units, force, force_units, normal_stress, normal_str
               "resample_interval": 0.0 if isinstance(resample, str) else float(resample),
               "force": channel, "force_units": force_units, "normal_stress": normal,
               "normal_stress_units": str(normal_stress_units), "contact_area": float(contact_area),
-              "normal_force": float(normal_force), "machine_stiffness": float(machine_stiffness),
+              "normal_force": float(normal_force), "machine_stiffness": float(machine_stiffness or 0),
               "normal_stress_value": _real("normal_stress", normal_stress) if constant_stress else 0.0,
               "observable": str(observable)}
     rig = isinstance(compare, str) and compare == "rig"

@@ -21,3 +21,10 @@ def _real(name, value):
     if isinstance(value, bool) or not isinstance(value, (int, float, _np.integer, _np.floating)):
         raise TypeError(f"{name}: expected a number, got {type(value).__name__} {value!r}")
     return float(value)
+
+
+def _pair(name, value):
+    """A band (low, high) as the command line's "LOW HIGH": two numbers, not text."""
+    if isinstance(value, (str, bytes)) or _np.ndim(value) != 1 or len(value) != 2:
+        raise TypeError(f"{name}: expected a pair (low, high), got {type(value).__name__} {value!r}")
+    return (_real(f"{name} low", value[0]), _real(f"{name} high", value[1]))

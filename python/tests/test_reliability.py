@@ -86,3 +86,18 @@ def test_messages_name_the_argument():
         ss.analyze(None, [0.0, 1.0, 2.0] * 100, dt=0.01, window="1:35")
     with pytest.raises(ValueError, match="parameter drive: b'spring'"):
         ss.Parameters("reference", drive=b"spring")
+
+
+@pytest.mark.parametrize("call, error, names", [
+    # 0 would be read as "no machine", the slip silently not taken
+    (lambda x: ss.analyze(None, x, dt=0.01, machine_stiffness=0), ValueError, "machine_stiffness: 0"),
+    (lambda x: ss.analyze(None, x, dt=0), ValueError, "dt: 0.0 s; without the sample times t"),
+    (lambda x: ss.analyze(None, x), ValueError, "dt: 0.0 s; without the sample times t"),
+    (lambda x: ss.analyze("record.csv", x), TypeError, "t: expected the sample times .* got the path 'record.csv'"),
+    (lambda x: ss.analyze(None, x, dt=0.01, fit_slope=(1,)), TypeError, r"fit_slope: expected a pair .* \(1,\)"),
+    (lambda x: ss.analyze(None, x, dt=0.01, fit_band=(1, "2")), TypeError, "fit_band high: expected a number"),
+])
+def test_bad_arguments_to_analyze_name_the_argument(call, error, names):
+    x = np.arange(600) * 1e-6
+    with pytest.raises(error, match=names):
+        call(x)

@@ -773,7 +773,7 @@ class RecordReader {
   int find_column(const std::string& name, const char* option, int line_number) const {
     const std::string wanted = unquoted(trim(name));  // as the header's fields are read
     const auto found = std::find(names_.begin(), names_.end(), wanted);
-    if (found != names_.end()) return static_cast<int>(found - names_.begin());
+    if (found != names_.end()) return named_once(static_cast<int>(found - names_.begin()), line_number);
     std::vector<int> matches;
     for (int k = 0; k < static_cast<int>(names_.size()); ++k)
       if (lower(without_bracket(names_[std::size_t(k)])) == lower(wanted) ||
@@ -785,6 +785,17 @@ class RecordReader {
     if (matches.empty())
       fail(line_number, std::string(option) + ": no column '" + name + "' (columns: " + column_list(names_) + ")");
     return matches.front();
+  }
+
+  /// `index`, refused when another column bears its header: which of two columns named
+  /// alike holds the numbers would be a guess.
+  int named_once(int index, int line_number) const {
+    const std::string& name = names_[static_cast<std::size_t>(index)];
+    const auto alike = std::count(names_.begin(), names_.end(), name);
+    if (alike > 1)
+      fail(line_number, "the header names " + std::to_string(alike) + " columns '" + name + "' (columns: " +
+                            column_list(names_) + "); which one is meant would be a guess: rename one");
+    return index;
   }
 
   void choose_columns(int line_number) {
@@ -816,6 +827,8 @@ class RecordReader {
     if (record_.observable != Observable::displacement) choose_force_column(line_number);
     // A force record keeps its displacement, when it has one, for the steady segments.
     choose_displacement_column(line_number, record_.observable != Observable::force);
+    for (const int chosen : {time_index_, x_index_, force_index_, normal_index_})
+      if (chosen >= 0) named_once(chosen, line_number);
     if (time_index_ >= 0) {
       const std::string& name = names_[static_cast<std::size_t>(time_index_)];
       // As with a length, a unit the header names and analyze cannot read is never taken
@@ -845,7 +858,7 @@ class RecordReader {
       std::vector<std::string> candidates;
       for (int k = 0; k < count; ++k)
         if (!taken(k) && is_displacement_name(split_unit(names_[k])) && force_like(names_[k]).empty()) {
-          if (x_index_ < 0) x_index_ = k;
+          if (x_index_ < 0) x_index_ = named_once(k, line_number);
           candidates.push_back(names_[static_cast<std::size_t>(k)]);
         }
       // Two columns that could each be the displacement (x (um), x (mm)): taking the first
@@ -1027,6 +1040,7 @@ class RecordReader {
   void finish() {
     if (normal_load_per_ > 0 && !record_.force.empty())
       record_.normal_force = normal_load_sum_ / double(record_.force.size());
+    record_.window_hold_share = format_.window ? window_hold_share() : 0.0;
     if (times_.empty()) {
       record_.dt = format_.dt;
       detail::apply_window(record_, format_, source_);
@@ -1036,6 +1050,33 @@ class RecordReader {
       detail::make_uniform(record_, times_, where_, source_, place_, format_);
     }
     check_slip();
+  }
+
+  /// The share of the window's time that lies in holds of the whole record: a hold is slow
+  /// only beside the record's sliding, so the segments are the whole record's. A record that
+  /// is not uniform without its window (a gap outside it) is not judged.
+  double window_hold_share() const {
+    if (record_.displacement.empty()) return 0;
+    RecordFormat whole = format_;
+    whole.window.reset();
+    Record full = record_;
+    try {
+      if (times_.empty())
+        full.dt = format_.dt;
+      else
+        detail::make_uniform(full, times_, where_, source_, place_, whole);
+    } catch (const InputError&) {
+      return 0;
+    }
+    const auto [t0, t1] = *format_.window;
+    double inside = 0, held = 0;  // [s]
+    for (const SteadySegment& s : steady_segments(full)) {
+      const double overlap = std::min(s.end, t1) - std::max(s.start, t0);
+      if (!(overlap > 0)) continue;
+      inside += overlap;
+      if (s.kind == SegmentKind::hold) held += overlap;
+    }
+    return inside > 0 ? held / inside : 0;
   }
 
   /// The slip x - F/K within the values a record may hold: a stiffness far too small (in
@@ -1055,6 +1096,9 @@ class RecordReader {
   }
 
   void take_time(double t, int line_number) {
+    // A record's times are bounded as its values are: times of 1e300 s give intervals and
+    // speeds a double cannot hold.
+    bounded(t, "s", line_number);
     if (!times_.empty() && !(t > times_.back()))
       fail(line_number,
            "time " + std::to_string(t) + " s does not increase (previous " + std::to_string(times_.back()) + " s)");
@@ -1083,6 +1127,9 @@ class RecordReader {
 
 void check_format(const RecordFormat& format) {
   if (format.dt < 0 || !std::isfinite(format.dt)) throw InputError("{dt}: must be a positive number of seconds");
+  if (format.dt > kLargestRecordValue)
+    throw InputError("{dt}: " + util::format_number(format.dt) + " s is beyond the " +
+                     util::format_number(kLargestRecordValue) + " s a record's times may reach");
   if (!(format.time_tolerance > 0 && format.time_tolerance < kLoosestTimeTolerance))
     throw InputError("{time_tolerance}: must lie between 0 and " + util::format_number(kLoosestTimeTolerance) +
                      " (exclusive), a share of the median interval; a record off by more is not uniform: {resample} "

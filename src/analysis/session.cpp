@@ -16,6 +16,9 @@ namespace {
 using detail::short_number;
 using Kind = AnalysisMessage::Kind;
 
+// A window more than this share of which the whole record calls a hold is a hold.
+constexpr double kMostHoldShare = 0.5;
+
 bool fits_model(const std::string& fit) { return !fit.empty() && fit != "alpha" && fit != "power-law"; }
 
 std::vector<AnalysisMessage> as_notes(const std::vector<std::string>& texts, const std::string& topic) {
@@ -265,6 +268,12 @@ AnalysisReport analyze(Record record, const AnalysisPlan& plan) {
   }
   r.spectrum.segments = r.segments;
   r.spectrum_verdict = detail::judge_spectrum(r.spectrum);
+  // A window over a hold is the sensor's noise at rest, not sliding noise.
+  if (plan.windowed && r.record.window_hold_share > kMostHoldShare && r.spectrum_verdict.ok)
+    r.spectrum_verdict = {false, named(Option::window) + " lies in a hold (" +
+                                     short_number(100 * r.record.window_hold_share) +
+                                     "% of it; the whole record's segments, " + named(Option::segments) +
+                                     "): the record does not slide there, so its spectrum is no sliding noise"};
   fit_power_and_slope(plan, r);
   if (!plan.compare_case.empty()) compare_model(plan, r, steps);
   r.warnings = warnings(r, plan);

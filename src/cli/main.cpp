@@ -42,8 +42,8 @@ int main(int argc, char** argv) {
   std::signal(SIGXFSZ, SIG_IGN);
   // A shell script's background job starts with SIGINT ignored: an interrupt must still end
   // the commands that hold nothing to save (analyze, synth, theory), as run's handler does its
-  // work. Their outputs are written as a set or not at all.
-  std::signal(SIGINT, SIG_DFL);
+  // work, and leave no lock file behind. Their outputs are written as a set or not at all.
+  io::remove_locks_on_signals();
   cli::Context context;
 #ifdef SLIDESPEC_MPI
   cli::MpiWorld mpi(argc, argv);

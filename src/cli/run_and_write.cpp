@@ -131,6 +131,23 @@ bool write_outputs(const Context& context, const RunSession& session, const RunR
   return true;
 }
 
+namespace {
+
+/// A run resumed from PREFIX.state into another --out has finished there, its outputs
+/// written: the checkpoint it was resumed from holds no more than they do, and left behind
+/// it would refuse the next fresh run at PREFIX. A part's state stays: merge may read it.
+void remove_resumed_state(const RunOptions& options, const std::string& out) {
+  const std::string state_path = out + ".state";
+  if (options.resume.empty()) return;
+  const std::string resumed = options.resume + ".state";
+  std::error_code ignored;
+  if (std::filesystem::equivalent(resumed, state_path, ignored) || !std::filesystem::exists(resumed, ignored)) return;
+  io::remove_durably(resumed);
+  if (!options.quiet) std::cerr << "slidespec: removed " << resumed << ": its run finished, written as " << out << "\n";
+}
+
+}  // namespace
+
 RunOutcome run_and_write(const Context& context, RunSession& session, const RunOptions& options,
                          const std::string& out) {
   const std::string state_path = out + ".state";
@@ -180,9 +197,9 @@ RunOutcome run_and_write(const Context& context, RunSession& session, const RunO
     const bool part_of_a_run =
         session.request().part ||
         (!options.save_state.empty() && std::filesystem::equivalent(options.save_state, state_path, ignored));
-    if (outcome.written && !part_of_a_run)
-      io::remove_durably(state_path);
-    else if (!outcome.written)
+    if (outcome.written && !part_of_a_run) io::remove_durably(state_path);
+    if (outcome.written && !session.request().part) remove_resumed_state(options, out);
+    if (!outcome.written)
       std::cerr << "slidespec: the finished run is kept in " << state_path
                 << "; write its outputs with: slidespec run --resume " << out << (options.no_plot ? " --no-plot" : "")
                 << "\n";

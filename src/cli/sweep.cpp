@@ -64,11 +64,17 @@ std::vector<std::string> range_values(const std::string& key, const std::string&
     if (count > 1000) throw InputError("sweep: '" + word + "' gives more than 1000 values");
     for (int k = 0; k < static_cast<int>(count); ++k) values.push_back(first + k * step);
   }
+  // Values that round to one (N=10..12 log 5: 10, 10, 11, 11, 12) would run twice and
+  // write once: refused, as the same value given twice in a list is.
   std::vector<std::string> texts;
-  for (double value : values) {
-    std::string text = grid_value(value, integer);
-    if (std::find(texts.begin(), texts.end(), text) == texts.end()) texts.push_back(text);
-  }
+  for (double value : values) texts.push_back(grid_value(value, integer));
+  for (std::size_t k = 1; k < texts.size(); ++k)
+    if (std::find(texts.begin(), texts.begin() + std::ptrdiff_t(k), texts[k]) != texts.begin() + std::ptrdiff_t(k)) {
+      std::string all;
+      for (const std::string& text : texts) all += (all.empty() ? "" : ", ") + text;
+      throw InputError("sweep: '" + word + "' gives the value " + texts[k] + " more than once (" + all + ")" +
+                       (integer ? ": " + key + " is a whole number" : "") + "; give fewer values");
+    }
   return texts;
 }
 

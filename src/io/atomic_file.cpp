@@ -5,8 +5,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cctype>
 #include <cerrno>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -202,6 +204,34 @@ void OutputSet::commit() {
   pending_.clear();
 }
 
+namespace {
+// The lock files held, for a signal handler to remove: plain bytes, written before the
+// count that publishes them, so the handler reads no half-made string.
+constexpr int kMostLockFiles = 16;
+char lock_files[kMostLockFiles][4096];
+std::atomic<int> lock_file_count{0};
+std::atomic<pid_t> lock_owner{0};  // a child forked to run the plotter holds none
+
+void publish_lock_file(const std::string& path) {
+  const int k = lock_file_count.load();
+  if (k == kMostLockFiles || path.size() >= sizeof lock_files[0]) return;
+  std::memcpy(lock_files[k], path.c_str(), path.size() + 1);
+  lock_owner = ::getpid();
+  lock_file_count = k + 1;
+}
+
+extern "C" void remove_locks_and_end(int signal) {
+  if (::getpid() == lock_owner.load())
+    for (int k = 0; k < lock_file_count.load(); ++k) ::unlink(lock_files[k]);
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+}  // namespace
+
+void remove_locks_on_signals() {
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) std::signal(signal, remove_locks_and_end);
+}
+
 OutputLock::OutputLock(const std::vector<std::string>& prefixes) {
   for (const std::string& prefix : prefixes) {
     const std::string path = prefix + ".lock";
@@ -223,6 +253,7 @@ OutputLock::OutputLock(const std::vector<std::string>& prefixes) {
       if (::fstat(fd, &opened) == 0 && ::stat(path.c_str(), &named) == 0 && opened.st_ino == named.st_ino &&
           opened.st_dev == named.st_dev) {
         held_.push_back({path, fd});
+        publish_lock_file(path);
         break;
       }
       ::close(fd);
@@ -232,6 +263,7 @@ OutputLock::OutputLock(const std::vector<std::string>& prefixes) {
 }
 
 OutputLock::~OutputLock() {
+  lock_file_count = 0;  // one lock is alive at a time: a command's
   for (const Held& h : held_) {
     ::unlink(h.path.c_str());
     ::close(h.fd);

@@ -75,6 +75,11 @@ class OutputLock {
   std::vector<Held> held_;
 };
 
+/// From now on SIGINT, SIGTERM, SIGHUP and SIGQUIT remove the lock files this process holds
+/// before they end it as they would have: a command killed by a signal leaves no PREFIX.lock
+/// (run replaces the INT and TERM handlers with its own, which save its state first).
+void remove_locks_on_signals();
+
 /// Removes `path` (a finished run's state) and flushes its directory, so the removal
 /// itself is durable; a file already gone is fine.
 void remove_durably(const std::string& path);

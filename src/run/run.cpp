@@ -50,8 +50,8 @@ constexpr double kMostLengthening = 10;
 // realization-steps per sub-band (about a minute on two cores; a block coasting near the
 // stall counts its extra renewals too, validate.cpp), whichever comes first, and
 // report the precision they reached. Where the random forces stall the block the spectrum
-// collapses and its scatter can keep any precision out of reach.
-constexpr double kMaxStepsPerBand = 2e9;
+// collapses and its scatter can keep any precision out of reach (kMaxStepsPerBand,
+// session.hpp).
 // Batches per process in one chunk: the unit of checkpoints, of the work shared between
 // processes and of what an interrupt can lose. It changes no number (every sum runs over
 // the batches in realization order), only how often the session can be saved.
@@ -277,9 +277,14 @@ std::vector<BatchRecord> run_batches_of(const Parameters& p, const SubBand& band
   std::map<std::size_t, BatchRecord> records;
   std::map<std::uint64_t, std::shared_ptr<SpectrumEstimator>> estimators, shadows;  // by first realization
   std::atomic<std::int64_t> lane_steps_done{0};
-  const double lane_steps_planned = static_cast<double>(count) * static_cast<double>(steps);
+  const double warm_steps = band.warm_up > 0 ? std::ceil(band.warm_up / band.warm_up_dt) : 0.0;
+  const double lane_steps_planned = static_cast<double>(count) * (static_cast<double>(steps) + warm_steps);
   StepperConfig stoppable = stepper_config;
   stoppable.stop = stop;  // heard inside a realization too, its warm-up included
+  stoppable.warm_up_progress = [&](std::int64_t lane_steps) {
+    const auto done = lane_steps_done += lane_steps;
+    if (chunk_progress) chunk_progress(static_cast<double>(done) / lane_steps_planned);
+  };
   try {
     run_batches(
         p, stoppable, first, count, steps, request.threads, kBatchRealizations,

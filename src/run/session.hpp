@@ -37,6 +37,8 @@ std::uint64_t first_round_realizations(const Parameters& params, const RunReques
 constexpr int kNumericsVersion = 8;
 // A precision-driven sub-band stops growing here (see run.cpp).
 constexpr std::uint64_t kMaxRealizationsPerBand = std::uint64_t{1} << 16;
+// ... or at this many realization-steps (see run.cpp).
+constexpr double kMaxStepsPerBand = 2e9;
 
 /// The request's own fields in range (validate.cpp); throws InputError naming the option.
 void check_request_fields(const RunRequest& request);

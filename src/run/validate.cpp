@@ -2,6 +2,7 @@
 // library (and so the Python bindings).
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <sstream>
 
 #include "estimator/design.hpp"
@@ -57,17 +58,27 @@ double random_force_spread(const Parameters& p) {
   return std::sqrt(variance);
 }
 
-/// How far the block's speed wanders from v under a constant force over `time` [m/s]: the
-/// random forces' spread against the drag (F_drive - F_kin)/v, or, where that drag is too
-/// weak to hold the block within `time`, what the spread accelerates the whole mass to.
-/// Next to the stall the second holds: F_drive = 5.000001 N at 10..100 rad/s coasts at
-/// about +-20 m/s (this gives 29). A spring holds the block near its load point instead.
-double speed_excursion(const Parameters& p, double time) {
+/// The spread of the speed a constant force's block slides at [m/s]: the speed its forces'
+/// equilibrium sets, v (1 + F / (F_drive - F_kin)) for a sum F of the random forces. A drag
+/// (F_drive - F_kin)/v too weak to move the block within a realization leaves it at the
+/// equilibrium of the forces it started with (F_drive = 5.000001 N: 132 m/s; measured at
+/// 100..1000 rad/s, 32 to 164 m/s and -85 within the first second, unchanged after 12 s).
+/// A spring holds the block near its load point instead.
+double speed_spread(const Parameters& p) {
   if (p.drive != Drive::force) return 0;
-  double mass = p.M;
-  for (int l = 1; l <= p.levels; ++l) mass += static_cast<double>(p.blocks(l)) * p.level(l).m;
-  const double spread = random_force_spread(p);
-  return std::min(p.v * spread / (p.F_drive - p.F_kin), spread * time / mass);
+  return p.v * random_force_spread(p) / (p.F_drive - p.F_kin);
+}
+
+/// The mean speed at which the block passes marks [m/s]: that of a Gaussian speed v +-
+/// speed_spread where forward, as backwards it passes none. 52.6 m/s for F_drive =
+/// 5.000001 N (measured: 47 m/s, 4.4e7 renewals in 21 s over 8 realizations). Where the
+/// drag is strong enough to follow the forces (F_drive = 5.01 N: 11 v) this is an upper
+/// bound: a block soon draws resisting forces, stalls and creeps back passing no mark.
+double forward_speed(const Parameters& p) {
+  const double spread = speed_spread(p);
+  if (!(spread > 0)) return p.v;
+  const double z = p.v / spread;
+  return p.v * 0.5 * std::erfc(-z / std::sqrt(2.0)) + spread * std::exp(-0.5 * z * z) / std::sqrt(2 * std::numbers::pi);
 }
 
 double block_weight(const Parameters& p) {
@@ -82,7 +93,7 @@ namespace run_detail {
 
 double renewal_excess_work(const Parameters& p, const SubBand& band) {
   const double time = band.warm_up + band.duration;
-  const double beyond = 1 + speed_excursion(p, time) / p.v - kPlannedSpeedRatio;
+  const double beyond = forward_speed(p) / p.v - kPlannedSpeedRatio;
   return beyond > 0 ? kRenewalWork * beyond * renewals_per_second(p) * time : 0.0;
 }
 
@@ -232,6 +243,40 @@ void check_realizations_give_segments(const RunRequest& r, const std::vector<Sub
                    (r.duration > 0 ? ", or a longer {duration}" : ""));
 }
 
+/// Why a block near the stall passes far more renewals than its plan foresaw, over the
+/// realizations of `band`: the start of a refusal.
+std::string coasting(const Parameters& p, const SubBand& band) {
+  const double time = band.warm_up + band.duration;
+  const double speed = forward_speed(p);
+  std::ostringstream drive;
+  drive.precision(15);
+  drive << p.F_drive;
+  return "parameter F_drive: " + drive.str() + " N lies only " + text(p.F_drive - p.F_kin) +
+         " N above F_kin, so the random forces (spread " + text(random_force_spread(p)) +
+         " N) can drive the block at about " + text(speed) + " m/s (" + text(speed / p.v) +
+         " v) forward on average through realizations of " + text(time) + " s, each passing about " +
+         text(speed * time * renewals_per_second(p) / p.v) + " renewals: ";
+}
+
+/// A precision-driven sub-band whose first round of a coasting block outgrows by itself
+/// what a sub-band may spend would stop after it, its precision out of reach: refused,
+/// before minutes of work that cannot give what was asked.
+void check_coasting_band_can_finish(const Parameters& p, const RunRequest& r, const std::vector<SubBand>& plan) {
+  if (r.realizations > 0) return;
+  for (const SubBand& band : plan) {
+    const double realizations = static_cast<double>(first_round_realizations(p, r, band));
+    const double steps = realizations * (std::ceil(band.duration / band.dt) +
+                                         (band.warm_up > 0 ? std::ceil(band.warm_up / band.warm_up_dt) : 0.0));
+    const double renewals = realizations * renewal_excess_work(p, band);
+    if (renewals <= steps || steps + renewals <= kMaxStepsPerBand) continue;
+    throw InputError(coasting(p, band) + "sub-band " + text(band.omega_low) + ".." + text(band.omega_high) +
+                     " rad/s plans " + text(steps + renewals) + " realization-steps in its first round of " +
+                     text(realizations) + " realizations, beyond the " + text(kMaxStepsPerBand) +
+                     " a sub-band may spend: it would stop there, its {precision} out of reach; move F_drive "
+                     "further from F_kin, raise {omega_min} (shorter realizations) or give {realizations}");
+  }
+}
+
 }  // namespace
 
 double planned_first_round_work(const Parameters& p, const RunRequest& r) {
@@ -263,6 +308,7 @@ void validate_request(const Parameters& p, const RunRequest& r) {
   check_plan(p, plan);
   check_duration_not_raised(r, plan);
   check_realizations_give_segments(r, plan);
+  check_coasting_band_can_finish(p, r, plan);
   const FirstRoundWork each = first_round(p, r, plan);
   const double work = each.steps + each.renewals;
   const double budget = r.work_budget > 0 ? r.work_budget : kDefaultWorkBudget;
@@ -273,21 +319,10 @@ void validate_request(const Parameters& p, const RunRequest& r) {
   const std::string option = r.realizations > 0 ? "{realizations}" : r.duration > 0 ? "{duration}" : "{omega_min}";
   // Name what drives most of the work: a block coasting near the stall, a stiff spring's
   // omega_s, else the option that sets how much is simulated.
-  if (each.renewals > each.steps) {
-    const SubBand& lowest = plan.front();
-    const double time = lowest.warm_up + lowest.duration;
-    const double speed = p.v + speed_excursion(p, time);
-    std::ostringstream drive;
-    drive.precision(15);
-    drive << p.F_drive;
-    throw InputError("parameter F_drive: " + drive.str() + " N lies only " + text(p.F_drive - p.F_kin) +
-                     " N above F_kin, so the random forces (spread " + text(random_force_spread(p)) +
-                     " N) can drive the block at about " + text(speed) + " m/s (" + text(speed / p.v) +
-                     " v) through realizations of " + text(time) + " s, each passing about " +
-                     text(speed * time * renewals_per_second(p) / p.v) + " renewals: " + plans + over +
+  if (each.renewals > each.steps)
+    throw InputError(coasting(p, plan.front()) + plans + over +
                      "; move F_drive further from F_kin, raise {omega_min} (shorter realizations) or raise "
                      "{work_budget}");
-  }
   if (each.spring > each.steps - each.spring) {
     const Landmarks l = landmarks(p);
     // The spring's share of the work scales with omega_s; the rest stays.

@@ -117,13 +117,21 @@ struct Stepper::Impl {
   /// thousands of renewal distances in one, so a piece is sized by its own time.
   void run_stoppable(PathState& s, const model::ExactStep& exact, double origin, std::int64_t done,
                      std::int64_t steps) {
-    if (!config.stop) return run_kernel(s, exact, origin, done, steps, 0);
+    const auto warming = [&](std::int64_t piece) {
+      // The shadow's warm-up runs beside the block's: told once.
+      if (warming_up && config.warm_up_progress && &s == &paths.front()) config.warm_up_progress(piece * count);
+    };
+    if (!config.stop) {
+      run_kernel(s, exact, origin, done, steps, 0);
+      return warming(steps);
+    }
     for (std::int64_t row = 0; row < steps;) {
       if (config.stop->load(std::memory_order_relaxed)) throw StepperStopped{};
       const std::int64_t piece = std::min(steps - row, piece_steps);
       const auto start = std::chrono::steady_clock::now();
       run_kernel(s, exact, origin, done + row, piece, row);
       row += piece;
+      warming(piece);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       if (seconds < 0.25 * kPieceSeconds)
         piece_steps = std::min(2 * piece_steps, chunk_steps);
@@ -158,7 +166,9 @@ struct Stepper::Impl {
             ? step
             : model::exact_step(lumped, warm_dt, {params.drive == Drive::spring, params.renewal_rate()});
     const auto warm_steps = static_cast<std::int64_t>(std::ceil(config.warm_up / warm_dt));
+    warming_up = true;
     run_paths(coarse, 0.0, 0, warm_steps, [](std::int64_t) {});
+    warming_up = false;
     // The kernel's own expression for v t at the warm-up's end, so the load continues there.
     steady_origin = params.v * warm_dt * static_cast<double>(warm_steps);
     for (PathState& s : paths) {
@@ -194,6 +204,7 @@ struct Stepper::Impl {
   // call's overhead.
   static constexpr double kPieceSeconds = 0.05;
   std::int64_t piece_steps = 1;     // steps per piece, grown or shrunk to take about kPieceSeconds
+  bool warming_up = false;          // the steps are the warm-up's (its progress is told)
   std::vector<PathState> paths;     // the block's, then its shadow's if asked for
   std::vector<double> xi_at_start;  // [lane], after a warm-up
   double steady_origin = 0;         // v t where the warm-up ended [m]

@@ -32,6 +32,13 @@ ln p.json hard.tsv
 printf '{"alpha": 0.5, "alpha": 0.7}' > dup.json
 printf '{"alpha": 0.5} trailing' > trail.json
 head -c 1100000 /dev/zero | tr '\0' ' ' > big.json
+# Records whose columns cannot be told apart, whose times no double holds, or with a NUL
+# inside a quoted field.
+awk 'BEGIN { print "t,t,x"; for (k = 0; k < 200; ++k) print k * 0.01 "," k * 0.01 "," k * 1e-6 }' > twot.csv
+awk 'BEGIN { print "t,x,x"; for (k = 0; k < 200; ++k) print k * 0.01 "," k * 1e-6 "," k * 2e-6 }' > twox.csv
+awk 'BEGIN { print "t,x"; for (k = 0; k < 200; ++k) print k "e300," k * 1e-6 }' > huge_t.csv
+awk 'BEGIN { print "x"; for (k = 0; k < 200; ++k) print k * 1e-6 }' > untimed.csv
+printf 't,x\n0,1\n0.01,"2\0003"\n0.02,4\n' > nul.csv
 long=$(printf 'n%.0s' $(seq 1 300))
 odd=$(printf 'odd\xff')
 
@@ -283,6 +290,18 @@ tree-too-big|blocks|run --case hierarchical --set N_2=100000 --no-plot
 merge-nothing|parts|merge
 plot-nothing|tables|plot -o x.png
 unknown-command|wobble|wobble
+# columns named alike, times beyond a double's reach, bytes a message must show, a sensor
+# that swallows the signal, a sweep range that rounds to one value twice
+record-two-time-columns|the header names 2 columns 't'|analyze twot.csv --out x --no-plot
+record-two-x-columns|the header names 2 columns 'x'|analyze twox.csv --out x --no-plot
+record-two-x-columns-named|the header names 2 columns 'x'|analyze twox.csv --column x --out x --no-plot
+record-times-1e300|1e+300 s is beyond 1e+30 s|analyze huge_t.csv --out x --no-plot
+analyze-dt-1e300|--dt: 1e+300 s is beyond|analyze untimed.csv --dt 1e300 --out x --no-plot
+record-nul-in-a-quoted-field|'2\x003' is not a number|analyze nul.csv --out x --no-plot
+synth-resolution-huge|--resolution: 1e+308 m is no less than the whole distance slid|synth --resolution 1e308
+synth-resolution-the-distance|--resolution|synth --duration 5 --resolution 2.5mm
+sweep-log-rounds-twice|gives the value 10 more than once (10, 10, 11, 11, 12): N is a whole number|sweep "N=10..12 log 5" --no-plot
+sweep-step-rounds-twice|more than once|sweep N=1:3:0.5 --no-plot
 unknown-option|--bogus|run --bogus
 TABLE
 

@@ -16,7 +16,7 @@ TEST(Sweep, RangesGiveTheValuesAUserMeans) {
   EXPECT_EQ(axes[1].values, (Values{"10", "18", "32", "56", "100"}));
   EXPECT_EQ(axes[2].values, (Values{"open", "ring"}));
   EXPECT_EQ(parse_sweep({"a=1e-4..1e-3", "lin", "3"})[0].values, (Values{"1e-04", "0.00055", "0.001"}));
-  EXPECT_EQ(parse_sweep({"N=1..3", "lin", "5"})[0].values, (Values{"1", "2", "3"}));  // rounded, no repeats
+  EXPECT_EQ(parse_sweep({"N=1..3", "lin", "3"})[0].values, (Values{"1", "2", "3"}));
   // Quoted as one argument, the same grid.
   EXPECT_EQ(parse_sweep({"N=10..100 log 5"})[0].values, axes[1].values);
 }
@@ -37,7 +37,11 @@ TEST(Sweep, MalformedWordsAreRefused) {
                                                 {"a=-1..1", "log", "3"},
                                                 {"alpha=1,,2"},
                                                 {"alpha=1", "alpha=2"},
-                                                {"alpha=x:1:0.1"}})
+                                                {"alpha=x:1:0.1"},
+                                                // values that round to one: 10, 10, 11, 11, 12
+                                                {"N=10..12", "log", "5"},
+                                                {"N=1..3", "lin", "5"},
+                                                {"N=1:3:0.5"}})
     EXPECT_THROW(parse_sweep(words), InputError) << words[0];
 }
 

@@ -163,6 +163,36 @@ TEST(Stepper, AWarmUpIsOutsideTheSummariesButMovesTheStart) {
   EXPECT_EQ(same, 0u);
 }
 
+// A warm-up tells its progress step by step, before any increment, with a stop or without
+// (pieces or whole chunks): near the stall one warm-up can take minutes, and its progress
+// line must move. Each realization's warm-up steps are told once, the shadow's not again.
+TEST(Stepper, AWarmUpTellsItsProgressBeforeTheFirstIncrements) {
+  const Parameters p = ParameterBuilder().set("a=1e-5").build();
+  for (const bool stoppable : {false, true}) {
+    StepperConfig config;
+    config.dt = 1e-4;
+    config.seed = 3;
+    config.warm_up = 0.5;
+    config.warm_up_dt = 1e-3;
+    config.shadow = true;
+    std::atomic<bool> stop{false};
+    if (stoppable) config.stop = &stop;
+    std::int64_t told = 0, told_before_increments = -1;
+    int calls = 0;
+    config.warm_up_progress = [&](std::int64_t realization_steps) {
+      told += realization_steps;
+      ++calls;
+    };
+    Stepper stepper(p, config, 0, 5);
+    stepper.advance(100, [&](const double*, std::size_t) {
+      if (told_before_increments < 0) told_before_increments = told;
+    });
+    EXPECT_EQ(told_before_increments, 5 * 500) << stoppable;
+    EXPECT_EQ(told, 5 * 500) << stoppable;
+    EXPECT_GE(calls, 1);
+  }
+}
+
 TEST(Stepper, ARealizationDoesNotDependOnItsBatch) {
   const Parameters p = ParameterBuilder().set("a=1e-5").build();
   StepperConfig config;
