@@ -388,6 +388,7 @@ struct RecordSpectrum {
   /// sensor reads finer than q, and the q^2/12 floor lies too high.
   bool readings_off_grid = false;
 
+  /// Whether any band is usable (else usable_low = usable_high = 0: the floor covers all).
   bool has_usable_band() const { return usable_high > usable_low; }
   /// A force record's mean [N]: its fitted trend at the middle of the record, where the
   /// trend's error least moves it.

@@ -111,6 +111,8 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
                          "of a force alone")
     options = {name: value for name, value in locals().items() if name not in ("t", "x")}
     record, plan = _format_and_plan(**options)
+    if t is None and not record["dt"] > 0:
+        raise ValueError(f"dt: {record['dt']} s; without the sample times t, give the sampling interval dt > 0 [s]")
     time = _np.empty(0) if t is None else _np.asarray(t, dtype=float).ravel()
     samples = _np.empty(0) if x is None else _np.asarray(x, dtype=float).ravel()
     return _analysis(*_core.analyze(time, samples, record, plan), stacklevel=3)
@@ -141,8 +143,6 @@ def _format_and_plan(*, dt, units, force, force_units, normal_stress, normal_str
         if not isinstance(value, str):
             raise TypeError(f"{name}: expected a word (str), got {type(value).__name__} {value!r}")
     dt = 0.0 if dt is None else _real("dt", dt)
-    if t is None and not dt > 0:
-        raise ValueError(f"dt: {dt} s; without the sample times t, give the sampling interval dt > 0 [s]")
     if machine_stiffness is not None and not _real("machine_stiffness", machine_stiffness) > 0:
         raise ValueError(f"machine_stiffness: {machine_stiffness} N/m; a stiffness K > 0 gives the slip x - F/K "
                          "(None: no slip)")
