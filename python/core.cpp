@@ -26,8 +26,8 @@
 
 #include "io/atomic_file.hpp"
 #include "io/tables.hpp"
-#include "analysis/report.hpp"
 #include "slidespec/analysis.hpp"
+#include "slidespec/many_records.hpp"
 #include "slidespec/options.hpp"
 #include "slidespec/parameters.hpp"
 #include "slidespec/run.hpp"
@@ -89,33 +89,12 @@ py::array_t<T> typed_column(const std::vector<Point>& points, Value value) {
   return out;
 }
 
-/// A document of the library (an analysis's fields) as Python objects, node by node.
-py::object to_python(const nlohmann::ordered_json& node) {
-  using Type = nlohmann::ordered_json::value_t;
-  switch (node.type()) {
-    case Type::object: {
-      py::dict out;
-      for (const auto& [key, value] : node.items()) out[py::str(key)] = to_python(value);
-      return py::object(out);
-    }
-    case Type::array: {
-      py::list out;
-      for (const auto& value : node) out.append(to_python(value));
-      return py::object(out);
-    }
-    case Type::string:
-      return py::str(node.get_ref<const std::string&>());
-    case Type::boolean:
-      return py::bool_(node.get<bool>());
-    case Type::number_integer:
-      return py::int_(node.get<std::int64_t>());
-    case Type::number_unsigned:
-      return py::int_(node.get<std::uint64_t>());
-    case Type::number_float:
-      return number(node.get<double>());
-    default:
-      return py::none();
-  }
+/// The parameters as PREFIX.json's "parameters" holds them: numbers typed as it types them.
+py::dict parameters_dict(const Parameters& p) {
+  py::dict d;
+  for (const auto& [key, value] : io::parameter_values(p))
+    std::visit([&d, &key = key](const auto& v) { d[py::str(key)] = field(v); }, value);
+  return d;
 }
 
 /// A run's fields, named and ordered as PREFIX.json names them (io::run_json).
@@ -127,7 +106,7 @@ py::dict run_fields(const RunSession& session, const RunResult& result) {
   d["versions"] = io::versions();
   d["case"] = io::case_of(session.case_name());
   d["label"] = session.case_name();
-  d["parameters"] = to_python(io::parameters_json(p));
+  d["parameters"] = parameters_dict(p);
   py::dict landmarks;
   for (const Landmark& mark : shown_landmarks(p, LandmarkOutput::json))
     std::visit([&](const auto& value) { landmarks[mark.row->key] = field(value); }, mark.value);
@@ -309,12 +288,11 @@ std::unique_ptr<Run> new_run(const std::string& case_name, const Overrides& over
   return std::make_unique<Run>(RunSession(params, r, io::run_label(case_name, params)));
 }
 
-/// The record a format dict describes: its channels as named columns, read as a file with
-/// that header is (units from the format).
-Record record_of(const Array& time, const Array& x, const py::dict& format) {
+/// How a format dict reads a record (its units, when None, from each file's header).
+RecordFormat format_of(const py::dict& format) {
   RecordFormat f;
   f.dt = format["dt"].cast<double>();
-  f.unit = parse_length_unit(format["units"].cast<std::string>());
+  if (!format["units"].is_none()) f.unit = parse_length_unit(format["units"].cast<std::string>());
   f.time_tolerance = format["time_tolerance"].cast<double>();
   if (!format["window"].is_none()) {
     const auto window = format["window"].cast<std::pair<double, double>>();
@@ -339,6 +317,13 @@ Record record_of(const Array& time, const Array& x, const py::dict& format) {
     f.normal_stress = parse_stress(util::format_number(stress) + format["normal_stress_units"].cast<std::string>(),
                                    "{normal_stress}");
   f.machine_stiffness = format["machine_stiffness"].cast<double>();
+  return f;
+}
+
+/// The record a format dict describes: its channels as named columns, read as a file with
+/// that header is (units from the format).
+Record record_of(const Array& time, const Array& x, const py::dict& format) {
+  RecordFormat f = format_of(format);
   std::vector<std::string> names;
   std::vector<std::vector<double>> columns;
   if (time.size() > 0) names.push_back("t"), columns.push_back(to_vector(time));
@@ -398,6 +383,177 @@ const char* kind_name(AnalysisMessage::Kind kind) {
   return "?";
 }
 
+/// A fit's dict with its verdict: ok, and why not (worded for Python).
+py::dict with_verdict(py::dict d, const Verdict& verdict) {
+  d["ok"] = verdict.ok;
+  d["failure"] = worded(verdict.reason, FrontEnd::python);
+  return d;
+}
+
+py::dict value_and_error(double value, double error) {
+  return py::dict(py::arg("value") = number(value), py::arg("standard_error") = number(error));
+}
+
+/// A matrix of doubles as lists of numbers (None for inf and nan), as the JSON writes it.
+template <class Rows>
+py::list matrix(const Rows& rows) {
+  py::list out;
+  for (const auto& row : rows) {
+    py::list values;
+    for (double value : row) values.append(number(value));
+    out.append(values);
+  }
+  return out;
+}
+
+py::dict slope_fit_fields(const SlopeFit& f, const Verdict& verdict) {
+  return with_verdict(
+      py::dict(py::arg("omega_low") = number(f.omega_low), py::arg("omega_high") = number(f.omega_high),
+               py::arg("points") = f.points, py::arg("slope") = number(f.slope),
+               py::arg("standard_error") = number(f.slope_error), py::arg("chi2_per_dof") = number(f.chi2_per_dof),
+               py::arg("amplitude") = number(f.amplitude), py::arg("force_slope") = number(f.force_slope()),
+               py::arg("reaches_floor") = f.reaches_floor),
+      verdict);
+}
+
+py::dict power_law_fields(const PowerLawFit& p, const Verdict& verdict) {
+  return with_verdict(
+      py::dict(py::arg("omega_low") = number(p.omega_low), py::arg("omega_high") = number(p.omega_high),
+               py::arg("pivot") = number(p.pivot), py::arg("points") = p.points, py::arg("dof") = p.dof,
+               py::arg("amplitude") = number(p.amplitude), py::arg("amplitude_error") = number(p.amplitude_error),
+               py::arg("slope") = number(p.slope), py::arg("slope_error") = number(p.slope_error),
+               py::arg("floor") = number(p.floor), py::arg("floor_error") = number(p.floor_error),
+               py::arg("floor_given") = p.floor_given, py::arg("correlation") = matrix(p.correlation),
+               py::arg("chi2_per_dof") = number(p.chi2_per_dof),
+               py::arg("slope_at_search_edge") = p.slope_at_search_edge,
+               py::arg("undetermined") = worded(p.undetermined, FrontEnd::python)),
+      verdict);
+}
+
+py::dict alpha_fit_fields(const AlphaFit& f, const Verdict& verdict) {
+  return with_verdict(
+      py::dict(py::arg("omega_low") = number(f.omega_low), py::arg("omega_high") = number(f.omega_high),
+               py::arg("points") = f.points, py::arg("alpha") = number(f.alpha),
+               py::arg("standard_error") = number(f.alpha_error), py::arg("chi2_per_dof") = number(f.chi2_per_dof),
+               py::arg("theory_order") = f.theory_order),
+      verdict);
+}
+
+py::dict model_fit_fields(const ModelFit& m, const Verdict& verdict) {
+  py::dict values;
+  for (std::size_t i = 0; i < m.names.size(); ++i)
+    values[py::str(m.names[i])] = value_and_error(m.values[i], m.errors[i]);
+  return with_verdict(py::dict(py::arg("omega_low") = number(m.omega_low), py::arg("omega_high") = number(m.omega_high),
+                               py::arg("points") = m.points, py::arg("dof") = m.dof, py::arg("parameters") = values,
+                               py::arg("names") = m.names, py::arg("covariance") = matrix(m.covariance),
+                               py::arg("floor") = number(m.floor), py::arg("floor_error") = number(m.floor_error),
+                               py::arg("floor_given") = m.floor_given,
+                               py::arg("alpha2_over_N") = value_and_error(m.amplitude, m.amplitude_error),
+                               py::arg("chi2_per_dof") = number(m.chi2_per_dof), py::arg("converged") = m.converged,
+                               py::arg("theory_order") = m.theory_order,
+                               py::arg("undetermined") = worded(m.undetermined, FrontEnd::python)),
+                      verdict);
+}
+
+/// The record's stretches and strokes, as analysis_json lists them.
+void add_segments(py::dict& d, const RecordSpectrum& s) {
+  py::list segments;
+  for (const SteadySegment& g : s.segments)
+    segments.append(py::dict(py::arg("start") = number(g.start), py::arg("end") = number(g.end),
+                             py::arg("kind") = to_string(g.kind), py::arg("mean_speed") = number(g.mean_speed),
+                             py::arg("hold") = g.hold));
+  d["segments"] = segments;
+  if (s.strokes)
+    d["strokes"] = py::dict(py::arg("count") = s.strokes->middles.size(), py::arg("speed") = number(s.strokes->speed),
+                            py::arg("middle_duration") = number(s.strokes->middle_duration),
+                            py::arg("lowest_omega") = number(s.strokes->lowest_omega));
+}
+
+/// How the spectrum was estimated, with Welch's segments and choices.
+py::dict estimator_fields(const RecordSpectrum& s) {
+  py::dict e(py::arg("name") = to_string(s.estimator),
+             py::arg("reason") = worded(s.estimator_reason, FrontEnd::python));
+  if (s.estimator == Estimator::welch) {
+    e["window"] = kWelchWindow;
+    e["overlap"] = kWelchOverlap;
+    e["prewhitening"] = kWelchPrewhitening;
+    e["segment_samples"] = s.welch.segment_samples;
+    e["segments"] = s.welch.segments;
+    e["bin_spacing"] = number(s.welch.bin_spacing);
+    e["leaky_points"] = s.leaky_points;
+  }
+  return e;
+}
+
+/// The spectrum's own fields, named and ordered as analysis_json's (its points apart).
+void add_spectrum_fields(py::dict& d, const AnalysisReport& r) {
+  const RecordSpectrum& s = r.spectrum;
+  add_segments(d, s);
+  py::dict observable(py::arg("name") = to_string(s.observable), py::arg("spectrum") = spectrum_name(s.observable),
+                      py::arg("unit") = spectrum_unit(s.observable), py::arg("channel") = s.channel);
+  if (s.observable != Observable::displacement) observable["force_channel"] = r.record.force_channel;
+  if (s.observable == Observable::slip) observable["machine_stiffness"] = number(r.record.machine_stiffness);
+  d["observable"] = observable;
+  d["spectrum_ok"] = r.spectrum_verdict.ok;
+  if (!r.spectrum_verdict.ok) d["spectrum_failure"] = worded(r.spectrum_verdict.reason, FrontEnd::python);
+  if (s.observable == Observable::force) {
+    d["mean_force"] = number(s.mean_force());
+    d["force_trend"] = value_and_error(s.sliding.v, s.sliding.v_error);
+    d["F_rms"] = number(s.sliding.xi_rms);
+  } else {
+    py::dict speed = value_and_error(s.sliding.v, s.sliding.v_error);
+    speed["blocks"] = s.sliding.blocks;
+    d["measured_mean_speed"] = speed;
+    d["xi_rms"] = number(s.sliding.xi_rms);
+  }
+  d["quantization_variance"] = number(s.quantization_variance);
+  d["top_to_floor"] = number(s.top_to_floor);
+  d["readings_off_grid"] = s.readings_off_grid;
+  d["usable_band"] =
+      py::dict(py::arg("omega_low") = number(s.usable_low), py::arg("omega_high") = number(s.usable_high),
+               py::arg("empty") = !s.has_usable_band(), py::arg("floor_above_spectrum") = s.floor_above_spectrum,
+               py::arg("top_set_by") = top_set_by(s));
+  d["estimator"] = estimator_fields(s);
+}
+
+/// An analysis's fields, named and ordered as `slidespec analyze`'s PREFIX.json (analysis_json)
+/// but its points: `file` in the record's fields unless empty, `model_parameters` the
+/// compared case's parameters.
+py::dict analysis_fields(const AnalysisReport& r, const std::string& file, const std::string& compare_case) {
+  const RecordSpectrum& s = r.spectrum;
+  py::dict d;
+  d["slidespec_version"] = SLIDESPEC_VERSION;
+  d["ok"] = r.ok();
+  py::dict record;
+  if (!file.empty()) record["file"] = file;
+  record["column"] = r.record.column;
+  record["units"] = to_string(r.record.unit);
+  record["units_from"] = r.record.unit_source;
+  record["samples"] = s.samples;
+  record["dt"] = number(s.dt);
+  record["duration"] = number(s.duration);
+  record["start_time"] = number(r.record.start_time);
+  record["end_time"] = number(r.end_time());
+  d["record"] = record;
+  add_spectrum_fields(d, r);
+  if (r.mu) d["mu"] = number(*r.mu);
+  d["resolution"] = number(r.request.resolution);
+  d["sensor_noise"] = number(r.request.sensor_noise);
+  py::list notes;
+  for (const AnalysisMessage& note : r.notes) notes.append(worded(note.text, FrontEnd::python));
+  d["notes"] = notes;
+  if (r.slope) d["slope_fit"] = slope_fit_fields(*r.slope, r.slope_verdict);
+  if (r.power_law) d["power_law_fit"] = power_law_fields(*r.power_law, r.power_law_verdict);
+  if (r.model_fit) d["model_fit"] = model_fit_fields(*r.model_fit, r.model_fit_verdict);
+  if (r.model) {
+    d["compare_case"] = compare_case;
+    d["model_parameters"] = parameters_dict(*r.model);
+    d["theory_order"] = r.model_order;
+  }
+  if (r.alpha) d["alpha_fit"] = alpha_fit_fields(*r.alpha, r.alpha_verdict);
+  return d;
+}
+
 /// An analysis's points as columns, named and ordered as `slidespec analyze`'s PREFIX.json
 /// names them, with each point's fit and residual when a power law or a model was fitted.
 py::dict analysis_columns(const AnalysisReport& report) {
@@ -405,7 +561,7 @@ py::dict analysis_columns(const AnalysisReport& report) {
   const std::vector<AnalysisPoint>& points = s.points;
   py::dict c;
   c["omega"] = column(points, [](const AnalysisPoint& q) { return q.omega; });
-  c[s.observable == Observable::force ? "C_F" : "C_x"] = column(points, [](const AnalysisPoint& q) { return q.C_x; });
+  c[spectrum_name(s.observable)] = column(points, [](const AnalysisPoint& q) { return q.C_x; });
   c["stderr"] = column(points, [](const AnalysisPoint& q) { return q.standard_error; });
   c["n_avg"] = column(points, [](const AnalysisPoint& q) { return q.n_avg; });
   c["bandwidth"] = column(points, [](const AnalysisPoint& q) { return q.bandwidth; });
@@ -436,8 +592,16 @@ py::dict analysis_columns(const AnalysisReport& report) {
   return c;
 }
 
-/// `slidespec analyze` of a record as (fields, columns, warnings): PREFIX.json's fields but its
-/// points, the points as columns, and each warning as (kind, topic, text) worded for Python.
+/// An analysis as (fields, columns, warnings): PREFIX.json's fields but its points, the
+/// points as columns, and each warning as (kind, topic, text) worded for Python.
+py::tuple analysis_result(const AnalysisReport& report, const std::string& file, const std::string& compare_case) {
+  py::list messages;
+  for (const AnalysisMessage& m : report.warnings)
+    messages.append(py::make_tuple(kind_name(m.kind), m.topic, worded(m.text, FrontEnd::python)));
+  return py::make_tuple(analysis_fields(report, file, compare_case), analysis_columns(report), messages);
+}
+
+/// `slidespec analyze` of a record given as arrays.
 py::tuple analyze_record(const Array& time, const Array& x, const py::dict& format, const py::dict& plan) {
   Record record = record_of(time, x, format);
   const AnalysisPlan p = plan_of(plan, !format["window"].is_none());
@@ -446,13 +610,41 @@ py::tuple analyze_record(const Array& time, const Array& x, const py::dict& form
     py::gil_scoped_release release;
     report = analyze(std::move(record), p);
   }
-  const nlohmann::ordered_json parameters = report.model ? io::parameters_json(*report.model) : nullptr;
-  nlohmann::ordered_json fields = analysis_json(report, "", p.compare_case, parameters, FrontEnd::python);
-  fields.erase("points");
-  py::list messages;
-  for (const AnalysisMessage& m : report.warnings)
-    messages.append(py::make_tuple(kind_name(m.kind), m.topic, worded(m.text, FrontEnd::python)));
-  return py::make_tuple(to_python(fields), analysis_columns(report), messages);
+  return analysis_result(report, "", p.compare_case);
+}
+
+/// A row of the combined table, named as `slidespec analyze A B C`'s OUT.json names it (None
+/// for a number not found, and for the segment of a record refused).
+py::dict row_dict(const RecordRow& r) {
+  return py::dict(py::arg("file") = r.file,
+                  py::arg("segment") = r.segment.empty() ? py::object(py::none()) : py::object(py::str(r.segment)),
+                  py::arg("start") = number(r.start), py::arg("end") = number(r.end), py::arg("v") = number(r.v),
+                  py::arg("v_err") = number(r.v_error), py::arg("usable_low") = number(r.usable_low),
+                  py::arg("usable_high") = number(r.usable_high), py::arg("slope") = number(r.slope),
+                  py::arg("slope_err") = number(r.slope_error), py::arg("alpha") = number(r.alpha),
+                  py::arg("alpha_err") = number(r.alpha_error), py::arg("strokes") = r.strokes, py::arg("ok") = r.ok,
+                  py::arg("reason") = worded(r.reason, FrontEnd::python));
+}
+
+/// `slidespec analyze A B C`: each record file analysed in order, as [(result or None when it
+/// was refused, its row)]; a plan no record satisfies is refused before any file is read.
+py::list analyze_files(const std::vector<std::string>& paths, const py::dict& format, const py::dict& plan) {
+  const RecordFormat f = format_of(format);
+  const AnalysisPlan p = plan_of(plan, f.window.has_value());
+  check_band(p.request);
+  check_plan(p, f.machine_stiffness);
+  py::list out;
+  for (const std::string& path : paths) {
+    RecordOfMany one;
+    {
+      py::gil_scoped_release release;
+      one = analyze_one_of_many(path, f, p);
+    }
+    const py::object result = one.report ? py::object(analysis_result(*one.report, path, p.compare_case)) : py::none();
+    out.append(py::make_tuple(result, row_dict(one.row)));
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C between two records
+  }
+  return out;
 }
 
 py::dict landmarks_dict(const std::string& case_name, const Overrides& overrides) {
@@ -621,6 +813,9 @@ void bind_analysis(py::module_& m) {
   m.def("analyze", &analyze_record,
         "`slidespec analyze` of a record: (PREFIX.json's fields but its points, the points as {name: numpy "
         "array}, [(kind, topic, text) of each warning]).");
+  m.def("analyze_files", &analyze_files,
+        "`slidespec analyze A B C`: per file, (analyze's triple, or None when the file was refused; its row of "
+        "the combined table as a dict).");
   m.def(
       "synthesize",
       [](const std::string& case_name, const Overrides& overrides, const py::dict& sensor) {

@@ -66,6 +66,8 @@ Observable parse_observable(const std::string& name);
 const char* to_string(Observable observable);
 /// "m^2 s" for a displacement or slip, "N^2 s" for a force: the unit of its spectrum.
 const char* spectrum_unit(Observable observable);
+/// "C_F" for a force, "C_x" for a displacement or slip: the name of its spectrum.
+const char* spectrum_name(Observable observable);
 
 /// What to do with sampling that is not uniform (docs/analysis.md).
 enum class Resampling {
@@ -290,6 +292,11 @@ struct WelchSpectrum {
   double bin_spacing = 0;           ///< 2 pi / (segment_samples dt) [rad/s]
 };
 
+/// The Welch estimate's fixed choices, as a report states them.
+inline constexpr const char* kWelchWindow = "hann";
+inline constexpr double kWelchOverlap = 0.5;
+inline constexpr const char* kWelchPrewhitening = "first differences, divided by 4 sin^2(omega dt / 2)";
+
 /// The segment length welch_spectrum chooses: the longest fast FFT length giving 8
 /// half-overlapping segments, longer (down to 4 segments) when omega_min asks for it.
 /// Throws InputError naming --omega-min and the lowest omega the record reaches.
@@ -380,6 +387,12 @@ struct RecordSpectrum {
   /// A resolution q was given, yet the displacement's steps are not whole multiples of it: the
   /// sensor reads finer than q, and the q^2/12 floor lies too high.
   bool readings_off_grid = false;
+
+  /// Whether any band is usable (else usable_low = usable_high = 0: the floor covers all).
+  bool has_usable_band() const { return usable_high > usable_low; }
+  /// A force record's mean [N]: its fitted trend at the middle of the record, where the
+  /// trend's error least moves it.
+  double mean_force() const { return sliding.x0 + sliding.v * duration / 2; }
 };
 
 /// Fits and removes v t, then estimates C_x(omega) with the SpectrumEstimator (one lane,
@@ -703,6 +716,8 @@ struct AnalysisReport {
   bool ok() const;
   /// Why not ok, the first reason of: the spectrum, the model fit, the power law, alpha, the slope.
   std::string failure() const;
+  /// The time of the last sample analysed [s, record time] (the first is record.start_time).
+  double end_time() const;
 };
 
 /// The analysis of `record` as `plan` asks: its steady stretch (unless windowed), the

@@ -202,7 +202,7 @@ RunResult run_spectrum(const Parameters& params, const RunRequest& request, cons
 
 /// Checks a request against its parameters before any work: every field in range, every
 /// derived step count and sub-band finite and representable, and the planned work within
-/// the budget. Throws InputError naming the option (e.g. "--duration: ...").
+/// the budget. Throws InputError naming the option by its id (e.g. "{duration}: ...").
 void validate_request(const Parameters& params, const RunRequest& request);
 
 /// The work a request plans before its first result, in the unit of `work_budget`: the

@@ -109,14 +109,40 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
     if x is None and force is None:
         raise ValueError("x: no positions given; give x [units], or force= (with force_units=) for a record "
                          "of a force alone")
+    options = {name: value for name, value in locals().items() if name not in ("t", "x")}
+    record, plan = _format_and_plan(**options)
+    if t is None and not record["dt"] > 0:
+        raise ValueError(f"dt: {record['dt']} s; without the sample times t, give the sampling interval dt > 0 [s]")
+    time = _np.empty(0) if t is None else _np.asarray(t, dtype=float).ravel()
+    samples = _np.empty(0) if x is None else _np.asarray(x, dtype=float).ravel()
+    return _analysis(*_core.analyze(time, samples, record, plan), stacklevel=3)
+
+
+def _analysis(data, columns, messages, stacklevel, about=""):
+    """The binding's (fields, columns, warnings) as an Analysis, each warning given at the
+    caller's `stacklevel` (prefixed by `about`, the file it is of among many)."""
+    for kind, _, text in messages:
+        if kind == "warning":
+            _warnings.warn(about + text, RecordWarning, stacklevel=stacklevel)
+        elif kind == "failed_fit":
+            _warnings.warn(about + text, ModelWarning, stacklevel=stacklevel)
+        else:
+            _warnings.warn(f"{about}not a spectrum (ok False): {text}", ModelWarning, stacklevel=stacklevel)
+    return Analysis(data, columns=columns)
+
+
+def _format_and_plan(*, dt, units, force, force_units, normal_stress, normal_stress_units, contact_area, normal_force,
+                     machine_stiffness, observable, resolution, sensor_noise, omega_min, omega_max, points, fit_slope,
+                     compare, fit, fit_band, theory_order, time_tolerance, estimator, window, resample,
+                     friction_force, slider_mass):
+    """analyze's keywords, checked, as the binding's (format, plan) dicts; units None: each
+    file's header says."""
     if isinstance(fit, (list, tuple)):
         fit = ",".join(str(name) for name in fit)
-    for name, value in (("units", units), ("estimator", estimator)):
+    for name, value in (("units", "m" if units is None else units), ("estimator", estimator)):
         if not isinstance(value, str):
             raise TypeError(f"{name}: expected a word (str), got {type(value).__name__} {value!r}")
     dt = 0.0 if dt is None else _real("dt", dt)
-    if t is None and not dt > 0:
-        raise ValueError(f"dt: {dt} s; without the sample times t, give the sampling interval dt > 0 [s]")
     if machine_stiffness is not None and not _real("machine_stiffness", machine_stiffness) > 0:
         raise ValueError(f"machine_stiffness: {machine_stiffness} N/m; a stiffness K > 0 gives the slip x - F/K "
                          "(None: no slip)")
@@ -134,12 +160,11 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
         if isinstance(window, (str, bytes)) or _np.ndim(window) != 1 or len(window) != 2:
             raise TypeError(f"window: expected a pair (t0, t1) [s], got {type(window).__name__} {window!r}")
         window = (_real("window t0", window[0]), _real("window t1", window[1]))
-    time = _np.empty(0) if t is None else _np.asarray(t, dtype=float).ravel()
-    samples = _np.empty(0) if x is None else _np.asarray(x, dtype=float).ravel()
     channel = None if force is None else _np.asarray(force, dtype=float).ravel()
     constant_stress = normal_stress is not None and _np.ndim(normal_stress) == 0
     normal = None if normal_stress is None or constant_stress else _np.asarray(normal_stress, dtype=float).ravel()
-    record = {"dt": float(dt or 0), "units": str(units), "time_tolerance": float(time_tolerance),
+    record = {"dt": float(dt or 0), "units": None if units is None else str(units),
+              "time_tolerance": float(time_tolerance),
               "window": None if window is None else (float(window[0]), float(window[1])),
               "resample": resample if isinstance(resample, str) else "interval",
               "resample_interval": 0.0 if isinstance(resample, str) else float(resample),
@@ -160,15 +185,7 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
             "fit": "" if fit is None else str(fit),
             "fit_band": None if fit_band is None else (float(fit_band[0]), float(fit_band[1])),
             "theory_order": int(theory_order)}
-    data, columns, messages = _core.analyze(time, samples, record, plan)
-    for kind, _, text in messages:
-        if kind == "warning":
-            _warnings.warn(text, RecordWarning, stacklevel=2)
-        elif kind == "failed_fit":
-            _warnings.warn(text, ModelWarning, stacklevel=2)
-        else:
-            _warnings.warn(f"not a spectrum (ok False): {text}", ModelWarning, stacklevel=2)
-    return Analysis(data, columns=columns)
+    return record, plan
 
 
 def synth(params="reference", *, sample_interval=_SENSOR["sample_interval"], duration=_SENSOR["duration"],

@@ -52,7 +52,7 @@ def _read_table(text, path):
         if body.startswith("slidespec ") and "=" not in body:
             data["slidespec_version"] = body.split()[1]
         elif match := _SUB_BAND.match(body):
-            b, low, high, dt, duration, warm_up, warm_up_dt, shadow, count = match.groups()
+            _, low, high, dt, duration, warm_up, warm_up_dt, shadow, count = match.groups()
             data.setdefault("sub_bands", []).append(
                 {"omega_low": float(low), "omega_high": float(high), "dt": float(dt),
                  "duration": float(duration), "warm_up": float(warm_up), "warm_up_dt": float(warm_up_dt),

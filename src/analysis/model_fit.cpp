@@ -249,16 +249,21 @@ Eigen::MatrixXd fill_fit(const FitProblem& f, const Eigen::VectorXd& theta, cons
   return covariance;
 }
 
+// Why an error is not a number: the curvature of chi2 vanishes along some direction (a
+// parameter the band's spectrum does not depend on), and the covariance has no inverse.
+constexpr const char* kSingular = "singular covariance: the band does not depend on it";
+
 /// What the band leaves open, in words.
 std::string undetermined(const ModelFit& fit, const std::vector<std::string>& names, const Eigen::MatrixXd& covariance,
                          Observable observable) {
   const int model_count = static_cast<int>(names.size());
   std::string said;
   const auto say = [&](const std::string& sentence) { said += (said.empty() ? "" : "; ") + sentence; };
-  for (int i = 0; i < model_count; ++i)
-    if (!(fit.errors[std::size_t(i)] < kUndeterminedRelativeError * fit.values[std::size_t(i)]))
-      say(names[std::size_t(i)] + " is not determined by the band (relative error " +
-          short_number(fit.errors[std::size_t(i)] / fit.values[std::size_t(i)]) + ")");
+  for (int i = 0; i < model_count; ++i) {
+    const std::string why =
+        detail::undetermined_parameter(names[std::size_t(i)], fit.values[std::size_t(i)], fit.errors[std::size_t(i)]);
+    if (!why.empty()) say(why);
+  }
   for (int i = 0; i < model_count; ++i)
     for (int k = i + 1; k < model_count; ++k) {
       const double c = covariance(i, k) / std::sqrt(covariance(i, i) * covariance(k, k));
@@ -266,7 +271,9 @@ std::string undetermined(const ModelFit& fit, const std::vector<std::string>& na
         say("only a combination of " + names[std::size_t(i)] + " and " + names[std::size_t(k)] +
             " is determined (correlation " + short_number(c) + ")");
     }
-  if (!fit.floor_given && !(fit.floor > 2 * fit.floor_error))
+  if (!fit.floor_given && !std::isfinite(fit.floor_error))
+    say("the white floor is not determined (" + std::string(kSingular) + ")");
+  else if (!fit.floor_given && !(fit.floor > 2 * fit.floor_error))
     say("the white floor is not determined (at most " + short_number(fit.floor + 2 * fit.floor_error) + " " +
         spectrum_unit(observable) + ")");
   say("N and alpha are not separated: the spectrum's level is alpha^2/N = " + short_number(fit.amplitude) +
@@ -282,6 +289,16 @@ std::string undetermined(const ModelFit& fit, const std::vector<std::string>& na
 }
 
 }  // namespace
+
+namespace detail {
+
+std::string undetermined_parameter(const std::string& name, double value, double error) {
+  if (!std::isfinite(error)) return name + " is not determined by the band (" + kSingular + ")";
+  if (error < kUndeterminedRelativeError * value) return "";
+  return name + " is not determined by the band (relative error " + short_number(error / value) + ")";
+}
+
+}  // namespace detail
 
 ModelFit fit_model(const RecordSpectrum& spectrum, const Parameters& start, const std::vector<std::string>& names,
                    double omega_low, double omega_high, ModelOrder order) {

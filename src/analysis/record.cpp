@@ -274,6 +274,7 @@ Observable parse_observable(const std::string& name) {
 const char* to_string(Observable observable) { return detail::name_of(kObservableWords, observable); }
 
 const char* spectrum_unit(Observable observable) { return observable == Observable::force ? "N^2 s" : "m^2 s"; }
+const char* spectrum_name(Observable observable) { return observable == Observable::force ? "C_F" : "C_x"; }
 
 Observable chosen_observable(const RecordFormat& format) {
   if (format.observable != Observable::automatic) return format.observable;

@@ -26,7 +26,7 @@ std::string no_usable_band_for_fit(const std::string& fit) {
 namespace slidespec {
 
 std::string top_set_by(const RecordSpectrum& s) {
-  if (!(s.usable_high > s.usable_low)) return detail::kNoUsableBand;
+  if (!s.has_usable_band()) return detail::kNoUsableBand;
   if (s.usable_high_set_by_floor) return "the sensor floor reaching 10% of the spectrum";
   if (s.top_set_by_interpolation)
     return "the interpolation filter of resampling samples " + detail::short_number(s.interpolation_interval) +
@@ -40,7 +40,8 @@ std::string top_set_by(const RecordSpectrum& s) {
 
 namespace slidespec::detail {
 
-nlohmann::ordered_json spectrum_json(const RecordSpectrum& s, const std::vector<double>& theory) {
+nlohmann::ordered_json spectrum_json(const RecordSpectrum& s, const Verdict& verdict,
+                                     const std::vector<double>& theory) {
   nlohmann::ordered_json doc;
   doc["segments"] = nlohmann::ordered_json::array();
   for (const SteadySegment& g : s.segments)
@@ -55,16 +56,15 @@ nlohmann::ordered_json spectrum_json(const RecordSpectrum& s, const std::vector<
                       {"middle_duration", s.strokes->middle_duration},
                       {"lowest_omega", s.strokes->lowest_omega}};
   const bool force = s.observable == Observable::force;
-  const char* name = force ? "C_F" : "C_x";
+  const char* name = spectrum_name(s.observable);
   doc["observable"] = {{"name", to_string(s.observable)},
                        {"spectrum", name},
                        {"unit", spectrum_unit(s.observable)},
                        {"channel", s.channel}};
-  const Verdict verdict = judge_spectrum(s);
   doc["spectrum_ok"] = verdict.ok;
   if (!verdict.ok) doc["spectrum_failure"] = verdict.reason;
   if (force) {
-    doc["mean_force"] = s.sliding.x0 + s.sliding.v * s.duration / 2;
+    doc["mean_force"] = s.mean_force();
     doc["force_trend"] = {{"value", s.sliding.v}, {"standard_error", s.sliding.v_error}};
     doc["F_rms"] = s.sliding.xi_rms;
   } else {
@@ -77,14 +77,14 @@ nlohmann::ordered_json spectrum_json(const RecordSpectrum& s, const std::vector<
   doc["readings_off_grid"] = s.readings_off_grid;
   doc["usable_band"] = {{"omega_low", s.usable_low},
                         {"omega_high", s.usable_high},
-                        {"empty", !(s.usable_high > s.usable_low)},
+                        {"empty", !s.has_usable_band()},
                         {"floor_above_spectrum", s.floor_above_spectrum},
                         {"top_set_by", top_set_by(s)}};
   doc["estimator"] = {{"name", to_string(s.estimator)}, {"reason", s.estimator_reason}};
   if (s.estimator == Estimator::welch) {
-    doc["estimator"]["window"] = "hann";
-    doc["estimator"]["overlap"] = 0.5;
-    doc["estimator"]["prewhitening"] = "first differences, divided by 4 sin^2(omega dt / 2)";
+    doc["estimator"]["window"] = kWelchWindow;
+    doc["estimator"]["overlap"] = kWelchOverlap;
+    doc["estimator"]["prewhitening"] = kWelchPrewhitening;
     doc["estimator"]["segment_samples"] = s.welch.segment_samples;
     doc["estimator"]["segments"] = s.welch.segments;
     doc["estimator"]["bin_spacing"] = s.welch.bin_spacing;
@@ -283,7 +283,7 @@ nlohmann::ordered_json analysis_json(const AnalysisReport& r, const std::string&
                         {"samples", s.samples},
                         {"dt", s.dt},
                         {"duration", s.duration}});
-  nlohmann::ordered_json spectrum = detail::spectrum_json(s, r.model_values);
+  nlohmann::ordered_json spectrum = detail::spectrum_json(s, r.spectrum_verdict, r.model_values);
   nlohmann::ordered_json points = std::move(spectrum["points"]);
   spectrum.erase("points");
   doc.update(spectrum);  // in the spectrum's order; its points come last, after the fits
@@ -294,9 +294,8 @@ nlohmann::ordered_json analysis_json(const AnalysisReport& r, const std::string&
   doc["sensor_noise"] = r.request.sensor_noise;
   doc["notes"] = nlohmann::ordered_json::array();
   for (const AnalysisMessage& note : r.notes) doc["notes"].push_back(worded(note.text, reader));
-  // The span analyzed, in record time; its last sample counted in displacement samples.
   doc["record"]["start_time"] = r.record.start_time;
-  doc["record"]["end_time"] = r.record.start_time + double(r.record.displacement.size() - 1) * r.record.dt;
+  doc["record"]["end_time"] = r.end_time();
   if (r.slope) doc["slope_fit"] = detail::slope_fit_json(*r.slope, r.slope_verdict);
   if (r.power_law) doc["power_law_fit"] = detail::power_law_json(*r.power_law, r.power_law_verdict);
   if (r.model_fit) doc["model_fit"] = detail::model_fit_json(*r.model_fit, r.model_fit_verdict);

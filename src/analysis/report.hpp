@@ -28,8 +28,10 @@ std::string no_usable_band_for_fit(const std::string& fit);
 
 /// The spectrum's own fields: observable, the mean motion (or force) removed, the floor's
 /// variance, usable band, estimator, whether it is a spectrum at all (`spectrum_ok`, and
-/// `spectrum_failure` saying why not), and every point (with `theory` per point when given).
-nlohmann::ordered_json spectrum_json(const RecordSpectrum& spectrum, const std::vector<double>& theory = {});
+/// `spectrum_failure` saying why not, from `verdict`), and every point (with `theory` per
+/// point when given).
+nlohmann::ordered_json spectrum_json(const RecordSpectrum& spectrum, const Verdict& verdict,
+                                     const std::vector<double>& theory = {});
 
 /// Whether a fit describes the data (docs/analysis.md, "Judging a fit"): chi2/dof within a few
 /// of its standard deviations sqrt(2/dof) of 1, at least 3 allowed for correlated neighbours;
@@ -43,6 +45,10 @@ Verdict judge_power_law(const PowerLawFit& fit);
 /// stiffness beyond a double's range), nor where it is 0 at every point (a constant record,
 /// or values below a double's resolution): no fluctuation was measured there.
 Verdict judge_spectrum(const RecordSpectrum& spectrum);
+
+/// Why a model fit's parameter `name` is not determined by its band, in words ("" when it is):
+/// a relative error above one half, or an error that is not a number (a singular covariance).
+std::string undetermined_parameter(const std::string& name, double value, double error);
 
 /// Each fit's JSON object, with its verdict's ok and failure.
 nlohmann::ordered_json slope_fit_json(const SlopeFit& fit, const Verdict& verdict);

@@ -247,6 +247,8 @@ std::string AnalysisReport::failure() const {
   return "";
 }
 
+double AnalysisReport::end_time() const { return record.start_time + double(record.samples() - 1) * record.dt; }
+
 AnalysisReport analyze(Record record, const AnalysisPlan& plan) {
   check_plan(plan, record.machine_stiffness);
   AnalysisReport r;

@@ -253,7 +253,7 @@ int analyze_many(Options o) {
   for (const std::string& prefix : prefixes) io::check_output_prefix(prefix);
   catch_stop_signals();
   if (!o.no_plot) start_plotter();
-  std::vector<RecordRow> rows;
+  std::vector<ListedRecord> rows;
   bool written = true;
   for (std::size_t k = 0; k < records.size() && !stop_asked(); ++k) {
     if (!o.quiet) std::cerr << "slidespec: analyze " << k + 1 << "/" << records.size() << ": " << records[k] << "\n";
@@ -265,15 +265,16 @@ int analyze_many(Options o) {
       refuse_unreadable_record(records[k]);
       const AnalysisReport report = analyze_read(one, plan, read_record_file(one.file, one.format));
       write_analysis(one, report);
-      rows.push_back(record_row(records[k], prefixes[k], report, !o.window.empty()));
+      rows.push_back({record_row(records[k], report, !o.window.empty()), prefixes[k]});
     } catch (const InputError& e) {
-      rows.push_back(refused_row(records[k], worded(e.what(), FrontEnd::command_line)));
+      rows.push_back({refused_row(records[k], e.what()), ""});
+      const std::string reason = worded(e.what(), FrontEnd::command_line);
       // The reader's refusals name the file already.
-      const bool named = rows.back().reason.rfind(records[k] + ":", 0) == 0;
-      std::cerr << "slidespec: error: " << (named ? "" : records[k] + ": ") << rows.back().reason << "\n";
+      const bool named = reason.rfind(records[k] + ":", 0) == 0;
+      std::cerr << "slidespec: error: " << (named ? "" : records[k] + ": ") << reason << "\n";
     } catch (const io::WriteError& e) {
-      rows.push_back(refused_row(records[k], std::string("not written: ") + e.what()));
-      std::cerr << "slidespec: failed: " << records[k] << ": " << rows.back().reason << "\n";
+      rows.push_back({refused_row(records[k], std::string("not written: ") + e.what()), ""});
+      std::cerr << "slidespec: failed: " << records[k] << ": " << rows.back().row.reason << "\n";
       written = false;
     }
   }
@@ -281,7 +282,7 @@ int analyze_many(Options o) {
   combined.add(o.out + ".tsv", records_table(rows, records.size()));
   combined.add(o.out + ".json", records_json(rows, records.size()));
   combined.commit();
-  const auto failed = std::count_if(rows.begin(), rows.end(), [](const RecordRow& r) { return !r.ok; });
+  const auto failed = std::count_if(rows.begin(), rows.end(), [](const ListedRecord& r) { return !r.row.ok; });
   if (!o.quiet)
     std::cerr << "slidespec: wrote " << o.out << ".tsv, .json (" << rows.size() << " of " << records.size()
               << " records, " << failed << " not ok)\n";

@@ -33,18 +33,25 @@ std::string run_label(const std::string& case_name, const Parameters& p) {
 
 std::string case_of(const std::string& label) { return label.substr(0, label.find(" + ")); }
 
-nlohmann::ordered_json parameters_json(const Parameters& p) {
-  nlohmann::ordered_json block = nlohmann::ordered_json::object();
+std::vector<std::pair<std::string, ParameterValue>> parameter_values(const Parameters& p) {
+  std::vector<std::pair<std::string, ParameterValue>> values;
   for (const auto& [key, value] : describe(p)) {
     double number = 0;
     const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), number);
     if (error != std::errc() || end != value.data() + value.size())
-      block[key] = value;
+      values.emplace_back(key, value);
     else if (value.find_first_of(".eE") == std::string::npos)
-      block[key] = std::stoll(value);
+      values.emplace_back(key, std::stoll(value));
     else
-      block[key] = number;
+      values.emplace_back(key, number);
   }
+  return values;
+}
+
+nlohmann::ordered_json parameters_json(const Parameters& p) {
+  nlohmann::ordered_json block = nlohmann::ordered_json::object();
+  for (const auto& [key, value] : parameter_values(p))
+    std::visit([&block, &key = key](const auto& v) { block[key] = v; }, value);
   return block;
 }
 
@@ -82,6 +89,8 @@ std::string metadata_lines(const Parameters& p, const std::string& case_name) {
   return out.str();
 }
 
+namespace {
+
 /// The TSV's numeric codes for a point's estimator and theory kind, so that its columns
 /// stay numbers.
 int estimator_code(const std::string& estimator) { return estimator == "shadow" ? 2 : estimator == "forcing" ? 1 : 0; }
@@ -98,6 +107,8 @@ int theory_kind_code(TheoryKind kind) {
   }
   return 0;
 }
+
+}  // namespace
 
 std::string run_point_notes() {
   return "omega [rad/s]; C_x [m^2 s] estimate, the mean of C_x over the bin's frequencies;"

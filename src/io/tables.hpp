@@ -3,6 +3,9 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
+#include <variant>
+#include <vector>
 
 #include "slidespec/options.hpp"
 #include "slidespec/parameters.hpp"
@@ -16,6 +19,12 @@ std::string run_label(const std::string& case_name, const Parameters& p);
 
 /// The case of a run label "reference + N=5, alpha=3" (the label itself when no keys were set).
 std::string case_of(const std::string& label);
+
+/// A parameter's value as PREFIX.json holds it: a whole number, a real, or a word.
+using ParameterValue = std::variant<long long, double, std::string>;
+/// Every parameter (describe's keys, in its order) with its value so typed: what
+/// parameters_json writes, for a front end that builds its own objects.
+std::vector<std::pair<std::string, ParameterValue>> parameter_values(const Parameters& p);
 
 /// The parameters as a JSON object of numbers (and the words of chain, renewal,
 /// touching), in the form --params reads back.

@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
+#include "analysis/report.hpp"
 #include "slidespec/analysis.hpp"
 #include "slidespec/options.hpp"
 #include "slidespec/theory.hpp"
@@ -114,6 +116,17 @@ TEST(ModelFit, SaysWhatABandAboveTheRenewalCornerCannotDetermine) {
   Parameters start = machine();
   const ModelFit f = fit_model(s, start, {"alpha", "a"}, 5, 30);
   EXPECT_NE(f.undetermined.find("only a combination of alpha and a"), std::string::npos) << f.undetermined;
+}
+
+// A singular covariance leaves the errors NaN (or inf): said as such, not as "relative error -nan".
+TEST(ModelFit, AnErrorThatIsNotANumberIsSaidToBeASingularCovariance) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const double error : {nan, -nan, std::numeric_limits<double>::infinity()}) {
+    const std::string said = detail::undetermined_parameter("k0", 2, error);
+    EXPECT_EQ(said, "k0 is not determined by the band (singular covariance: the band does not depend on it)");
+  }
+  EXPECT_EQ(detail::undetermined_parameter("a", 2, 0.99), "");
+  EXPECT_EQ(detail::undetermined_parameter("a", 2, 1.5), "a is not determined by the band (relative error 0.75)");
 }
 
 TEST(ModelFit, RecordModelDrivesTheCaseAsTheMachineDoes) {

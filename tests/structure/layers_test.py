@@ -19,7 +19,8 @@ ORDER = [("util",), ("model",), ("simd",), ("stepper", "estimator"), ("theory",)
 RANK = {room: rank for rank, rooms in enumerate(ORDER) for room in rooms}
 # Public headers: the layer of the code that implements them.
 PUBLIC = {"input_error": "util", "options": "util", "landmarks": "theory", "parameters": "model", "simd": "simd", "stepper": "stepper",
-          "estimator": "estimator", "theory": "theory", "run": "run", "analysis": "analysis"}
+          "estimator": "estimator", "theory": "theory", "run": "run", "analysis": "analysis",
+          "many_records": "analysis"}
 # Layers one may not reach from the other by any chain of includes, though ranked apart.
 APART = [("analysis", "run"), ("theory", "stepper")]
 
