@@ -533,10 +533,11 @@ void add_synth_options(CLI::App& synth, Options& o) {
   for (CLI::Option* drive : {strokes, program}) drive->excludes(synth.get_option("--duration"));
   strokes->excludes(program);
   synth.add_option("--units", o.synth_units, "unit of the x column: m|mm|um (default um)");
-  synth.add_flag("--load-point", o.sensor.load_point,
-                 "with drive = spring, what a rig records: x the load point's position, F (N) the spring's force "
-                 "(analyze with --machine-stiffness k_drive)");
-  for (CLI::Option* drive : {strokes, program}) drive->excludes(synth.get_option("--load-point"));
+  synth.add_flag(
+      "--load-point", o.sensor.load_point,
+      "with drive = spring, what a rig records: x the load point's position, F (N) the spring's force "
+      "(analyze with --machine-stiffness k_drive); with a program, each speed's mean force is the model's steady "
+      "friction F_kin + N m eta1 v, and in a hold the force stands");
   synth.add_option("--out", o.synth_out, "output prefix: PREFIX.csv (default record)");
 }
 
