@@ -193,7 +193,7 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
   if (!(sensor.sensor_noise >= 0 && std::isfinite(sensor.sensor_noise)))
     throw InputError("{sensor_noise}: must be a length >= 0 in metres");
   if (sensor.load_point && params.drive != Drive::spring)
-    throw InputError("{set} drive=spring: a load point pulls the slider only through a spring");
+    throw InputError("{load_point}: a load point pulls the slider only through a spring; {set} drive=spring");
   const std::vector<DriveStretch> program =
       sensor.program.empty() ? std::vector<DriveStretch>{{1, sensor.duration}} : sensor.program;
   const std::vector<std::size_t> starts = stretch_starts(program, sensor.sample_interval);

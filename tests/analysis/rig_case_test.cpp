@@ -189,8 +189,7 @@ struct SeedResult {
   bool claimed = false;
 };
 
-SeedResult fit_one(std::uint64_t seed) {
-  const AnalysisReport r = analyze(rig_record(200, 600, seed), rig_plan());
+SeedResult fit_one(const AnalysisReport& r) {
   SeedResult result;
   if (!r.model_fit) return result;
   const ModelFit& f = *r.model_fit;
@@ -212,7 +211,7 @@ TEST(RigCase, FitRecoversTheRigsParametersOverSeeds) {
   double sum2 = 0;
   int count = 0, within = 0;
   for (int seed = 1; seed <= kSeeds; ++seed) {
-    const SeedResult s = fit_one(100 + std::uint64_t(seed));
+    const SeedResult s = fit_one(analyze(rig_record(200, 600, 100 + std::uint64_t(seed)), rig_plan()));
     ASSERT_TRUE(s.claimed) << "seed " << seed;
     for (const double z : {s.alpha_deviation, s.a_deviation}) {
       sum2 += z * z;
@@ -233,6 +232,49 @@ TEST(RigCase, FitRecoversTheRigsParametersOverSeeds) {
   EXPECT_GT(rms, 0.4) << "errors too large for the scatter";
   EXPECT_LT(rms, 1.6) << "errors too small for the scatter";
 #endif
+}
+
+/// One synth run of a rig's program: 200 s at 10 um/s, a 20 s hold, 100 s at 10 um/s, 600 s
+/// at 30 um/s, a 20 s hold and 100 s at 30 um/s.
+Record rig_program_record(std::uint64_t seed) {
+  SensorRequest sensor;
+  sensor.sample_interval = kDt;
+  sensor.resolution = 0;
+  sensor.sensor_noise = sensor_noise();
+  sensor.load_point = true;
+  sensor.seed = seed;
+  sensor.program = {{1, 200}, {0, 20}, {1, 100}, {3, 600}, {0, 20}, {3, 100}};
+  return synthesize_record(rig_truth(kSlow), sensor);
+}
+
+// Steps and holds in one record: the segment finder reports both holds, the analysis takes
+// the 600 s at 30 um/s, dF/dv from the step before it, and the fit holds alpha and a.
+TEST(RigCase, AProgramsHoldsAreFoundAndItsLongestSlideFitted) {
+  double sum2 = 0;
+  int count = 0;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    const AnalysisReport r = analyze(rig_program_record(200 + seed), rig_plan());
+    std::vector<double> holds;
+    for (const SteadySegment& s : r.segments)
+      if (s.kind == SegmentKind::hold) holds.push_back(0.5 * (s.start + s.end));
+    ASSERT_EQ(holds.size(), 2u) << seed;
+    EXPECT_NEAR(holds[0], 210, 10) << seed;
+    EXPECT_NEAR(holds[1], 930, 10) << seed;
+    EXPECT_NEAR(r.record.start_time, 320, 5) << seed;
+    EXPECT_GT(double(r.record.samples()) * kDt, 580) << seed;
+    const SeedResult s = fit_one(r);
+    ASSERT_TRUE(s.claimed) << seed;
+    for (const double z : {s.alpha_deviation, s.a_deviation}) {
+      sum2 += z * z;
+      ++count;
+      EXPECT_LT(std::fabs(z), 4) << "seed " << seed;
+    }
+  }
+  const double rms = std::sqrt(sum2 / count);
+  std::printf("rig fit on a program with holds over 8 seeds: rms of (fitted - true) / error %.3f\n", rms);
+  // 16 deviations: chi2_16 / 16 beyond 0.32 .. 2.14 has a chance below 1%.
+  EXPECT_GT(rms, 0.57) << "errors too large for the scatter";
+  EXPECT_LT(rms, 1.46) << "errors too small for the scatter";
 }
 
 // One record in full: the notes say what was derived and held, the fit what it cannot separate.
