@@ -342,6 +342,10 @@ std::string synth_comments(const Options& o, const Parameters& p, const SensorRe
       comments << " " << util::format_number(stretch.speed_factor) << ":" << util::format_number(stretch.duration);
     comments << "\n";
   }
+  if (sensor.load_point && !sensor.program.empty())
+    comments << "note: each speed's mean force is the model's steady friction F_kin + (speed / v) (F_drive - F_kin); "
+                "in a hold the load point and the slider stand and the force stands at its last value (the model does "
+                "not relax it)\n";
   comments << "columns: t (s), x (" << to_string(parse_length_unit(o.synth_units)) << ")"
            << (sensor.load_point ? ", F (N)" : "") << "\n";
   return comments.str();
