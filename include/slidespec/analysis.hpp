@@ -519,6 +519,11 @@ struct FrictionStep {
 /// different speeds with only a step or loading between them (no hold, no reversal).
 std::vector<FrictionStep> friction_steps(const Record& record, const std::vector<SteadySegment>& segments);
 
+/// The friction of a reciprocating record's `strokes` (with a force channel): the mean over
+/// their middles of the force signed by the stroke's direction, as friction opposes the
+/// sliding and the force reverses with it [N].
+double stroke_friction(const Record& record, const Strokes& strokes);
+
 /// What the rig case is built from: the record's measures and the user's knowledge.
 struct RigTerms {
   double speed = 0;                      ///< the measured load-point speed v [m/s]

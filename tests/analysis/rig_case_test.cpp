@@ -277,6 +277,40 @@ TEST(RigCase, AProgramsHoldsAreFoundAndItsLongestSlideFitted) {
   EXPECT_LT(rms, 1.46) << "errors too small for the scatter";
 }
 
+// A rig's reciprocating record: 10 strokes of 3 mm at 30 um/s with 5 s dwells, the force
+// reversing with each stroke. The friction is the strokes' signed mean (not the record's
+// mean, near 0), and with F_kin given (no step to measure dF/dv) the fit holds alpha and a.
+TEST(RigCase, AReciprocatingRecordsFrictionIsItsStrokesSignedMean) {
+  double sum2 = 0;
+  int count = 0;
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    SensorRequest sensor;
+    sensor.sample_interval = kDt;
+    sensor.resolution = 0;
+    sensor.sensor_noise = sensor_noise();
+    sensor.load_point = true;
+    sensor.seed = 300 + seed;
+    sensor.program = stroke_program(10, 3e-3, kFast, 5);
+    AnalysisPlan plan = rig_plan();
+    plan.overrides = {"F_kin=" + std::to_string(kKinetic)};
+    const AnalysisReport r = analyze(synthesize_record(rig_truth(kFast), sensor), plan);
+    ASSERT_TRUE(r.spectrum.strokes) << seed;
+    ASSERT_TRUE(r.model) << seed;
+    EXPECT_NEAR(r.model->F_drive, kKinetic + kSlope * kFast, 0.001 * kKinetic) << seed;
+    const SeedResult s = fit_one(r);
+    ASSERT_TRUE(s.claimed) << seed;
+    for (const double z : {s.alpha_deviation, s.a_deviation}) {
+      sum2 += z * z;
+      ++count;
+      EXPECT_LT(std::fabs(z), 4) << "seed " << seed;
+    }
+  }
+  const double rms = std::sqrt(sum2 / count);
+  std::printf("rig fit on 10 strokes over 4 seeds: rms of (fitted - true) / error %.3f\n", rms);
+  EXPECT_GT(rms, 0.4) << "errors too large for the scatter";
+  EXPECT_LT(rms, 1.6) << "errors too small for the scatter";
+}
+
 // One record in full: the notes say what was derived and held, the fit what it cannot separate.
 TEST(RigCase, SaysWhatItDerivedHeldAndCannotSeparate) {
   const AnalysisReport r = analyze(rig_record(200, 600, 7), rig_plan());
