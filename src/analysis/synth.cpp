@@ -155,28 +155,29 @@ SlideTrace slide(const Parameters& params, const SensorRequest& sensor, const st
 /// In a hold the slider and the load point stand, so the force stands at its last value:
 /// the model's stationary slider cannot relax through the spring.
 std::vector<double> spring_force(const Parameters& params, const SlideTrace& trace) {
-  std::vector<std::pair<double, std::pair<double, double>>> sums;  // |speed|: (sum of xi, count)
-  const auto sum_of = [&](double speed) -> std::pair<double, double>& {
-    auto s = std::find_if(sums.begin(), sums.end(), [&](const auto& e) { return e.first == speed; });
-    if (s == sums.end()) s = sums.insert(sums.end(), {speed, {0.0, 0.0}});
-    return s->second;
+  struct SpeedMean {
+    double speed, xi_sum = 0, samples = 0, force = 0;
+  };
+  std::vector<SpeedMean> means;
+  const auto mean_at = [&](double speed) -> SpeedMean& {
+    auto m = std::find_if(means.begin(), means.end(), [&](const SpeedMean& e) { return e.speed == speed; });
+    return m != means.end() ? *m : means.emplace_back(SpeedMean{speed, 0, 0, rig_at_speed(params, speed).F_drive});
   };
   for (std::size_t n = 0; n < trace.speed.size(); ++n)
     if (trace.speed[n] != 0) {
-      sum_of(std::fabs(trace.speed[n])).first += trace.stepper_xi[n];
-      sum_of(std::fabs(trace.speed[n])).second += 1;
+      SpeedMean& m = mean_at(std::fabs(trace.speed[n]));
+      m.xi_sum += trace.stepper_xi[n];
+      m.samples += 1;
     }
   std::vector<double> force(trace.speed.size(), params.F_drive);
   for (std::size_t n = 0; n < force.size(); ++n) {
-    const double speed = std::fabs(trace.speed[n]);
-    if (speed == 0) {
+    if (trace.speed[n] == 0) {
       if (n > 0) force[n] = force[n - 1];
       continue;
     }
-    const std::pair<double, double>& sum = sum_of(speed);
-    const double mean_force = rig_at_speed(params, speed).F_drive;
+    const SpeedMean& m = mean_at(std::fabs(trace.speed[n]));
     force[n] =
-        (trace.speed[n] > 0 ? 1 : -1) * (mean_force - params.k_drive * (trace.stepper_xi[n] - sum.first / sum.second));
+        (trace.speed[n] > 0 ? 1 : -1) * (m.force - params.k_drive * (trace.stepper_xi[n] - m.xi_sum / m.samples));
   }
   return force;
 }

@@ -234,6 +234,26 @@ TEST(RigCase, FitRecoversTheRigsParametersOverSeeds) {
 #endif
 }
 
+/// The fits' deviations (fitted - true) / error over seeds: each within 4 errors, their rms
+/// that of unit normals (the bounds a chance below 1% for their count).
+struct Deviations {
+  std::vector<double> z;
+  void add(const SeedResult& s, std::uint64_t seed) {
+    for (const double deviation : {s.alpha_deviation, s.a_deviation}) {
+      z.push_back(deviation);
+      EXPECT_LT(std::fabs(deviation), 4) << "seed " << seed;
+    }
+  }
+  void expect_unit_rms(const char* what, double low, double high) const {
+    double sum2 = 0;
+    for (const double deviation : z) sum2 += deviation * deviation;
+    const double rms = std::sqrt(sum2 / double(z.size()));
+    std::printf("rig fit on %s: rms of (fitted - true) / error %.3f\n", what, rms);
+    EXPECT_GT(rms, low) << "errors too large for the scatter";
+    EXPECT_LT(rms, high) << "errors too small for the scatter";
+  }
+};
+
 /// One synth run of a rig's program: 200 s at 10 um/s, a 20 s hold, 100 s at 10 um/s, 600 s
 /// at 30 um/s, a 20 s hold and 100 s at 30 um/s.
 Record rig_program_record(std::uint64_t seed) {
@@ -250,8 +270,7 @@ Record rig_program_record(std::uint64_t seed) {
 // Steps and holds in one record: the segment finder reports both holds, the analysis takes
 // the 600 s at 30 um/s, dF/dv from the step before it, and the fit holds alpha and a.
 TEST(RigCase, AProgramsHoldsAreFoundAndItsLongestSlideFitted) {
-  double sum2 = 0;
-  int count = 0;
+  Deviations deviations;
   for (std::uint64_t seed = 1; seed <= 8; ++seed) {
     const AnalysisReport r = analyze(rig_program_record(200 + seed), rig_plan());
     std::vector<double> holds;
@@ -264,25 +283,17 @@ TEST(RigCase, AProgramsHoldsAreFoundAndItsLongestSlideFitted) {
     EXPECT_GT(double(r.record.samples()) * kDt, 580) << seed;
     const SeedResult s = fit_one(r);
     ASSERT_TRUE(s.claimed) << seed;
-    for (const double z : {s.alpha_deviation, s.a_deviation}) {
-      sum2 += z * z;
-      ++count;
-      EXPECT_LT(std::fabs(z), 4) << "seed " << seed;
-    }
+    deviations.add(s, seed);
   }
-  const double rms = std::sqrt(sum2 / count);
-  std::printf("rig fit on a program with holds over 8 seeds: rms of (fitted - true) / error %.3f\n", rms);
   // 16 deviations: chi2_16 / 16 beyond 0.32 .. 2.14 has a chance below 1%.
-  EXPECT_GT(rms, 0.57) << "errors too large for the scatter";
-  EXPECT_LT(rms, 1.46) << "errors too small for the scatter";
+  deviations.expect_unit_rms("a program with holds over 8 seeds", 0.57, 1.46);
 }
 
 // A rig's reciprocating record: 10 strokes of 3 mm at 30 um/s with 5 s dwells, the force
 // reversing with each stroke. The friction is the strokes' signed mean (not the record's
 // mean, near 0), and with F_kin given (no step to measure dF/dv) the fit holds alpha and a.
 TEST(RigCase, AReciprocatingRecordsFrictionIsItsStrokesSignedMean) {
-  double sum2 = 0;
-  int count = 0;
+  Deviations deviations;
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
     SensorRequest sensor;
     sensor.sample_interval = kDt;
@@ -299,16 +310,10 @@ TEST(RigCase, AReciprocatingRecordsFrictionIsItsStrokesSignedMean) {
     EXPECT_NEAR(r.model->F_drive, kKinetic + kSlope * kFast, 0.001 * kKinetic) << seed;
     const SeedResult s = fit_one(r);
     ASSERT_TRUE(s.claimed) << seed;
-    for (const double z : {s.alpha_deviation, s.a_deviation}) {
-      sum2 += z * z;
-      ++count;
-      EXPECT_LT(std::fabs(z), 4) << "seed " << seed;
-    }
+    deviations.add(s, seed);
   }
-  const double rms = std::sqrt(sum2 / count);
-  std::printf("rig fit on 10 strokes over 4 seeds: rms of (fitted - true) / error %.3f\n", rms);
-  EXPECT_GT(rms, 0.4) << "errors too large for the scatter";
-  EXPECT_LT(rms, 1.6) << "errors too small for the scatter";
+  // 8 deviations: chi2_8 / 8 beyond 0.16 .. 2.56 has a chance below 1%.
+  deviations.expect_unit_rms("10 strokes over 4 seeds", 0.4, 1.6);
 }
 
 // One record in full: the notes say what was derived and held, the fit what it cannot separate.
