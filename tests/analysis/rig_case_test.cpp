@@ -49,15 +49,21 @@ double sensor_noise() {
   return sigma;
 }
 
-/// A rig's record: `slow` s at 10 um/s, then `fast` s at 30 um/s, the load point read with
-/// white noise, the spring's force exact.
-Record rig_record(double slow, double fast, std::uint64_t seed) {
+/// A rig's sensors: the load point read with white noise, the spring's force exact.
+SensorRequest rig_sensor(std::uint64_t seed) {
   SensorRequest sensor;
   sensor.sample_interval = kDt;
   sensor.resolution = 0;
   sensor.sensor_noise = sensor_noise();
   sensor.load_point = true;
   sensor.seed = seed;
+  return sensor;
+}
+
+/// A rig's record: `slow` s at 10 um/s, then `fast` s at 30 um/s, the load point read with
+/// white noise, the spring's force exact.
+Record rig_record(double slow, double fast, std::uint64_t seed) {
+  SensorRequest sensor = rig_sensor(seed);
   sensor.duration = slow;
   Record record = synthesize_record(rig_truth(kSlow), sensor);
   sensor.duration = fast;
@@ -257,12 +263,7 @@ struct Deviations {
 /// One synth run of a rig's program: 200 s at 10 um/s, a 20 s hold, 100 s at 10 um/s, 600 s
 /// at 30 um/s, a 20 s hold and 100 s at 30 um/s.
 Record rig_program_record(std::uint64_t seed) {
-  SensorRequest sensor;
-  sensor.sample_interval = kDt;
-  sensor.resolution = 0;
-  sensor.sensor_noise = sensor_noise();
-  sensor.load_point = true;
-  sensor.seed = seed;
+  SensorRequest sensor = rig_sensor(seed);
   sensor.program = {{1, 200}, {0, 20}, {1, 100}, {3, 600}, {0, 20}, {3, 100}};
   return synthesize_record(rig_truth(kSlow), sensor);
 }
@@ -295,12 +296,7 @@ TEST(RigCase, AProgramsHoldsAreFoundAndItsLongestSlideFitted) {
 TEST(RigCase, AReciprocatingRecordsFrictionIsItsStrokesSignedMean) {
   Deviations deviations;
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
-    SensorRequest sensor;
-    sensor.sample_interval = kDt;
-    sensor.resolution = 0;
-    sensor.sensor_noise = sensor_noise();
-    sensor.load_point = true;
-    sensor.seed = 300 + seed;
+    SensorRequest sensor = rig_sensor(300 + seed);
     sensor.program = stroke_program(10, 3e-3, kFast, 5);
     AnalysisPlan plan = rig_plan();
     plan.overrides = {"F_kin=" + std::to_string(kKinetic)};
