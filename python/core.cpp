@@ -825,15 +825,21 @@ void bind_analysis(py::module_& m) {
         s.resolution = sensor["resolution"].cast<double>();
         s.sensor_noise = sensor["sensor_noise"].cast<double>();
         s.seed = sensor["seed"].cast<std::uint64_t>();
+        s.load_point = sensor["load_point"].cast<bool>();
+        for (const auto& [speed_factor, duration] : sensor["program"].cast<std::vector<std::pair<double, double>>>())
+          s.program.push_back({speed_factor, duration});
         const Parameters p = build(case_name, overrides);
+        if (!sensor["strokes"].is_none())
+          s.program = stroke_program(sensor["strokes"].cast<double>(), sensor["stroke_length"].cast<double>(), p.v,
+                                     sensor["dwell"].cast<double>());
         Record record;
         {
           py::gil_scoped_release release;
           record = synthesize_record(p, s);
         }
-        return py::make_tuple(record.dt, record.start_time, to_array(record.displacement));
+        return py::make_tuple(record.dt, record.start_time, to_array(record.displacement), to_array(record.force));
       },
-      "A synthetic sensor record of a case: (dt [s], t0 [s], x [m]).");
+      "A synthetic sensor record of a case: (dt [s], t0 [s], x [m], F [N], empty but for a load point's record).");
 }
 
 }  // namespace

@@ -535,6 +535,11 @@ struct FrictionStep {
 /// different speeds with only a step or loading between them (no hold, no reversal).
 std::vector<FrictionStep> friction_steps(const Record& record, const std::vector<SteadySegment>& segments);
 
+/// The friction of a reciprocating record's `strokes` (with a force channel): the mean over
+/// their middles of the force signed by the stroke's direction, as friction opposes the
+/// sliding and the force reverses with it [N].
+double stroke_friction(const Record& record, const Strokes& strokes);
+
 /// What the rig case is built from: the record's measures and the user's knowledge.
 struct RigTerms {
   double speed = 0;                      ///< the measured load-point speed v [m/s]
@@ -612,11 +617,13 @@ struct SensorRequest {
   double sensor_noise = 0.25e-6;
   std::uint64_t seed = 1;
   /// drive = spring: record what a rig does, the load point's position v t (read by this
-  /// sensor) and the spring's force F_drive - k_drive xi [N], for the slip x - F/K.
+  /// sensor) and the spring's force F_drive - k_drive xi [N], for the slip x - F/K. With a
+  /// program, each speed f v is the case with its contacts kept (eta1), so the force's mean is
+  /// the steady friction F_kin + f (F_drive - F_kin); in a hold the force stands (the model
+  /// does not relax a standing slider through the spring).
   bool load_point = false;
   /// The drive, stretch after stretch (holds, velocity steps, strokes); empty: the case's v
-  /// for `duration`. Given, it sets the record's length and `duration` is not read (not with
-  /// load_point: a rig's record is of one speed).
+  /// for `duration`. Given, it sets the record's length and `duration` is not read.
   std::vector<DriveStretch> program;
 };
 
@@ -631,6 +638,7 @@ std::vector<DriveStretch> stroke_program(double strokes, double stroke_length, d
 /// the forces kept; one realization per speed, continued where the speed returns), and
 /// backwards the slider's fluctuation is mirrored: x = the load point's path + sign(f) xi.
 /// A program's speeds are warmed up over 10 renewals first, so that every stretch is stationary.
+/// Throws InputError naming {program} where a rig's speed would let the random forces stall it.
 Record synthesize_record(const Parameters& params, const SensorRequest& sensor);
 
 /// The record as CSV: '#' lines from `comments`, a header "t,x", time in s, x in `unit`, and

@@ -188,16 +188,45 @@ def _format_and_plan(*, dt, units, force, force_units, normal_stress, normal_str
     return record, plan
 
 
-def synth(params="reference", *, sample_interval=_SENSOR["sample_interval"], duration=_SENSOR["duration"],
-          resolution=_SENSOR["resolution"], sensor_noise=_SENSOR["sensor_noise"], seed=_SENSOR["seed"]):
+def synth(params="reference", *, sample_interval=_SENSOR["sample_interval"], duration=None,
+          resolution=_SENSOR["resolution"], sensor_noise=_SENSOR["sensor_noise"], seed=_SENSOR["seed"],
+          program=None, strokes=None, stroke_length=None, dwell=None, load_point=False):
     """A synthetic displacement-sensor record of the simulated slider: `slidespec synth`.
 
-    sample_interval [s], duration [s]; resolution: quantization step q [m] (0 = exact);
-    sensor_noise: rms white noise before quantization [m]; seed. Returns (t, x): times [s]
-    and positions x = v t + xi [m], numpy arrays."""
+    sample_interval [s], duration [s] (default 1000); resolution: quantization step q [m]
+    (0 = exact); sensor_noise: rms white noise before quantization [m]; seed. The drive
+    (docs/analysis.md, "Drive programs"), either of: program=[(F, T), ...], the load point at
+    F x the case's v for T seconds (F = 0 a hold, negative backwards); strokes=K with
+    stroke_length=L [m] and dwell=T [s], a reciprocating record. Either sets the record's
+    length (no duration). load_point=True (drive=spring): what a rig records, x the load
+    point's position and the spring's force. Returns (t, x), or (t, x, F) with load_point:
+    times [s], positions [m] (x = the load point's path + xi, or the load point's), F [N],
+    numpy arrays."""
     p = _as_parameters(params)
-    sensor = {"sample_interval": _real("sample_interval", sample_interval), "duration": _real("duration", duration),
+    if program is not None and strokes is not None:
+        raise ValueError("program: not with strokes; give one drive")
+    drive = "program" if program is not None else "strokes" if strokes is not None else None
+    if drive and duration is not None:
+        raise ValueError(f"{drive}: sets the record's length; not with duration")
+    for name, given in (("stroke_length", stroke_length), ("dwell", dwell)):
+        if given is not None and strokes is None:
+            raise ValueError(f"{name}: only with strokes")
+    if strokes is not None and stroke_length is None:
+        raise ValueError("strokes: needs stroke_length, a stroke's length in m")
+    stretches = []
+    for stretch in program or []:
+        if len(stretch) != 2:
+            raise ValueError(f"program: each stretch is (F, T), got {stretch!r}")
+        stretches.append((_real("program speed factor", stretch[0]), _real("program duration", stretch[1])))
+    if program is not None and not stretches:
+        raise ValueError("program: no stretch; give [(F, T), ...]")
+    sensor = {"sample_interval": _real("sample_interval", sample_interval),
+              "duration": _real("duration", _SENSOR["duration"] if duration is None else duration),
               "resolution": _real("resolution", resolution), "sensor_noise": _real("sensor_noise", sensor_noise),
-              "seed": _whole("seed", seed, _MOST_U64)}
-    step, start, x = _core.synthesize(*p._args(), sensor)
-    return start + step * _np.arange(x.size), x
+              "seed": _whole("seed", seed, _MOST_U64), "program": stretches,
+              "strokes": None if strokes is None else float(_whole("strokes", strokes, _MOST_INT)),
+              "stroke_length": 0.0 if stroke_length is None else _real("stroke_length", stroke_length),
+              "dwell": 0.0 if dwell is None else _real("dwell", dwell), "load_point": bool(load_point)}
+    step, start, x, force = _core.synthesize(*p._args(), sensor)
+    t = start + step * _np.arange(x.size)
+    return (t, x, force) if load_point else (t, x)

@@ -369,6 +369,36 @@ def test_analyze_is_the_command_line(tmp_path):
     np.testing.assert_allclose(ts, t, rtol=1e-12, atol=1e-12)
 
 
+@pytest.mark.parametrize("flags, keywords", [
+    (["--program", "1:20,0:5,3:20"], {"program": [(1, 20), (0, 5), (3, 20)]}),
+    (["--strokes", "3", "--stroke-length", "5cm", "--dwell", "1"], {"strokes": 3, "stroke_length": 0.05, "dwell": 1}),
+])
+def test_synths_drives_and_load_point_are_the_command_lines(tmp_path, flags, keywords):
+    record = tmp_path / "rig"
+    cli("synth", "--case", "fast", "--set", "alpha=0.4", "--set", "drive=spring", "--set", "k_drive=1000",
+        "--load-point", *flags, "--sample-interval", "0.01", "--seed", "5", "--out", str(record))
+    t, x, force = _read_csv(f"{record}.csv")
+    rig = ss.Parameters("fast", alpha=0.4, drive="spring", k_drive=1000)
+    ts, xs, forces = ss.synth(rig, sample_interval=0.01, seed=5, load_point=True, **keywords)
+    np.testing.assert_allclose(ts, t, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(xs, x * 1e-6, rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(forces, force, rtol=1e-11)
+    assert np.ptp(xs) > 0 and np.std(forces) > 0
+
+
+@pytest.mark.parametrize("keywords, word", [
+    ({"program": [(1, 1)], "strokes": 2, "stroke_length": 1.0}, "program: not with strokes"),
+    ({"program": [(1, 1)], "duration": 5.0}, "program: sets the record's length"),
+    ({"program": [(1, 0)]}, "program: each stretch"),
+    ({"dwell": 1.0}, "dwell: only with strokes"),
+    ({"strokes": 0, "stroke_length": 1.0}, "strokes: must be a whole number"),
+    ({"load_point": True, "duration": 1.0}, "load_point: a load point pulls the slider only through a spring"),
+])
+def test_synths_drive_is_refused_naming_the_keyword(keywords, word):
+    with pytest.raises(ValueError, match=word):
+        ss.synth("fast", sample_interval=0.01, **keywords)
+
+
 def _read_csv(path):
     rows = [line.split(",") for line in open(path) if line.strip() and not line.startswith("#")]
     return np.array([[float(v) for v in row] for row in rows[1:]]).T

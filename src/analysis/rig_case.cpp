@@ -118,6 +118,13 @@ std::vector<FrictionStep> friction_steps(const Record& record, const std::vector
   return steps;
 }
 
+double stroke_friction(const Record& record, const Strokes& strokes) {
+  double sum = 0;
+  for (const SteadySegment& middle : strokes.middles)
+    sum += (middle.mean_speed < 0 ? -1 : 1) * mean_force(record, middle.start, middle.end);
+  return strokes.middles.empty() ? 0 : sum / double(strokes.middles.size());
+}
+
 Parameters rig_model(const RigTerms& t, const std::vector<std::string>& overrides, std::vector<std::string>& notes) {
   if (!(t.machine_stiffness > 0))
     throw InputError("{compare_case} rig: builds the case from the machine's spring; give {machine_stiffness} K");

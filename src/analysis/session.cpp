@@ -76,9 +76,11 @@ RigTerms rig_terms(const AnalysisPlan& plan, const AnalysisReport& r, const std:
   RigTerms t;
   t.speed = measured_speed(r.record, r.spectrum);
   t.friction_force = plan.rig.friction_force;
+  // A reciprocating record's force reverses with each stroke: its strokes' signed mean.
   if (!(t.friction_force > 0) && !r.record.force.empty())
-    t.friction_force =
-        std::accumulate(r.record.force.begin(), r.record.force.end(), 0.0) / double(r.record.force.size());
+    t.friction_force = r.spectrum.strokes ? stroke_friction(r.record, *r.spectrum.strokes)
+                                          : std::accumulate(r.record.force.begin(), r.record.force.end(), 0.0) /
+                                                double(r.record.force.size());
   t.normal_force = r.record.normal_force;
   t.machine_stiffness = r.record.machine_stiffness;
   t.slider_mass = plan.rig.slider_mass;
@@ -222,7 +224,9 @@ void check_plan(const AnalysisPlan& plan, double machine_stiffness) {
     if (!(machine_stiffness > 0))
       throw InputError(named(Option::compare_case) + " rig: builds the case from the machine's spring; give " +
                        named(Option::machine_stiffness) + " K");
-    build_case("reference", plan.overrides);
+    // Each key and value now; their rules (F_kin below F_drive, ...) need the record's terms.
+    ParameterBuilder keys("reference");
+    for (const std::string& assignment : plan.overrides) keys.set(assignment);
   } else if (!plan.compare_case.empty()) {  // refused with the terms the record will add
     std::vector<std::string> ignored;
     record_model(plan.compare_case, record_terms(plan.overrides, 0, machine_stiffness, ignored), 0, 0, ignored);

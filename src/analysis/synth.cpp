@@ -8,6 +8,7 @@
 
 #include "slidespec/analysis.hpp"
 #include "slidespec/stepper.hpp"
+#include "util/numbers.hpp"
 
 namespace slidespec {
 
@@ -58,6 +59,23 @@ Parameters at_speed(Parameters p, double factor) {
   return p;
 }
 
+/// A rig's case at `factor` x its speed: the same contacts (eta1 kept), so the spring's mean
+/// force is the steady friction F_kin + N m eta1 v at that speed (docs/model.md §1).
+Parameters rig_at_speed(Parameters p, double factor) {
+  if (factor == 1) return p;
+  p.v *= factor;
+  p.F_drive = p.F_kin + factor * (p.F_drive - p.F_kin);
+  if (landmarks(p).forces_can_stall)
+    throw InputError("{program}: at " + util::format_number(factor) + " x v the steady friction " +
+                     util::format_number(p.F_drive) + " N leaves the random forces able to stall the slider " +
+                     "(alpha F_kin >= 2 (F_drive - F_kin)); the model's stationary sliding does not hold there");
+  return p;
+}
+
+Parameters case_at_speed(const Parameters& p, double factor, bool load_point) {
+  return load_point ? rig_at_speed(p, factor) : at_speed(p, factor);
+}
+
 double slowest_renewal_rate(const Parameters& p) {
   double slowest = p.renewal_rate();
   for (int l = 1; l <= p.levels; ++l)
@@ -65,47 +83,103 @@ double slowest_renewal_rate(const Parameters& p) {
   return slowest;
 }
 
-/// At every sample the load point's path through `program` and the slider's xi about it.
-void slide(const Parameters& params, const SensorRequest& sensor, const std::vector<DriveStretch>& program,
-           const std::vector<std::size_t>& starts, std::vector<double>& path, std::vector<double>& xi_at) {
+/// A simulated slide, sample by sample.
+struct SlideTrace {
+  std::vector<double> path;        ///< the load point's position [m]
+  std::vector<double> xi;          ///< the slider's fluctuation about the path, continuous [m]
+  std::vector<double> speed;       ///< the drive's speed factor (0 in a hold)
+  std::vector<double> stepper_xi;  ///< xi of that speed's own realization (its start unknown) [m]
+};
+
+/// One realization per speed, continued each time the program returns to that speed.
+struct SpeedRealization {
+  double speed_factor;
+  Stepper stepper;
+  double xi = 0;
+};
+
+/// The load point's path through `program` and the slider's xi about it.
+SlideTrace slide(const Parameters& params, const SensorRequest& sensor, const std::vector<DriveStretch>& program,
+                 const std::vector<std::size_t>& starts) {
   // The stepper's discretization is exact for any step, so the step is the sample interval
-  // and xi at the step ends is what a sensor sampling the slider would see. One stepper per
-  // speed (its own stream), continued each time the program returns to that speed.
-  std::vector<std::pair<double, Stepper>> steppers;
+  // and xi at the step ends is what a sensor sampling the slider would see.
+  const std::size_t samples = starts.back() + 1;
+  SlideTrace trace{std::vector<double>(samples, 0.0), std::vector<double>(samples, 0.0),
+                   std::vector<double>(samples, program.front().speed_factor), std::vector<double>(samples, 0.0)};
+  std::vector<SpeedRealization> realizations;
   double xi = 0, reached = 0;
   for (std::size_t k = 0; k < program.size(); ++k) {
     const double factor = program[k].speed_factor;
     const std::size_t first = starts[k], last = starts[k + 1];
-    for (std::size_t n = first + 1; n <= last; ++n)
-      path[n] = reached + factor * params.v * static_cast<double>(n - first) * sensor.sample_interval;
+    for (std::size_t n = first + 1; n <= last; ++n) {
+      trace.path[n] = reached + factor * params.v * static_cast<double>(n - first) * sensor.sample_interval;
+      trace.speed[n] = factor;
+    }
     reached += factor * params.v * static_cast<double>(last - first) * sensor.sample_interval;
     if (factor == 0 || last == first) {
-      for (std::size_t n = first + 1; n <= last; ++n) xi_at[n] = xi;  // a hold: the slider stands
+      for (std::size_t n = first + 1; n <= last; ++n) trace.xi[n] = xi;  // a hold: the slider stands
       continue;
     }
-    auto stepper =
-        std::find_if(steppers.begin(), steppers.end(), [&](const auto& s) { return s.first == std::fabs(factor); });
-    if (stepper == steppers.end()) {
+    auto realization = std::find_if(realizations.begin(), realizations.end(),
+                                    [&](const auto& r) { return r.speed_factor == std::fabs(factor); });
+    if (realization == realizations.end()) {
+      const Parameters at = case_at_speed(params, std::fabs(factor), sensor.load_point);
       StepperConfig config;
       config.dt = sensor.sample_interval;
       config.seed = sensor.seed;
-      config.stream = steppers.size();
+      config.stream = realizations.size();
       // A program's speeds start stationary: after kWarmUpRenewals of the slowest renewal.
-      if (!sensor.program.empty())
-        config.warm_up = kWarmUpRenewals / slowest_renewal_rate(at_speed(params, std::fabs(factor)));
-      steppers.emplace_back(std::fabs(factor), Stepper(at_speed(params, std::fabs(factor)), config, 0, 1));
-      stepper = steppers.end() - 1;
+      if (!sensor.program.empty()) config.warm_up = kWarmUpRenewals / slowest_renewal_rate(at);
+      realizations.push_back({std::fabs(factor), Stepper(at, config, 0, 1)});
+      realization = realizations.end() - 1;
     }
     // Backwards the fluctuation is mirrored; xi stays continuous across the reversal.
     const double sign = factor > 0 ? 1 : -1;
     std::size_t n = first;
-    stepper->second.advance(static_cast<std::int64_t>(last - first), [&](const double* increments, std::size_t steps) {
-      for (std::size_t i = 0; i < steps; ++i) {
-        xi += sign * increments[i];
-        xi_at[++n] = xi;
-      }
-    });
+    realization->stepper.advance(static_cast<std::int64_t>(last - first),
+                                 [&](const double* increments, std::size_t steps) {
+                                   for (std::size_t i = 0; i < steps; ++i) {
+                                     xi += sign * increments[i];
+                                     realization->xi += increments[i];
+                                     trace.xi[++n] = xi;
+                                     trace.stepper_xi[n] = realization->xi;
+                                   }
+                                 });
   }
+  return trace;
+}
+
+/// The spring's force F_drive - k_drive xi at every sample of a rig's record, F_drive and xi
+/// those of the speed sliding (mirrored backwards). Each speed's xi is taken about its mean:
+/// the stepper leaves its start (the stretch that holds the first random forces) unknown.
+/// In a hold the slider and the load point stand, so the force stands at its last value:
+/// the model's stationary slider cannot relax through the spring.
+std::vector<double> spring_force(const Parameters& params, const SlideTrace& trace) {
+  struct SpeedMean {
+    double speed, xi_sum = 0, samples = 0, force = 0;
+  };
+  std::vector<SpeedMean> means;
+  const auto mean_at = [&](double speed) -> SpeedMean& {
+    auto m = std::find_if(means.begin(), means.end(), [&](const SpeedMean& e) { return e.speed == speed; });
+    return m != means.end() ? *m : means.emplace_back(SpeedMean{speed, 0, 0, rig_at_speed(params, speed).F_drive});
+  };
+  for (std::size_t n = 0; n < trace.speed.size(); ++n)
+    if (trace.speed[n] != 0) {
+      SpeedMean& m = mean_at(std::fabs(trace.speed[n]));
+      m.xi_sum += trace.stepper_xi[n];
+      m.samples += 1;
+    }
+  std::vector<double> force(trace.speed.size(), params.F_drive);
+  for (std::size_t n = 0; n < force.size(); ++n) {
+    if (trace.speed[n] == 0) {
+      if (n > 0) force[n] = force[n - 1];
+      continue;
+    }
+    const SpeedMean& m = mean_at(std::fabs(trace.speed[n]));
+    force[n] =
+        (trace.speed[n] > 0 ? 1 : -1) * (m.force - params.k_drive * (trace.stepper_xi[n] - m.xi_sum / m.samples));
+  }
+  return force;
 }
 
 }  // namespace
@@ -120,9 +194,7 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
   if (!(sensor.sensor_noise >= 0 && std::isfinite(sensor.sensor_noise)))
     throw InputError("{sensor_noise}: must be a length >= 0 in metres");
   if (sensor.load_point && params.drive != Drive::spring)
-    throw InputError("{set} drive=spring: a load point pulls the slider only through a spring");
-  if (sensor.load_point && !sensor.program.empty())
-    throw InputError("{program}: a rig's load-point record is of one speed; give one or the other");
+    throw InputError("{load_point}: a load point pulls the slider only through a spring; {set} drive=spring");
   const std::vector<DriveStretch> program =
       sensor.program.empty() ? std::vector<DriveStretch>{{1, sensor.duration}} : sensor.program;
   double slid = 0;
@@ -160,24 +232,17 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
                 .interpolation_cut = 0,
                 .interpolation_interval = 0,
                 .notes = {}};
+  SlideTrace trace = slide(params, sensor, program, starts);
   std::vector<double>& x = record.displacement;
-  x.assign(static_cast<std::size_t>(samples), 0.0);
-  std::vector<double> xi(x.size(), 0.0);
-  slide(params, sensor, program, starts, x, xi);
-
-  // A rig reads the load point, v t, and the spring's force k_drive (v t + d0 - x) = F_drive - k_drive xi.
-  // The increments leave xi's start unknown (the stretch that holds the first random forces):
-  // xi is taken about its mean, so the force's mean over the record is F_drive.
+  x = std::move(trace.path);
+  // A rig reads the load point and the spring's force k_drive (load point + d0 - slider).
   if (sensor.load_point) {
-    double mean_xi = 0;
-    for (double xi_n : xi) mean_xi += xi_n / double(xi.size());
-    record.force.reserve(xi.size());
-    for (double xi_n : xi) record.force.push_back(params.F_drive - params.k_drive * (xi_n - mean_xi));
+    record.force = spring_force(params, trace);
     record.observable = Observable::slip;
     record.machine_stiffness = params.k_drive;
     record.force_channel = "F (N)";
   } else {
-    for (std::size_t n = 0; n < x.size(); ++n) x[n] += xi[n];
+    for (std::size_t n = 0; n < x.size(); ++n) x[n] += trace.xi[n];
   }
 
   std::mt19937_64 noise_source(sensor.seed ^ 0x5e2503ULL);  // independent of the stepper's streams

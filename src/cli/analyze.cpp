@@ -343,6 +343,10 @@ std::string synth_comments(const Options& o, const Parameters& p, const SensorRe
       comments << " " << util::format_number(stretch.speed_factor) << ":" << util::format_number(stretch.duration);
     comments << "\n";
   }
+  if (sensor.load_point && !sensor.program.empty())
+    comments << "note: each speed's mean force is the model's steady friction F_kin + (speed / v) (F_drive - F_kin); "
+                "in a hold the load point and the slider stand and the force stands at its last value (the model does "
+                "not relax it)\n";
   comments << "columns: t (s), x (" << to_string(parse_length_unit(o.synth_units)) << ")"
            << (sensor.load_point ? ", F (N)" : "") << "\n";
   return comments.str();
@@ -534,10 +538,11 @@ void add_synth_options(CLI::App& synth, Options& o) {
   for (CLI::Option* drive : {strokes, program}) drive->excludes(synth.get_option("--duration"));
   strokes->excludes(program);
   synth.add_option("--units", o.synth_units, "unit of the x column: m|mm|um (default um)");
-  synth.add_flag("--load-point", o.sensor.load_point,
-                 "with drive = spring, what a rig records: x the load point's position, F (N) the spring's force "
-                 "(analyze with --machine-stiffness k_drive)");
-  for (CLI::Option* drive : {strokes, program}) drive->excludes(synth.get_option("--load-point"));
+  synth.add_flag(
+      "--load-point", o.sensor.load_point,
+      "with drive = spring, what a rig records: x the load point's position, F (N) the spring's force "
+      "(analyze with --machine-stiffness k_drive); with a program, each speed's mean force is the model's steady "
+      "friction F_kin + N m eta1 v, and in a hold the force stands");
   synth.add_option("--out", o.synth_out, "output prefix: PREFIX.csv (default record)");
 }
 

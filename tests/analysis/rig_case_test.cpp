@@ -49,15 +49,21 @@ double sensor_noise() {
   return sigma;
 }
 
-/// A rig's record: `slow` s at 10 um/s, then `fast` s at 30 um/s, the load point read with
-/// white noise, the spring's force exact.
-Record rig_record(double slow, double fast, std::uint64_t seed) {
+/// A rig's sensors: the load point read with white noise, the spring's force exact.
+SensorRequest rig_sensor(std::uint64_t seed) {
   SensorRequest sensor;
   sensor.sample_interval = kDt;
   sensor.resolution = 0;
   sensor.sensor_noise = sensor_noise();
   sensor.load_point = true;
   sensor.seed = seed;
+  return sensor;
+}
+
+/// A rig's record: `slow` s at 10 um/s, then `fast` s at 30 um/s, the load point read with
+/// white noise, the spring's force exact.
+Record rig_record(double slow, double fast, std::uint64_t seed) {
+  SensorRequest sensor = rig_sensor(seed);
   sensor.duration = slow;
   Record record = synthesize_record(rig_truth(kSlow), sensor);
   sensor.duration = fast;
@@ -189,8 +195,7 @@ struct SeedResult {
   bool claimed = false;
 };
 
-SeedResult fit_one(std::uint64_t seed) {
-  const AnalysisReport r = analyze(rig_record(200, 600, seed), rig_plan());
+SeedResult fit_one(const AnalysisReport& r) {
   SeedResult result;
   if (!r.model_fit) return result;
   const ModelFit& f = *r.model_fit;
@@ -212,7 +217,7 @@ TEST(RigCase, FitRecoversTheRigsParametersOverSeeds) {
   double sum2 = 0;
   int count = 0, within = 0;
   for (int seed = 1; seed <= kSeeds; ++seed) {
-    const SeedResult s = fit_one(100 + std::uint64_t(seed));
+    const SeedResult s = fit_one(analyze(rig_record(200, 600, 100 + std::uint64_t(seed)), rig_plan()));
     ASSERT_TRUE(s.claimed) << "seed " << seed;
     for (const double z : {s.alpha_deviation, s.a_deviation}) {
       sum2 += z * z;
@@ -233,6 +238,78 @@ TEST(RigCase, FitRecoversTheRigsParametersOverSeeds) {
   EXPECT_GT(rms, 0.4) << "errors too large for the scatter";
   EXPECT_LT(rms, 1.6) << "errors too small for the scatter";
 #endif
+}
+
+/// The fits' deviations (fitted - true) / error over seeds: each within 4 errors, their rms
+/// that of unit normals (the bounds a chance below 1% for their count).
+struct Deviations {
+  std::vector<double> z;
+  void add(const SeedResult& s, std::uint64_t seed) {
+    for (const double deviation : {s.alpha_deviation, s.a_deviation}) {
+      z.push_back(deviation);
+      EXPECT_LT(std::fabs(deviation), 4) << "seed " << seed;
+    }
+  }
+  void expect_unit_rms(const char* what, double low, double high) const {
+    double sum2 = 0;
+    for (const double deviation : z) sum2 += deviation * deviation;
+    const double rms = std::sqrt(sum2 / double(z.size()));
+    std::printf("rig fit on %s: rms of (fitted - true) / error %.3f\n", what, rms);
+    EXPECT_GT(rms, low) << "errors too large for the scatter";
+    EXPECT_LT(rms, high) << "errors too small for the scatter";
+  }
+};
+
+/// One synth run of a rig's program: 200 s at 10 um/s, a 20 s hold, 100 s at 10 um/s, 600 s
+/// at 30 um/s, a 20 s hold and 100 s at 30 um/s.
+Record rig_program_record(std::uint64_t seed) {
+  SensorRequest sensor = rig_sensor(seed);
+  sensor.program = {{1, 200}, {0, 20}, {1, 100}, {3, 600}, {0, 20}, {3, 100}};
+  return synthesize_record(rig_truth(kSlow), sensor);
+}
+
+// Steps and holds in one record: the segment finder reports both holds, the analysis takes
+// the 600 s at 30 um/s, dF/dv from the step before it, and the fit holds alpha and a.
+TEST(RigCase, AProgramsHoldsAreFoundAndItsLongestSlideFitted) {
+  Deviations deviations;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    const AnalysisReport r = analyze(rig_program_record(200 + seed), rig_plan());
+    std::vector<double> holds;
+    for (const SteadySegment& s : r.segments)
+      if (s.kind == SegmentKind::hold) holds.push_back(0.5 * (s.start + s.end));
+    ASSERT_EQ(holds.size(), 2u) << seed;
+    EXPECT_NEAR(holds[0], 210, 10) << seed;
+    EXPECT_NEAR(holds[1], 930, 10) << seed;
+    EXPECT_NEAR(r.record.start_time, 320, 5) << seed;
+    EXPECT_GT(double(r.record.samples()) * kDt, 580) << seed;
+    const SeedResult s = fit_one(r);
+    ASSERT_TRUE(s.claimed) << seed;
+    deviations.add(s, seed);
+  }
+  // 16 deviations: chi2_16 / 16 beyond 0.32 .. 2.14 has a chance below 1%.
+  deviations.expect_unit_rms("a program with holds over 8 seeds", 0.57, 1.46);
+}
+
+// A rig's reciprocating record: 10 strokes of 3 mm at 30 um/s with 5 s dwells, the force
+// reversing with each stroke. The friction is the strokes' signed mean (not the record's
+// mean, near 0), and with F_kin given (no step to measure dF/dv) the fit holds alpha and a.
+TEST(RigCase, AReciprocatingRecordsFrictionIsItsStrokesSignedMean) {
+  Deviations deviations;
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    SensorRequest sensor = rig_sensor(300 + seed);
+    sensor.program = stroke_program(10, 3e-3, kFast, 5);
+    AnalysisPlan plan = rig_plan();
+    plan.overrides = {"F_kin=" + std::to_string(kKinetic)};
+    const AnalysisReport r = analyze(synthesize_record(rig_truth(kFast), sensor), plan);
+    ASSERT_TRUE(r.spectrum.strokes) << seed;
+    ASSERT_TRUE(r.model) << seed;
+    EXPECT_NEAR(r.model->F_drive, kKinetic + kSlope * kFast, 0.001 * kKinetic) << seed;
+    const SeedResult s = fit_one(r);
+    ASSERT_TRUE(s.claimed) << seed;
+    deviations.add(s, seed);
+  }
+  // 8 deviations: chi2_8 / 8 beyond 0.16 .. 2.56 has a chance below 1%.
+  deviations.expect_unit_rms("10 strokes over 4 seeds", 0.4, 1.6);
 }
 
 // One record in full: the notes say what was derived and held, the fit what it cannot separate.

@@ -96,16 +96,53 @@ TEST(Synth, TheRecordFollowsTheProgram) {
   EXPECT_GT(std::fabs(x(5.5) - x(5)), 1e-3);  // the next stroke moves
 }
 
-TEST(Synth, ARigsLoadPointRecordTakesNoProgram) {
-  SensorRequest sensor = exact_sensor({{1, 10}, {0, 1}}, 1);
+// A rig's record with a program: the load point follows it, each speed's spring force has the
+// model's steady friction F_kin + N m eta1 v as its mean, and in a hold (load point and slider
+// standing) the force stands at its value when the hold began.
+TEST(Synth, ARigsProgramStepsTheFrictionAndAHoldStandsTheForce) {
+  const Parameters p =
+      ParameterBuilder("fast").set("alpha", "0.4").set("drive", "spring").set("k_drive", "1000").build();
+  const std::vector<DriveStretch> program = {{1, 20}, {0, 5}, {3, 20}, {0, 5}, {1, 20}};
+  SensorRequest sensor = exact_sensor(program, 1);
   sensor.load_point = true;
-  const Parameters spring = ParameterBuilder("fast").set("drive", "spring").set("k_drive", "1000").build();
+  const Record r = synthesize_record(p, sensor);
+  ASSERT_EQ(r.samples(), 7001u);
+  ASSERT_EQ(r.force.size(), r.samples());
+  const auto at = [&](double t) { return std::size_t(std::llround(t / r.dt)); };
+  EXPECT_NEAR(r.displacement[at(20)], 20 * p.v, 1e-12);
+  EXPECT_NEAR(r.displacement[at(25)], 20 * p.v, 1e-12);
+  EXPECT_NEAR(r.displacement[at(45)], 80 * p.v, 1e-12);
+  EXPECT_NEAR(r.displacement[at(70)], 100 * p.v, 1e-12);
+  for (const double hold : {20.0, 45.0})
+    for (std::size_t n = at(hold); n <= at(hold + 5); ++n) ASSERT_EQ(r.force[n], r.force[at(hold)]) << n;
+  const auto mean = [&](std::vector<std::pair<double, double>> spans) {
+    double sum = 0, count = 0;
+    for (const auto& [from, to] : spans)
+      for (std::size_t n = at(from) + 1; n <= at(to); ++n) sum += r.force[n], ++count;
+    return sum / count;
+  };
+  const double viscous = p.F_drive - p.F_kin;  // N m eta1 v
+  EXPECT_GT(std::fabs(r.force[at(10)] - r.force[at(12)]), 0.0);
+  EXPECT_NEAR(mean({{25, 45}}), p.F_kin + 3 * viscous, 1e-9 * p.F_drive);
+  // The first sample belongs to the first 1x stretch.
+  EXPECT_NEAR((mean({{0, 20}, {50, 70}}) * 4000 + r.force[0]) / 4001, p.F_drive, 1e-9 * p.F_drive);
+}
+
+// A speed at which the random forces could stall the slider is not the model's stationary sliding.
+TEST(Synth, ARigsProgramSpeedThatCouldStallIsRefused) {
+  const Parameters p =
+      ParameterBuilder("fast").set("alpha", "0.4").set("drive", "spring").set("k_drive", "1000").build();
+  const double stalling = 0.5 * p.alpha * p.F_kin / (p.F_drive - p.F_kin);  // alpha F_kin = 2 f (F_drive - F_kin)
+  SensorRequest sensor = exact_sensor({{1, 10}, {0.9 * stalling, 10}}, 1);
+  sensor.load_point = true;
   try {
-    synthesize_record(spring, sensor);
-    ADD_FAILURE() << "a load-point record with a program";
+    synthesize_record(p, sensor);
+    ADD_FAILURE() << "a stalling speed, " << 0.9 * stalling << " v";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()).rfind("{program}", 0), 0u) << e.what();
   }
+  sensor.program = {{1, 10}, {1.1 * stalling, 10}};
+  EXPECT_NO_THROW(synthesize_record(p, sensor));
 }
 
 TEST(Synth, AProgramStretchOfNoLengthOrSpeedIsRefused) {

@@ -15,6 +15,14 @@ grep -q "^# strokes = 8 of 50mm (dwell 1 s)$" "$work/g/strokes.csv" || fail "syn
 synth_fast --program 1:100,0:2,3:100 --out "$work/g/steps" 2> /dev/null || fail "synth --program failed"
 grep -q "^# program (speed / v : seconds) = 1:100 0:2 3:100$" "$work/g/steps.csv" || fail "synth --program: not in the record"
 printf 't,x\n0,1\n0.001,abc\n' > "$work/g/bad.csv"
+# A rig's program: the load point and the force written, the force standing through the hold.
+rig="--set drive=spring --set k_drive=1e8 --set alpha=0.004 --set F_kin=14700 --set F_drive=14800 --load-point"
+"$bin" synth $rig --program 1:10,0:2,3:10 --sample-interval 0.02 --out "$work/rig" 2> /dev/null \
+  || fail "synth --load-point --program failed"
+grep -q "^t (s),x (um),F (N)$" "$work/rig.csv" || fail "synth --load-point --program: no force column"
+grep -q "^# note: .*in a hold .* the force stands" "$work/rig.csv" || fail "synth --load-point --program: no note of the hold"
+[ "$(awk -F, '!/^#/ && $1 >= 10 && $1 <= 12 {print $3}' "$work/rig.csv" | sort -u | wc -l)" -eq 1 ] \
+  || fail "synth --load-point --program: the force moves in the hold"
 
 # Three records and a bad one: each analysed into its own outputs, the bad one reported in one
 # line naming it, the table listing all four, exit status 3 (one is not ok).
@@ -74,6 +82,8 @@ expect_refused dwell-without-strokes "strokes" synth --dwell 1 $out
 expect_refused half-strokes "strokes" synth --strokes 2.5 --stroke-length 1mm $out
 expect_refused bad-program "program" synth --program 1:100,0 $out
 expect_refused program-and-strokes "program" synth --program 1:10 --strokes 2 --stroke-length 1mm $out
+expect_refused rig-stalling-speed "program" synth $rig --program 1:10,0.1:10 --sample-interval 0.02 $out
+expect_refused load-point-without-spring "load-point" synth --load-point --program 1:10 $out
 
 # An interrupt between records keeps those finished and lists them in the combined table.
 mkdir -p "$work/slow"
