@@ -197,16 +197,16 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
     throw InputError("{load_point}: a load point pulls the slider only through a spring; {set} drive=spring");
   const std::vector<DriveStretch> program =
       sensor.program.empty() ? std::vector<DriveStretch>{{1, sensor.duration}} : sensor.program;
+  const std::vector<std::size_t> starts = stretch_starts(program, sensor.sample_interval);
   double slid = 0;
   for (const DriveStretch& stretch : program) slid += std::fabs(stretch.speed_factor) * params.v * stretch.duration;
-  if (sensor.resolution >= slid) {
+  if (sensor.resolution > 0 && sensor.resolution >= slid) {
     std::ostringstream message;
     message << "{resolution}: " << sensor.resolution << " m is no less than the whole distance slid, " << slid
             << " m: the record would be one or two readings, no spectrum of the slider; give a resolution "
             << "well below it";
     throw InputError(message.str());
   }
-  const std::vector<std::size_t> starts = stretch_starts(program, sensor.sample_interval);
   const double samples = starts.size() == program.size() + 1 ? double(starts.back()) + 1 : kMaxSamples + 1;
   if (samples < 2 || samples > kMaxSamples) {
     std::ostringstream message;
