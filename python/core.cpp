@@ -528,7 +528,7 @@ py::dict analysis_fields(const AnalysisReport& r, const std::string& file, const
   if (!file.empty()) record["file"] = file;
   record["column"] = r.record.column;
   record["units"] = to_string(r.record.unit);
-  record["units_from"] = r.record.unit_source;
+  record["units_from"] = worded(r.record.unit_source, FrontEnd::python);
   record["samples"] = s.samples;
   record["dt"] = number(s.dt);
   record["duration"] = number(s.duration);

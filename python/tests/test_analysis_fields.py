@@ -33,7 +33,8 @@ def command_line_fields(tmp_path, columns, options):
 
 # The options these records' texts name, as the command line and Python spell them: the
 # library's words are the same, each front end names its own options.
-SPELLINGS = {"--set ": "", "--compare-case": "compare", "--fit": "fit", "--machine-stiffness": "machine_stiffness"}
+SPELLINGS = {"--set ": "", "--compare-case": "compare", "--fit": "fit", "--machine-stiffness": "machine_stiffness",
+             "--units": "units"}
 
 
 def in_pythons_words(value):

@@ -279,7 +279,7 @@ nlohmann::ordered_json analysis_json(const AnalysisReport& r, const std::string&
   if (!file.empty()) doc["record"]["file"] = file;
   doc["record"].update({{"column", r.record.column},
                         {"units", to_string(r.record.unit)},
-                        {"units_from", r.record.unit_source},
+                        {"units_from", worded(r.record.unit_source, reader)},
                         {"samples", s.samples},
                         {"dt", s.dt},
                         {"duration", s.duration}});

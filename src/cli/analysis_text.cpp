@@ -59,8 +59,8 @@ void record_lines(std::ostream& out, const AnalysisSource& source, const Analysi
       << "# observable = " << to_string(s.observable) << "  # " << C << " [" << spectrum_unit(s.observable) << "] of "
       << s.channel << "\n";
   if (!r.record.column.empty())
-    out << "# units = " << to_string(r.record.unit) << "  # of the displacement column, from " << r.record.unit_source
-        << "\n";
+    out << "# units = " << to_string(r.record.unit) << "  # of the displacement column, from "
+        << words(r.record.unit_source) << "\n";
   out << "# ok = " << (r.ok() ? "true" : "false") << "  # false: a fit failed, or the spectrum is none (see its line)\n"
       << "# spectrum_ok = " << verdict_line(r.spectrum_verdict) << "\n"
       << "# record = " << source.file << "\n# samples = " << s.samples << "\n# dt = " << number(s.dt) << "  # [s]\n"
@@ -191,7 +191,8 @@ void point_rows(std::ostream& out, const AnalysisReport& r) {
 std::string unit_words(const AnalysisReport& r) {
   if (r.spectrum.observable == Observable::force) return "the force " + r.record.force_channel;
   return std::string("read in ") + to_string(r.record.unit) +
-         (r.record.unit_source == "default" ? " (no unit in its header)" : " (from " + r.record.unit_source + ")");
+         (r.record.unit_source == "default" ? " (no unit in its header)"
+                                            : " (from " + words(r.record.unit_source) + ")");
 }
 
 void print_fits(const AnalysisSource& source, const AnalysisReport& r) {

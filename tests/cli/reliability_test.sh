@@ -285,6 +285,12 @@ grep -q "L$(printf '\357\277\275')nge" lat.json || fail "a Latin-1 header: not w
 "$bin" analyze latin1.csv rec.csv --no-plot --out latmany --quiet 2> err || fail "a Latin-1 header among records: $(cat err)"
 [ -s latmany.json ] && [ -s latmany_rec.json ] || fail "a Latin-1 header among records: outputs missing"
 
+# --- A unit given by option is named as the command line spells the option, never "{units}".
+{ echo "t,x"; for k in $(seq 0 999); do echo "$k,$((k * 5 + k % 7))"; done; } > unitless.csv
+"$bin" analyze unitless.csv --units mm --no-plot --out unitless 2> err || fail "a unit by option: $(cat err)"
+grep -q "read in mm (from --units)" err || fail "a unit by option: not named as --units: $(cat err)"
+grep -qE "\{[a-z_]+\}" err unitless.tsv unitless.json && fail "a unit by option: an unworded {id} in an output: $(grep -E "\{[a-z_]+\}" err unitless.tsv unitless.json)"
+
 # --- A signal while the figure is drawn: analyze ends its plotter and leaves no temporary
 # (a plotter that never finishes holds analyze in its figure).
 printf '#!/bin/sh\necho $$ > "%s/plotter.pid"\nexec sleep 60\n' "$PWD" > slow_plotter
