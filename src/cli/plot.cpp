@@ -225,6 +225,12 @@ int plot(const std::vector<std::string>& tables, const std::string& out, const s
               << " (is python3-matplotlib installed?)\n";
   else if (status > 128)
     std::cerr << "slidespec: the plotter was killed by signal " << status - 128 << "\n";
+  std::error_code unreadable;
+  if (status == 0 && std::filesystem::file_size(out, unreadable) == 0) {
+    // A plotter that claims success must have drawn something: an empty figure is a failure.
+    std::cerr << "slidespec: the plotter " << plotter.python << " ended with status 0 but drew nothing\n";
+    return 1;
+  }
   return status;
 }
 

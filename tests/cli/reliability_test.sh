@@ -291,6 +291,11 @@ grep -q "L$(printf '\357\277\275')nge" lat.json || fail "a Latin-1 header: not w
 grep -q "read in mm (from --units)" err || fail "a unit by option: not named as --units: $(cat err)"
 grep -qE "\{[a-z_]+\}" err unitless.tsv unitless.json && fail "a unit by option: an unworded {id} in an output: $(grep -E "\{[a-z_]+\}" err unitless.tsv unitless.json)"
 
+# --- A plotter that ends with status 0 but draws nothing (an empty figure) has failed.
+SLIDESPEC_PYTHON=/bin/true "$bin" analyze rec.csv --out nofig --quiet 2> err
+expect_failed "a plotter that draws nothing" "drew nothing" $?
+ls nofig.* > /dev/null 2>&1 && fail "a plotter that draws nothing: outputs written: $(ls nofig.*)"
+
 # --- A signal while the figure is drawn: analyze ends its plotter and leaves no temporary
 # (a plotter that never finishes holds analyze in its figure).
 printf '#!/bin/sh\necho $$ > "%s/plotter.pid"\nexec sleep 60\n' "$PWD" > slow_plotter
