@@ -206,19 +206,24 @@ int write_analysis(const Options& o, const AnalysisReport& report) {
   outputs.add(o.out + ".json", io::json_file_text(analysis_json(report, o.file, o.compare_case, model_parameters,
                                                                 FrontEnd::command_line)));
   const std::string figure = o.figure.path(o.out);
-  const bool plotted =
-      !o.no_plot && plot({outputs.temporary(o.out + ".tsv")},
-                         outputs.add_written_by_other(figure, std::filesystem::path(figure).extension().string()),
-                         title, o.figure) == 0;
+  // A spectrum of nothing has no figure: its table and JSON say why, and an old figure at
+  // this prefix goes with them.
+  const bool drawn = !o.no_plot && report.spectrum_verdict.ok;
+  const std::string figure_temporary =
+      o.no_plot ? "" : outputs.add_written_by_other(figure, std::filesystem::path(figure).extension().string());
+  if (!o.no_plot && !drawn) outputs.drop(figure);
   // As for run: a set without its figure is not the set asked for, so none of it is written.
-  if (!o.no_plot && !plotted)
+  if (drawn && plot({outputs.temporary(o.out + ".tsv")}, figure_temporary, title, o.figure) != 0)
     throw io::WriteError(figure + " not drawn; no output written (--no-plot writes the table and JSON alone)");
   outputs.commit();
   print_messages(report);
   const int status = report.ok() ? 0 : kNotWhatItClaims;
   if (o.quiet) return status;
   print_summary(source, report);
-  std::cerr << "slidespec: wrote " << o.out << ".tsv, .json" << (o.no_plot ? "" : ", ." + o.figure.format)
+  std::cerr << "slidespec: wrote " << o.out << ".tsv, .json"
+            << (drawn       ? ", ." + o.figure.format
+                : o.no_plot ? ""
+                            : " (no figure: no spectrum to draw)")
             << (report.ok() ? "" : " (marked ok = false)") << "\n";
   return status;
 }

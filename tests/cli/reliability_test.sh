@@ -94,6 +94,13 @@ status=$?
 [ $status -eq 3 ] || fail "a constant record: exit status $status, expected 3: $(cat err)"
 grep -q "^# spectrum_ok = false" flat.tsv && grep -q '"ok": false' flat.json || fail "a constant record is not marked"
 grep -q "no fluctuation" err || fail "a constant record: no message saying why: $(cat err)"
+# With its figure asked for: the same marked set, no figure (nothing to draw), an old one gone.
+echo "an older figure" > flat.png
+"$bin" analyze flat.csv --out flat 2> err
+status=$?
+[ $status -eq 3 ] || fail "a constant record with a figure: exit status $status, expected 3: $(cat err)"
+grep -q "^# spectrum_ok = false" flat.tsv || fail "a constant record with a figure: not marked"
+[ -e flat.png ] && fail "a constant record with a figure: a figure beside the new table"
 "$bin" analyze rec.csv --dt 1e-170 --out tiny --no-plot --quiet 2> err
 status=$?
 [ $status -eq 3 ] || [ $status -eq 2 ] || fail "analyze --dt 1e-170: exit status $status, expected 3 (or a refusal)"
