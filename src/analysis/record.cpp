@@ -881,6 +881,9 @@ class RecordReader {
     if (x_index_ == force_index_) fail(line_number, "the displacement column is the force column");
     record_.column = names_[static_cast<std::size_t>(x_index_)];
     const std::string header_unit = split_unit(record_.column).unit;
+    if (seconds_per(header_unit) > 0)
+      fail(line_number, "column " + record_.column + " is in " + header_unit +
+                            ", a time unit: it holds times, not a displacement; give {column}");
     if (format_.unit) {
       if (const auto named = length_unit(header_unit); named && *named != *format_.unit)
         fail(line_number, std::string("{units} ") + to_string(*format_.unit) + " contradicts the header of column " +

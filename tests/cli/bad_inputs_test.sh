@@ -38,6 +38,7 @@ awk 'BEGIN { print "t,t,x"; for (k = 0; k < 200; ++k) print k * 0.01 "," k * 0.0
 awk 'BEGIN { print "t,x,x"; for (k = 0; k < 200; ++k) print k * 0.01 "," k * 1e-6 "," k * 2e-6 }' > twox.csv
 awk 'BEGIN { print "t,x"; for (k = 0; k < 200; ++k) print k "e300," k * 1e-6 }' > huge_t.csv
 awk 'BEGIN { print "x"; for (k = 0; k < 200; ++k) print k * 1e-6 }' > untimed.csv
+awk 'BEGIN { print "t (s),time (s)"; for (k = 0; k < 200; ++k) print k * 0.01 "," k * 0.01 }' > two_clocks.csv
 printf 't,x\n0,1\n0.01,"2\0003"\n0.02,4\n' > nul.csv
 long=$(printf 'n%.0s' $(seq 1 300))
 odd=$(printf 'odd\xff')
@@ -296,6 +297,7 @@ record-two-time-columns|the header names 2 columns 't'|analyze twot.csv --out x 
 record-two-x-columns|the header names 2 columns 'x'|analyze twox.csv --out x --no-plot
 record-two-x-columns-named|the header names 2 columns 'x'|analyze twox.csv --column x --out x --no-plot
 record-times-1e300|1e+300 s is beyond 1e+30 s|analyze huge_t.csv --out x --no-plot
+record-displacement-in-seconds|column time (s) is in s, a time unit|analyze two_clocks.csv --out x --no-plot
 analyze-dt-1e300|--dt: 1e+300 s is beyond|analyze untimed.csv --dt 1e300 --out x --no-plot
 record-nul-in-a-quoted-field|'2\x003' is not a number|analyze nul.csv --out x --no-plot
 synth-resolution-huge|--resolution: 1e+308 m is no less than the whole distance slid|synth --resolution 1e308
