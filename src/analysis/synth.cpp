@@ -193,6 +193,10 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
     throw InputError("{resolution}: must be a length >= 0 in metres");
   if (!(sensor.sensor_noise >= 0 && std::isfinite(sensor.sensor_noise)))
     throw InputError("{sensor_noise}: must be a length >= 0 in metres");
+  if (landmarks(params).forces_can_stall)
+    throw InputError(
+        "{set}: the random forces can stall the slider (alpha F_kin >= 2 (F_drive - F_kin), docs/model.md §8): a "
+        "record would not be of the model's steady sliding");
   if (sensor.load_point && params.drive != Drive::spring)
     throw InputError("{load_point}: a load point pulls the slider only through a spring; {set} drive=spring");
   const std::vector<DriveStretch> program =

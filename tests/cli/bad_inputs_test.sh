@@ -297,6 +297,7 @@ record-two-time-columns|the header names 2 columns 't'|analyze twot.csv --out x 
 record-two-x-columns|the header names 2 columns 'x'|analyze twox.csv --out x --no-plot
 record-two-x-columns-named|the header names 2 columns 'x'|analyze twox.csv --column x --out x --no-plot
 record-times-1e300|1e+300 s is beyond 1e+30 s|analyze huge_t.csv --out x --no-plot
+synth-forces-can-stall|the random forces can stall the slider|synth --set alpha=100 --duration 10 --out x
 record-displacement-in-seconds|column time (s) is in s, a time unit|analyze two_clocks.csv --out x --no-plot
 analyze-dt-1e300|--dt: 1e+300 s is beyond|analyze untimed.csv --dt 1e300 --out x --no-plot
 record-nul-in-a-quoted-field|'2\x003' is not a number|analyze nul.csv --out x --no-plot
