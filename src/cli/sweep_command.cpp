@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -111,28 +112,40 @@ class SweepCommand final : public Command {
       if (interrupted) break;
     }
     progress.finish();
-    // The combined table holds what was run, also when interrupted.
+    // The combined table holds what was run, also when interrupted; its figure, drawn only
+    // for a whole sweep, belongs to the same set, so an old figure never stays beside it.
+    int figure_status = 0;
     if (writes) {
       io::OutputSet combined;
       combined.add(options.out + ".tsv", sweep_table(axes, runs));
       combined.add(options.out + ".json", sweep_json(axes, runs));
+      const std::string picture = options.figure.path(options.out);
+      if (!options.no_plot) {
+        const std::string temporary =
+            combined.add_written_by_other(picture, std::filesystem::path(picture).extension().string());
+        if (!interrupted && written) figure_status = plot(tables, temporary, figure_title(axes), options.figure);
+        if (interrupted || !written || figure_status != 0) combined.drop(picture);
+      }
       combined.commit();
       if (!options.quiet)
-        std::cerr << "slidespec: wrote " << options.out << ".tsv, .json (all " << runs.size() << " runs)\n";
+        std::cerr << "slidespec: wrote " << options.out << ".tsv, .json"
+                  << (options.no_plot || interrupted || !written ? ""
+                      : figure_status == 0                       ? ", ." + options.figure.format
+                                                                 : " (the figure failed: none written)")
+                  << " (all " << runs.size() << " runs)\n";
     }
     if (interrupted) return stopped_status();
-    if (!written) return kNotWritten;
-    const int done = stationary ? 0 : kNotWhatItClaims;
-    if (options.no_plot || !writes) return done;
-    std::string swept;
-    for (const SweepAxis& axis : axes) swept += (swept.empty() ? "" : ", ") + axis.key;
-    const std::string picture = options.figure.path(options.out);
-    const int status = plot(tables, picture, model_.case_name + ": sweep of " + swept, options.figure);
-    if (status == 0 && !options.quiet) std::cerr << "slidespec: drew " << picture << "\n";
-    return status == 0 ? done : 1;
+    if (!written || figure_status != 0) return kNotWritten;
+    return stationary ? 0 : kNotWhatItClaims;
   }
 
  private:
+  std::string figure_title(const std::vector<SweepAxis>& axes) const {
+    std::string swept;
+    for (const SweepAxis& axis : axes) swept += (swept.empty() ? "" : ", ") + axis.key;
+    return model_.case_name + ": sweep of " + swept;
+  }
+
   std::string run_prefix(const std::vector<std::pair<std::string, std::string>>& values) const {
     std::string name = options_.out;
     for (const auto& [key, value] : values) name += "_" + key + "=" + value;

@@ -303,6 +303,15 @@ SLIDESPEC_PYTHON=/bin/true "$bin" analyze rec.csv --out nofig --quiet 2> err
 expect_failed "a plotter that draws nothing" "drew nothing" $?
 ls nofig.* > /dev/null 2>&1 && fail "a plotter that draws nothing: outputs written: $(ls nofig.*)"
 
+# --- A sweep's combined table and figure are one set: a figure that fails leaves no older
+# figure beside the new table, and says so with exit 1.
+"$bin" sweep alpha=0.5,1 $band --precision 0.2 --out swset --quiet || fail "a sweep with its figure"
+[ -s swset.png ] || fail "a sweep drew no figure"
+SLIDESPEC_PYTHON=/bin/false "$bin" sweep alpha=0.5,1 $band --precision 0.2 --seed 9 --out swset 2> err
+expect_failed "a sweep whose figure fails" "the figure failed" $?
+grep -q "^# seed = 9" swset_alpha=1.tsv || fail "a sweep whose figure fails: runs not written"
+[ -e swset.png ] && fail "a sweep whose figure fails left the older figure beside the new table"
+
 # --- A signal while the figure is drawn: analyze ends its plotter and leaves no temporary
 # (a plotter that never finishes holds analyze in its figure).
 printf '#!/bin/sh\necho $$ > "%s/plotter.pid"\nexec sleep 60\n' "$PWD" > slow_plotter
