@@ -188,9 +188,10 @@ attack refuse "bad size word" run --size big
 attack refuse "bad dpi" run --dpi 0
 attack refuse "huge dpi" run --dpi 1e9
 attack refuse "unknown units" analyze $R --units km --no-plot
-# cm and inch are known units (converted, never read as metres): they must work.
-attack work-keep "units cm" analyze $R --units cm --no-plot --quiet
-attack work-keep "units inch" analyze $R --units inch --no-plot --quiet
+# cm and inch are known units, but $R's header gives um: a unit option that contradicts it
+# is refused, naming both.
+attack refuse "units cm over a header in um" analyze $R --units cm --no-plot
+attack refuse "units inch over a header in um" analyze $R --units inch --no-plot
 attack refuse "resolution unit" analyze $R --resolution 1furlong --no-plot
 attack refuse "theory order 3" theory --order 3
 attack refuse "resume other seed" run --resume $S --seed 9 --no-plot
@@ -656,7 +657,7 @@ if in_part results; then
   failed_write "cases > /dev/full" "'$bin' cases > /dev/full"
   failed_write "analyze --segments > /dev/full" "'$bin' analyze $R --segments > /dev/full"
   failed_write "analyze, its plotter broken" "SLIDESPEC_PYTHON=/bin/false '$bin' analyze $R --out a"
-  failed_write "run under ulimit -f 8" "ulimit -f 8; exec '$bin' run $band --precision 0.2 --out u --no-plot"
+  failed_write "run under ulimit -f 1" "ulimit -f 1; exec '$bin' run $band --precision 0.2 --out u --no-plot"
   failed_write "analyze under ulimit -f 1" "ulimit -f 1; exec '$bin' analyze $R --out u --no-plot"
   # Spectra of nothing: exit 3 (marked), never 0.
   awk 'BEGIN { print "t,x"; for (k = 0; k < 4000; ++k) print k * 0.01 ",0.002" }' > flat.csv
