@@ -80,20 +80,12 @@ std::string seconds(double t) {
 /// "T0:T1" in seconds of record time.
 std::pair<double, double> parse_window(const std::string& text) {
   const auto colon = text.find(':');
-  double t0 = 0, t1 = 0;
-  std::size_t used0 = 0, used1 = 0;
-  try {
-    if (colon != std::string::npos) {
-      t0 = std::stod(text.substr(0, colon), &used0);
-      t1 = std::stod(text.substr(colon + 1), &used1);
-    }
-  } catch (const std::exception&) {
-    used0 = 0;
-  }
-  if (colon == std::string::npos || used0 != colon || used1 != text.size() - colon - 1 || !std::isfinite(t0) ||
-      !std::isfinite(t1) || !(t1 > t0))
+  std::string problem;
+  const auto t0 = colon == std::string::npos ? std::nullopt : util::parse_decimal(text.substr(0, colon), problem);
+  const auto t1 = colon == std::string::npos ? std::nullopt : util::parse_decimal(text.substr(colon + 1), problem);
+  if (!t0 || !t1 || !(*t1 > *t0))
     throw InputError("--window: '" + text + "' is not T0:T1 with T0 < T1 in seconds of record time (e.g. 20100:21000)");
-  return {t0, t1};
+  return {*t0, *t1};
 }
 
 /// "auto", "off", "median" or an interval in seconds, into `format`.
@@ -101,17 +93,12 @@ void parse_resample(const std::string& text, RecordFormat& format) {
   if (text == "auto") return void(format.resample = Resampling::automatic);
   if (text == "off") return void(format.resample = Resampling::off);
   if (text == "median") return void(format.resample = Resampling::median);
-  std::size_t used = 0;
-  double dt = 0;
-  try {
-    dt = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || !(dt > 0) || !std::isfinite(dt))
+  std::string problem;
+  const std::optional<double> dt = util::parse_decimal(text, problem);
+  if (!dt || !(*dt > 0))
     throw InputError("--resample: '" + text + "' is none of auto, off, median or an interval > 0 in seconds");
   format.resample = Resampling::interval;
-  format.resample_interval = dt;
+  format.resample_interval = *dt;
 }
 
 void print_segments(const std::vector<SteadySegment>& steady) {

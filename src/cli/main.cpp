@@ -34,6 +34,18 @@ void flush_standard_output() {
                        (errno != 0 ? std::strerror(errno) : "the stream failed"));
 }
 
+/// --help and --version: the text CLI11 prints, then exit 1 when it could not be written.
+int print_help_or_version(const CLI::App& app, const CLI::Success& success) {
+  const int status = app.exit(success);
+  try {
+    flush_standard_output();
+  } catch (const io::WriteError& e) {
+    std::cerr << "slidespec: failed: " << e.what() << "\n";
+    return 1;
+  }
+  return status;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -56,6 +68,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", SLIDESPEC_VERSION);
   const auto commands = cli::make_commands(app, context);
   cli::require_whole_numbers(app);
+  cli::require_decimal_numbers(app);
   cli::declare_option_rules(app);
   const bool speaks = context.writes_outputs();
   try {
@@ -77,10 +90,11 @@ int main(int argc, char** argv) {
     flush_standard_output();
     return 0;
   } catch (const CLI::Success& e) {  // --help, --version
-    return app.exit(e);
+    return print_help_or_version(app, e);
   } catch (const CLI::ParseError& e) {
     const std::string unknown = cli::unknown_argument(app, argc, argv);
-    if (speaks) std::cerr << "slidespec: error: " << (unknown.empty() ? e.what() : unknown) << "\n";
+    if (speaks)
+      std::cerr << "slidespec: error: " << (unknown.empty() ? cli::worded_parse_error(app, e) : unknown) << "\n";
     return 2;
   } catch (const InputError& e) {
     if (speaks) std::cerr << "slidespec: error: " << worded(e.what(), FrontEnd::command_line) << "\n";

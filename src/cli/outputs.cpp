@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "io/atomic_file.hpp"
+#include "util/numbers.hpp"
 #include "slidespec/parameters.hpp"
 
 namespace slidespec::cli {
@@ -151,6 +152,22 @@ void require_whole_numbers(CLI::App& app) {
     for (const char* name : {"--threads", "--points"})
       if (CLI::Option* option = command->get_option_no_throw(name)) option->check(whole_up_to(most_int));
   }
+}
+
+void require_decimal_numbers(CLI::App& app) {
+  const CLI::Validator decimal(
+      [](std::string& value) -> std::string {
+        const auto first = value.find_first_not_of(" \t");
+        value = first == std::string::npos ? "" : value.substr(first, value.find_last_not_of(" \t") - first + 1);
+        std::string problem;  // an empty value is refuse_empty_values' to word
+        return value.empty() || util::parse_decimal(value, problem) ? "" : problem;
+      },
+      "");
+  for (CLI::App* command : app.get_subcommands([](CLI::App*) { return true; }))
+    for (CLI::Option* option : command->get_options()) {
+      const std::string type = option->get_type_name();
+      if (type == "FLOAT" || type == "INT" || type == "UINT") option->check(decimal);
+    }
 }
 
 void declare_option_rules(CLI::App& app) {

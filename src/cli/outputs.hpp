@@ -38,6 +38,10 @@ struct Files {
 /// plain decimal digits only: "-1" would otherwise wrap to 2^64-1.
 void require_whole_numbers(CLI::App& app);
 
+/// Every number option (CLI11's FLOAT and INT) of every command takes a decimal number,
+/// padding trimmed: CLI11 would read "0x10" as 16 and "inf" or "nan" as numbers.
+void require_decimal_numbers(CLI::App& app);
+
 /// Options that would be ignored are refused at parsing (CLI11 excludes and needs): the
 /// figure's --format, --size and --dpi beside --no-plot; theory's grid (--omega-min,
 /// --omega-max, --points) beside --omega or --omega-file; analyze's --fit-band without

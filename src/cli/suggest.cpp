@@ -23,7 +23,70 @@ std::vector<std::string> option_names(const CLI::App& command) {
   return names;
 }
 
+/// The text between `before` and `after` in `what` ("" when either is missing).
+std::string between(const std::string& what, const std::string& before, const std::string& after) {
+  const auto start = what.find(before);
+  if (start == std::string::npos) return "";
+  const auto end = what.find(after, start + before.size());
+  return end == std::string::npos ? "" : what.substr(start + before.size(), end - start - before.size());
+}
+
+/// What a left-out positional argument is, as its command's help would say it briefly.
+std::string positional_meaning(const std::string& name) {
+  if (name == "file") return "a record to analyze (a CSV or TSV file, or - for standard input)";
+  if (name == "values") return "KEY=VALUES to sweep (e.g. alpha=0.1,0.5)";
+  if (name == "parts") return "the state files of the parts to merge";
+  if (name == "tables") return "the TSV tables to draw";
+  return "one";
+}
+
+/// The count of values in CLI11's "NAME: At Most N required but received M" and kin.
+std::string count_message(const std::string& name, const std::string& what) {
+  const std::string expected = between(what, name + ": ", " required but received ");
+  const std::string received = what.substr(what.rfind(' ') + 1);
+  const std::string count = expected.substr(expected.rfind(' ') + 1);
+  if (count == "1" && what.find("At Most") != std::string::npos)
+    return name + ": given " + received + " times; give it once";
+  return name + ": takes " + count + (count == "1" ? " value" : " values") + ", got " + received;
+}
+
 }  // namespace
+
+std::string worded_parse_error(const CLI::App& app, const CLI::ParseError& error) {
+  const std::string what = error.what();
+  const CLI::App* chosen = nullptr;
+  for (const CLI::App* command : app.get_subcommands()) chosen = command;
+  const std::string scope = chosen ? chosen->get_name() + ": " : "";
+  const std::string help = " (see 'slidespec " + (chosen ? chosen->get_name() + " " : "") + "--help')";
+  if (dynamic_cast<const CLI::RequiredError*>(&error) && what.size() > 12 &&
+      what.rfind(" is required") == what.size() - 12) {
+    const std::string name = what.substr(0, what.size() - 12);
+    return scope + "no " + name + " given; give " + positional_meaning(name);
+  }
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&error)) {
+    const std::string name = what.substr(0, what.find(':'));
+    if (what.find(" missing") == what.size() - 8) return name + ": no value after it; give one or leave it out";
+    if (what.find(" required but received ") != std::string::npos) return count_message(name, what);
+  }
+  if (dynamic_cast<const CLI::ExtrasError*>(&error))
+    return scope + "'" + what.substr(what.find(": ") + 2) + "' was not expected" + help;
+  if (dynamic_cast<const CLI::ExcludesError*>(&error)) {
+    const auto split = what.find(" excludes ");
+    return what.substr(0, split) + " and " + what.substr(split + 10) + " cannot be given together; leave one out";
+  }
+  if (dynamic_cast<const CLI::RequiresError*>(&error)) {
+    const auto split = what.find(" requires ");
+    return what.substr(0, split) + " needs " + what.substr(split + 10) + ", which is not given";
+  }
+  if (dynamic_cast<const CLI::ConversionError*>(&error) && what.rfind("Could not convert: ", 0) == 0) {
+    const std::string name = between(what, "Could not convert: ", " = ");
+    const std::string value = what.substr(what.find(" = ") + 3);
+    const CLI::Option* option = chosen ? chosen->get_option_no_throw(name) : nullptr;
+    const bool whole = option != nullptr && option->get_type_name().find("INT") != std::string::npos;
+    return name + ": '" + value + "' is not " + (whole ? "a whole number" : "a number");
+  }
+  return what;
+}
 
 std::string unknown_argument(const CLI::App& app, int argc, const char* const* argv) {
   std::vector<std::string> commands;

@@ -13,4 +13,9 @@ namespace slidespec::cli {
 /// is known (then CLI11's own message is the better one).
 std::string unknown_argument(const CLI::App& app, int argc, const char* const* argv);
 
+/// CLI11's failure `error` in our words, one line naming the option and the problem:
+/// "--out: no value after it", "--seed: given 2 times; give it once", "merge: no parts
+/// given; give the state files of the parts to merge".
+std::string worded_parse_error(const CLI::App& app, const CLI::ParseError& error);
+
 }  // namespace slidespec::cli

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <charconv>
-#include <cerrno>
 #include <cfloat>
 #include <cmath>
 #include <cstdlib>
@@ -13,6 +12,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "util/numbers.hpp"
 #include "util/suggest.hpp"
 
 namespace slidespec {
@@ -180,19 +180,13 @@ std::string trim(const std::string& s) {
 double parse_real(const std::string& key, const std::string& text) {
   const std::string t = trim(text);
   if (t.empty()) throw InputError("parameter " + key + ": missing value");
-  errno = 0;
-  char* end = nullptr;
-  const double value = std::strtod(t.c_str(), &end);
-  if (end != t.c_str() + t.size()) throw InputError("parameter " + key + ": '" + text + "' is not a number");
-  // strtod's ERANGE is an overflow (inf) or an underflow (a subnormal, or 0): only the
-  // first is "not finite"; the second is a number too small to compute with.
-  if (errno == ERANGE && std::isfinite(value) && std::fabs(value) < DBL_MIN)
-    throw InputError("parameter " + key + ": '" + text +
-                     "' is below the smallest normal double (2.2e-308); parameters lie within 1e-100..1e100, or are 0 "
-                     "where 0 is allowed");
-  if (!std::isfinite(value) || errno == ERANGE)
-    throw InputError("parameter " + key + ": '" + text + "' is not a finite number");
-  return value;
+  std::string problem;
+  const std::optional<double> value = util::parse_decimal(t, problem);
+  if (!value && problem.find("smallest normal") != std::string::npos)
+    throw InputError("parameter " + key + ": " + problem +
+                     "; parameters lie within 1e-100..1e100, or are 0 where 0 is allowed");
+  if (!value) throw InputError("parameter " + key + ": " + problem);
+  return *value;
 }
 
 int parse_count(const std::string& key, const std::string& text) {

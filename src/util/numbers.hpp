@@ -12,5 +12,9 @@ std::string format_number(double x);
 std::string short_number(double x);
 /// The finite double `text` spells, all of it ("0.5", "1e-05"), or nothing.
 std::optional<double> parse_number(const std::string& text);
+/// The finite, normal (or zero) double a user's decimal spelling gives ("0.5", "-2", "+1e-3"),
+/// or nothing, with `problem` saying why ("'0x10' is not a decimal number"). strtod and
+/// CLI11 would also read hexadecimal, "inf", "nan" and padded text.
+std::optional<double> parse_decimal(const std::string& text, std::string& problem);
 
 }  // namespace slidespec::util

@@ -306,6 +306,29 @@ synth-resolution-the-distance|--resolution|synth --duration 5 --resolution 2.5mm
 sweep-log-rounds-twice|gives the value 10 more than once (10, 10, 11, 11, 12): N is a whole number|sweep "N=10..12 log 5" --no-plot
 sweep-step-rounds-twice|more than once|sweep N=1:3:0.5 --no-plot
 unknown-option|--bogus|run --bogus
+# numbers a user types are decimal: CLI11 and strtod would read hexadecimal, inf and nan
+set-hexadecimal|parameter alpha: '0x10' is not a decimal number|theory --set alpha=0x10
+set-hexadecimal-count|parameter N: '0x10' is not a decimal number|theory --set N=0x10
+set-infinity-word|parameter alpha: 'infinity' is not a finite number|theory --set alpha=infinity
+option-hexadecimal|--omega-min: '0x10' is not a decimal number|run --omega-min 0x10 --no-plot
+option-hexadecimal-float|--precision: '0x1p-3' is not a decimal number|run --precision 0x1p-3 --no-plot
+option-hexadecimal-whole|--order: '0x1' is not a decimal number|theory --order 0x1
+option-inf|--omega-max: 'inf' is not a finite number|theory --omega-max inf
+analyze-dt-hexadecimal|--dt: '0x1' is not a decimal number|analyze untimed.csv --dt 0x1 --out x --no-plot
+analyze-window-hexadecimal|--window: '0x1:3'|analyze rec.tsv --window 0x1:3 --out x --no-plot
+analyze-resample-hexadecimal|--resample: '0x1p-7'|analyze rec.tsv --resample 0x1p-7 --out x --no-plot
+# CLI11's own wordings reworded: the option, the count, the missing argument
+value-missing|--out: no value after it|run --out
+given-twice|--seed: given 2 times; give it once|run --seed 1 --seed 2 --no-plot
+too-many-values|--fit-band: takes 2 values, got 3|analyze rec.tsv --fit-band 1 2 3 --fit power-law --out x
+too-few-values|--fit-band: takes 2 values, got 1|analyze rec.tsv --fit-band 1 --fit power-law --out x
+analyze-no-record|analyze: no file given; give a record to analyze|analyze
+sweep-no-values-at-all|sweep: no values given|sweep
+not-expected|theory: '2' was not expected|theory --omega-min 1 2
+not-a-whole-number|--order: '1.5' is not a whole number|theory --order 1.5
+not-a-number|--omega-min: 'abc' is not a number|run --omega-min abc --no-plot
+excludes-worded|--no-plot and --format cannot be given together|run --no-plot --format pdf
+requires-worded|--set needs --compare-case|analyze rec.tsv --out x --no-plot --set alpha=1
 TABLE
 
 echo "bad inputs: $tried tried, $failures failed"
