@@ -654,6 +654,15 @@ if in_part refusals; then
   refuse_naming "an extra word" "theory: '2' was not expected" theory --omega-min 1 2
   refuse_naming "--omega-min abc" "--omega-min: 'abc' is not a number" run --omega-min abc --no-plot
   refuse_naming "--order 1.5" "--order: '1.5' is not a whole number" theory --order 1.5
+  refuse_naming "theory --omeg" "did you mean '--omega'?" theory --omeg 5
+  refuse_naming "a force column in um" "it holds a displacement, not a force" \
+    analyze $R --observable force --force-column x --out a --no-plot
+  awk 'BEGIN { print "t,x"; for (k = 0; k < 400; ++k) print k * 0.01 "," (k == 5 ? "1.0004e30" : k * 1e-6) }' > b30.csv
+  refuse_naming "a value just beyond 1e30" "1.0004e+30 m is beyond 1e+30 m" analyze ../b30.csv --out a --no-plot
+  refuse_naming "resume PREFIX.state with another case" "takes its case and parameters from its state" \
+    run --resume ../part.state --case fast --no-plot
+  printf '1,2,3\n4,5,6\n' > commas.tsv
+  refuse_naming "plot a table of commas" "line 1: '1,2,3' is not a number" plot ../commas.tsv -o x.png
 fi
 if in_part results; then
   # A write the system refuses is a failure (1): standard output, a file-size limit, a figure.
@@ -674,6 +683,9 @@ if in_part results; then
   failed_write "cases > /dev/full" "'$bin' cases > /dev/full"
   failed_write "analyze --segments > /dev/full" "'$bin' analyze $R --segments > /dev/full"
   failed_write "analyze, its plotter broken" "SLIDESPEC_PYTHON=/bin/false '$bin' analyze $R --out a"
+  failed_write "plot, its plotter broken" "SLIDESPEC_PYTHON=/bin/false '$bin' plot $T -o x.png"
+  failed_write "plot, its interpreter missing" "SLIDESPEC_PYTHON=/nonexistent '$bin' plot $T -o x.png"
+  failed_write "--help > /dev/full" "'$bin' --help > /dev/full"
   failed_write "run under ulimit -f 1" "ulimit -f 1; exec '$bin' run $band --precision 0.2 --out u --no-plot"
   failed_write "analyze under ulimit -f 1" "ulimit -f 1; exec '$bin' analyze $R --out u --no-plot"
   # Spectra of nothing: exit 3 (marked), never 0.

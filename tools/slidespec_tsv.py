@@ -64,18 +64,21 @@ def parse(text, path):
                 table.comments.append(body)
             continue
         fields = line.split("\t") if "\t" in line else line.split()
-        if not table.rows and not all(_is_number(field) for field in fields):
+        # A plain column line: the first such line before any row, of names. Anything else
+        # is a row ("1,2,3", a CSV's, is a row with a field that is not a number).
+        if not table.rows and not plain_names and not all(_is_number(field) for field in fields) \
+                and all(_COLUMN_NAME.match(field.strip()) for field in fields):
             table.names, plain_names = [field.strip() for field in fields], True
             continue
+        if not all(_is_number(field) for field in fields):
+            bad = next(field for field in fields if not _is_number(field)).strip()
+            comma = " (a table's fields are separated by tabs)" if "," in bad else ""
+            raise ValueError(f"{path}: line {number}: '{bad}' is not a number{comma}")
         if table.names is None:
             raise ValueError(f"{path}: line {number}: a data row before the column line")
         if len(fields) != len(table.names):
             raise ValueError(f"{path}: line {number}: {len(fields)} fields, the column line has {len(table.names)}")
-        try:
-            table.rows.append([float(field) for field in fields])
-        except ValueError:
-            bad = next(field for field in fields if not _is_number(field))
-            raise ValueError(f"{path}: line {number}: '{bad.strip()}' is not a number") from None
+        table.rows.append([float(field) for field in fields])
     if table.names is None:
         raise ValueError(f"{path}: no column line (omega ...): not a slidespec table")
     return table

@@ -752,10 +752,9 @@ class RecordReader {
   /// `value` in SI `unit`, refused beyond kLargestRecordValue.
   double bounded(double value, const char* unit, int where) const {
     if (std::fabs(value) <= kLargestRecordValue) return value;
-    char what[120];
-    std::snprintf(what, sizeof what, "%.3g %s is beyond %.0e %s: its spectrum would leave a double", value, unit,
-                  kLargestRecordValue, unit);
-    fail(where, what);
+    // The value as given, all its digits: 1.0004e+30 rounded to three would read as the limit.
+    fail(where, util::format_number(value) + " " + unit + " is beyond " + util::format_number(kLargestRecordValue) +
+                    " " + unit + ": its spectrum would leave a double");
   }
 
   double number(const std::vector<std::string>& fields, int index, int line_number) const {
@@ -906,7 +905,14 @@ class RecordReader {
   /// may not contradict the header.
   ForceUnit choose_force_unit(const std::string& name, int line_number) {
     ForceUnit unit{};
-    const auto named = force_unit(split_unit(name).unit);
+    const std::string header_unit = split_unit(name).unit;
+    const auto named = force_unit(header_unit);
+    // A length or time in the header is what the column holds, whatever unit is given.
+    if (!named && (length_unit(header_unit) || seconds_per(header_unit) > 0))
+      fail(line_number, "force column " + name + " is in " + header_unit + ", a " +
+                            (length_unit(header_unit) ? "length" : "time") + " unit: it holds " +
+                            (length_unit(header_unit) ? "a displacement" : "times") +
+                            ", not a force; give {force_column} the column of the force");
     if (format_.force_unit) {
       unit = *format_.force_unit;
       // The header's word decides what the numbers are: an option that says otherwise is a
@@ -1090,12 +1096,10 @@ class RecordReader {
     for (const double force : record_.force) largest = std::max(largest, std::fabs(force));
     const double reach = largest / record_.machine_stiffness;
     if (reach <= kLargestRecordValue) return;
-    char text[160];
-    std::snprintf(text, sizeof text,
-                  "{machine_stiffness} %.3g N/m: the slip's F/K reaches %.3g m, beyond the %.0e m a "
-                  "record may hold (the stiffness in the wrong unit?)",
-                  record_.machine_stiffness, reach, kLargestRecordValue);
-    throw InputError(source_ + ": " + text);
+    throw InputError(source_ + ": {machine_stiffness} " + util::format_number(record_.machine_stiffness) +
+                     " N/m: the slip's F/K reaches " + util::format_number(reach) + " m, beyond the " +
+                     util::format_number(kLargestRecordValue) +
+                     " m a record may hold (the stiffness in the wrong unit?)");
   }
 
   void take_time(double t, int line_number) {
@@ -1103,8 +1107,8 @@ class RecordReader {
     // speeds a double cannot hold.
     bounded(t, "s", line_number);
     if (!times_.empty() && !(t > times_.back()))
-      fail(line_number,
-           "time " + std::to_string(t) + " s does not increase (previous " + std::to_string(times_.back()) + " s)");
+      fail(line_number, "time " + util::format_number(t) + " s does not increase (previous " +
+                            util::format_number(times_.back()) + " s)");
     times_.push_back(t);
     where_.push_back(line_number);
   }

@@ -9,6 +9,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -220,18 +221,26 @@ int plot(const std::vector<std::string>& tables, const std::string& out, const s
   if (any_theory) args.insert(args.end(), {"--theory", theory_lines});
 
   const int status = finish(plotter, args);
-  if (status == 127)
-    std::cerr << "slidespec: cannot start " << plotter.python << " " << plotter.script
-              << " (is python3-matplotlib installed?)\n";
-  else if (status > 128)
+  // Which interpreter ran, and how to choose another: the usual cure of a plotter that fails.
+  const std::string source =
+      std::getenv("SLIDESPEC_PYTHON") != nullptr ? " (from SLIDESPEC_PYTHON)" : " (SLIDESPEC_PYTHON chooses another)";
+  if (status == 127) {
+    const bool runnable = access(plotter.python.c_str(), X_OK) == 0;
+    std::cerr << "slidespec: cannot start the plotter: the interpreter " << plotter.python << source
+              << (runnable ? "" : std::string(": ") + std::strerror(errno)) << "\n";
+  } else if (status > 128) {
     std::cerr << "slidespec: the plotter was killed by signal " << status - 128 << "\n";
+  } else if (status != 0 && status != 2) {  // 2: plot_spectra.py refused its input and said why
+    std::cerr << "slidespec: the plotter " << plotter.script << " failed (exit status " << status
+              << ") under the interpreter " << plotter.python << source << "; does it have matplotlib?\n";
+  }
   std::error_code unreadable;
   if (status == 0 && std::filesystem::file_size(out, unreadable) == 0) {
     // A plotter that claims success must have drawn something: an empty figure is a failure.
     std::cerr << "slidespec: the plotter " << plotter.python << " ended with status 0 but drew nothing\n";
     return 1;
   }
-  return status;
+  return status == 0 || status == 2 ? status : 1;
 }
 
 }  // namespace slidespec::cli

@@ -43,8 +43,8 @@ std::string format_of(const std::string& path);
 void start_plotter();
 
 /// Draws `tables` into `out` (with the plotter start_plotter started, else a new one) and
-/// returns the tool's exit status (0 done, 2 bad input, with its own one-line message on
-/// stderr; 127 the tool could not be started; 128 + the signal that killed it).
+/// returns 0 when drawn, 2 for bad input (the tool's own one-line message on stderr), or 1
+/// for a plotter that could not start, failed or was killed (a message naming it).
 int plot(const std::vector<std::string>& tables, const std::string& out, const std::string& title,
          const FigureStyle& style = {});
 

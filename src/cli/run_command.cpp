@@ -58,7 +58,14 @@ class RunCommand final : public Command {
               return seconds && *seconds > 0 ? std::string() : "need a positive number of seconds (got " + text + ")";
             },
             "S>0"));
-    c.add_option("--resume", options_.resume, "continue the run saved in PREFIX.state");
+    c.add_option("--resume", options_.resume, "continue the run saved in PREFIX.state")
+        ->transform(CLI::Validator(
+            [](std::string& prefix) {
+              // The state's own name (PREFIX.state) means its run as PREFIX does.
+              prefix = state_prefix(prefix);
+              return std::string();
+            },
+            ""));
     c.add_option("--save-state", options_.save_state, "save the finished run (a part) to FILE");
     c.add_flag("--no-plot", options_.no_plot, "skip the figure PREFIX.png");
     options_.figure.add_to(c);
@@ -178,7 +185,14 @@ class RunCommand final : public Command {
     }
     if (given("--seed")) request.seed = options.request.seed;
     if (given("--control-variate")) request.control_variate = options.request.control_variate;
-    const std::string differs = session.difference(model_given ? model_.build() : session.parameters(), request);
+    if (model_given)
+      if (const std::string differs = session.difference(model_.build(), session.request()); !differs.empty())
+        throw InputError("--resume: " + options.resume + ".state holds a run" +
+                         (session.case_name().empty() ? "" : " of case '" + session.case_name() + "'") +
+                         " whose parameters differ (" + differs +
+                         "); a resumed run takes its case and parameters from its state: leave --case, --set and "
+                         "--params out");
+    const std::string differs = session.difference(session.parameters(), request);
     if (!differs.empty()) throw InputError("--resume: " + options.resume + ".state is another run (" + differs + ")");
     if (given("--save-state") && options.save_state != options.resume + ".state" &&
         options.save_state != options.out + ".state")

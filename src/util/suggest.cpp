@@ -32,12 +32,16 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 
 std::string closest_name(const std::string& word, const std::vector<std::string>& known) {
   std::string best;
-  std::size_t best_distance = 0;
+  std::size_t best_distance = 0, best_gap = 0;
   for (const std::string& name : known) {
     // Case slips cost nothing; a prefix ("--omega" for "--omega-min") is a near miss.
     std::size_t distance = edit_distance(lower(word), lower(name));
     if (word.size() >= 3 && name.size() > word.size() && name.compare(0, word.size(), word) == 0) distance = 1;
-    if (best.empty() || distance < best_distance) best = name, best_distance = distance;
+    // Between near misses alike, the name closest in length: "--omeg" is "--omega", not
+    // "--omega-min", of which it is a prefix too.
+    const std::size_t gap = name.size() > word.size() ? name.size() - word.size() : word.size() - name.size();
+    if (best.empty() || distance < best_distance || (distance == best_distance && gap < best_gap))
+      best = name, best_distance = distance, best_gap = gap;
   }
   // Up to a third of the longer name wrong, at least one edit, at most three.
   const std::size_t allowed = std::clamp<std::size_t>(std::max(word.size(), best.size()) / 3, 1, 3);

@@ -40,6 +40,7 @@ awk 'BEGIN { print "t,x"; for (k = 0; k < 200; ++k) print k "e300," k * 1e-6 }' 
 awk 'BEGIN { print "x"; for (k = 0; k < 200; ++k) print k * 1e-6 }' > untimed.csv
 awk 'BEGIN { print "t (s),time (s)"; for (k = 0; k < 200; ++k) print k * 0.01 "," k * 0.01 }' > two_clocks.csv
 printf 't,x\n0,1\n0.01,"2\0003"\n0.02,4\n' > nul.csv
+awk 'BEGIN { print "t,x"; for (k = 0; k < 200; ++k) print k * 0.01 "," (k == 5 ? "1.0004e30" : k * 1e-6) }' > big30.csv
 long=$(printf 'n%.0s' $(seq 1 300))
 odd=$(printf 'odd\xff')
 
@@ -329,6 +330,13 @@ not-a-whole-number|--order: '1.5' is not a whole number|theory --order 1.5
 not-a-number|--omega-min: 'abc' is not a number|run --omega-min abc --no-plot
 excludes-worded|--no-plot and --format cannot be given together|run --no-plot --format pdf
 requires-worded|--set needs --compare-case|analyze rec.tsv --out x --no-plot --set alpha=1
+# messages that named the wrong thing: the nearest option, the column's unit, the value as
+# given, the case of a resumed run
+suggest-the-nearest-option|did you mean '--omega'?|theory --omeg 5
+force-column-in-a-length-unit|force column x (um) is in um, a length unit: it holds a displacement|analyze rec.tsv --observable force --force-column x --out x --no-plot
+record-value-just-beyond-1e30|1.0004e+30 m is beyond 1e+30 m|analyze big30.csv --out x --no-plot
+resume-another-case|a resumed run takes its case and parameters from its state|run --resume part --case fast --no-plot
+resume-state-file-another-case|part.state holds a run of case 'reference'|run --resume part.state --case fast --no-plot
 TABLE
 
 echo "bad inputs: $tried tried, $failures failed"

@@ -24,6 +24,8 @@ if [ -w /dev/full ]; then
   expect_failed "cases > /dev/full" "cannot write standard output" $?
   "$bin" analyze rec.csv --segments > /dev/full 2> err
   expect_failed "analyze --segments > /dev/full" "cannot write standard output" $?
+  "$bin" --help > /dev/full 2> err
+  expect_failed "--help > /dev/full" "cannot write standard output" $?
 fi
 "$bin" analyze rec.csv --out an --quiet || fail "analyze with its figure"
 before=$(sha256sum an.tsv an.json an.png)
@@ -31,6 +33,15 @@ SLIDESPEC_PYTHON=/bin/false "$bin" analyze rec.csv --sensor-noise 1e-9 --out an 
 expect_failed "analyze whose figure cannot be drawn" "an.png not drawn" $?
 [ "$(sha256sum an.tsv an.json an.png)" = "$before" ] || fail "analyze without its figure changed the set"
 ls an.*tmp* > /dev/null 2>&1 && fail "analyze without its figure left temporaries: $(ls an.*tmp*)"
+
+# A plotter that cannot start, or fails, is named with its interpreter: exit 1, no figure.
+"$bin" theory --out table > /dev/null 2>&1 || fail "theory fixture"
+SLIDESPEC_PYTHON=/nonexistent "$bin" plot table.tsv -o absent.png 2> err
+expect_failed "plot with SLIDESPEC_PYTHON=/nonexistent" "/nonexistent (from SLIDESPEC_PYTHON): No such file" $?
+SLIDESPEC_PYTHON=/bin/false "$bin" plot table.tsv -o absent.png 2> err
+expect_failed "plot with SLIDESPEC_PYTHON=/bin/false" "interpreter /bin/false (from SLIDESPEC_PYTHON)" $?
+[ "$(wc -l < err)" -eq 1 ] || fail "plot with a failing plotter: not one line: $(cat err)"
+ls absent.* > /dev/null 2>&1 && fail "plot with a failing plotter left $(ls absent.*)"
 
 # --- A file-size limit is a failed write (EFBIG), as a full disk is: exit 1, no temporary
 # and no lock left, not death by SIGXFSZ.

@@ -418,6 +418,12 @@ class ErrorTest(unittest.TestCase):
         bad.write_text("omega\tC_x\n1\t1e-10\n10\tabc\n")
         self.assert_refused(bad, "line 3: 'abc' is not a number")
 
+    def test_rows_without_a_column_line(self):
+        # A CSV's rows hold no tab: neither row is a column line, and the first is named.
+        bad = self.path / "commas.tsv"
+        bad.write_text("1,2,3\n4,5,6\n")
+        self.assert_refused(bad, "line 1: '1,2,3' is not a number (a table's fields are separated by tabs)")
+
     def test_nothing_in_the_omega_range(self):
         png = self.path / "out.png"
         result = run_tool(self.good, "-o", png, "--omega-min", "1e3")
