@@ -663,6 +663,13 @@ if in_part refusals; then
     run --resume ../part.state --case fast --no-plot
   printf '1,2,3\n4,5,6\n' > commas.tsv
   refuse_naming "plot a table of commas" "line 1: '1,2,3' is not a number" plot ../commas.tsv -o x.png
+  refuse_naming "N=1e9" "parameter N: the tree would have" run --set N=1e9 --no-plot
+  refuse_naming "a=1e90" "parameter a: 1e+90 m makes the renewal time" run --set a=1e90 --omega-min 1 --omega-max 100 --no-plot
+  refuse_naming "v=1e90" "parameter v: 1e+90 m/s renews the forces" run --set v=1e90 --omega-min 1 --omega-max 100 --no-plot
+  refuse_naming "synth --strokes 0" "--strokes: must be a whole number" synth --strokes 0 --stroke-length 1mm --out s
+  for mass in 0 -1 nan; do
+    refuse_naming "analyze --slider-mass $mass" "--slider-mass" analyze $R --slider-mass $mass --out a --no-plot
+  done
 fi
 if in_part results; then
   # A write the system refuses is a failure (1): standard output, a file-size limit, a figure.

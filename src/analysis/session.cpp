@@ -182,12 +182,18 @@ std::string unit_words(const Record& record) {
 std::vector<AnalysisMessage> warnings(const AnalysisReport& r, const AnalysisPlan& plan) {
   const RecordSpectrum& s = r.spectrum;
   std::vector<AnalysisMessage> found;
+  // No sensor samples faster than a picosecond: an interval below that is the likelier slip.
+  constexpr double kShortestPlausibleInterval = 1e-12;  // [s]
+  const bool interval_to_blame = !std::isfinite(s.sliding.v) || r.record.dt < kShortestPlausibleInterval;
   if (s.observable != Observable::force && std::abs(s.sliding.v) > kImplausibleSpeed)
-    found.push_back(warning(
-        "implausible_speed",
-        "mean speed " + stream_number(s.sliding.v) + " m/s is implausible for friction; likely cause: the record was " +
-            unit_words(r.record) + "; give " + named(Option::units) + " or name the unit in the header, e.g. x (mm)",
-        {{"mean_speed", s.sliding.v}}));
+    found.push_back(
+        warning("implausible_speed",
+                "mean speed " + stream_number(s.sliding.v) + " m/s is implausible for friction; likely cause: " +
+                    (interval_to_blame ? "the sampling interval " + stream_number(r.record.dt) + " s (" +
+                                             named(Option::dt) + " or the time column's unit wrong?)"
+                                       : "the record was " + unit_words(r.record) + "; give " + named(Option::units) +
+                                             " or name the unit in the header, e.g. x (mm)"),
+                {{"mean_speed", s.sliding.v}}));
   if (!(s.usable_high > s.usable_low)) found.push_back(no_usable_band(r, plan));
   if (s.top_to_floor > 0 && s.top_to_floor < kWhiteFloorShortfall) found.push_back(floor_not_white(s));
   if (s.leaky_points > 0)

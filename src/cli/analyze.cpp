@@ -56,7 +56,7 @@ struct AnalysisCommands::Options {
   std::vector<std::string> synth_overrides;
   SensorRequest sensor;
   std::string synth_resolution, synth_sensor_noise;  // lengths, bare in m or with a unit
-  double strokes = 0;                                // 0: no strokes
+  double strokes = 0;                                // with --stroke-length
   std::string stroke_length;                         // bare in m or with a unit
   double dwell = 0;                                  // [s]
   std::string program;                               // F1:T1,F2:T2,...
@@ -314,7 +314,9 @@ std::vector<DriveStretch> parse_program(const std::string& text) {
 /// The drive synth's options ask for: strokes, a program, or none (the case's v throughout).
 std::vector<DriveStretch> drive_of(const Options& o, const Parameters& p) {
   if (!o.program.empty()) return parse_program(o.program);
-  if (o.strokes == 0) return {};
+  // --strokes and --stroke-length come together: a length given means strokes asked for,
+  // and stroke_program refuses a count of 0 that would otherwise read as none.
+  if (o.stroke_length.empty()) return {};
   return stroke_program(o.strokes, parse_length(o.stroke_length, LengthUnit::m, "--stroke-length"), p.v, o.dwell);
 }
 
@@ -327,7 +329,7 @@ std::string synth_comments(const Options& o, const Parameters& p, const SensorRe
   for (const auto& [key, value] : describe(p)) comments << key << " = " << value << "\n";
   comments << "seed = " << sensor.seed << "\nsample_interval = " << sensor.sample_interval << " s\n"
            << "resolution = " << sensor.resolution << " m\nsensor_noise = " << sensor.sensor_noise << " m\n";
-  if (o.strokes > 0)
+  if (!o.stroke_length.empty())
     comments << "strokes = " << o.strokes << " of " << o.stroke_length << " (dwell " << o.dwell << " s)\n";
   if (!o.program.empty()) {
     comments << "program (speed / v : seconds) =";
@@ -464,7 +466,14 @@ void add_analysis_options(CLI::App& analyze, Options& o) {
                      "step), on the rig's scale");
   analyze.add_option("--friction-force", o.friction_force,
                      "the rig case's mean friction (N, or 15kN; default: the force channel's mean)");
-  analyze.add_option("--slider-mass", o.slider_mass, "the rig case's slider mass M [kg] (default: held at 1 kg)");
+  analyze.add_option("--slider-mass", o.slider_mass, "the rig case's slider mass M [kg] (default: held at 1 kg)")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            // 0 is the library's "not known" (the mass held): given, it would be ignored.
+            const auto mass = util::parse_number(text);
+            return mass && *mass > 0 ? std::string() : "must be a mass > 0 in kg (leave it out when not known)";
+          },
+          ""));
   analyze.add_option("--set", o.overrides, "override a parameter of the compared case, KEY=VALUE");
   analyze.add_option("--fit", o.fit,
                      "alpha: fit the compared case's alpha; alpha,a (any of alpha, a, k_drive, k0): fit these model "

@@ -542,7 +542,12 @@ void ParameterBuilder::build_levels(Parameters& p) const {
   long long total = 0;
   for (int l = 1; l <= p.levels; ++l) {
     total += p.blocks(l);
-    if (total > 10000000) throw InputError("parameter levels: the tree would have more than 10^7 blocks");
+    if (total <= 10000000) continue;
+    // The level whose count crosses the limit is the one to lower.
+    std::string key = "N";
+    if (l > 1) key += level_suffix(l);
+    throw InputError("parameter " + key + ": the tree would have " + std::to_string(total) +
+                     " blocks or more, beyond the 10^7 that a run's memory and the exact theory hold");
   }
 }
 

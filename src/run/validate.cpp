@@ -100,8 +100,21 @@ double renewal_excess_work(const Parameters& p, const SubBand& band) {
 void check_step(const Parameters& p, const SubBand& band) {
   const double renewal_time = 1 / p.renewal_rate();
   const double finest = kFinestStepOfRenewalTime * renewal_time;
-  if (std::isnormal(band.dt) && band.dt >= finest) return;
+  // The estimator's octaves reach 60 below the step's Nyquist frequency pi/dt: a step that
+  // fast renewals drive further below the band's lowest omega leaves it unresolved.
+  const double coarsest_band_reach = std::ldexp(std::numbers::pi, -60);
+  if (std::isnormal(band.dt) && band.dt >= finest && band.omega_low * band.dt >= coarsest_band_reach) return;
   const Landmarks l = landmarks(p);
+  const std::string sub_band = "sub-band " + text(band.omega_low) + ".." + text(band.omega_high) + " rad/s";
+  if (std::isnormal(band.dt) && band.dt >= finest) {
+    const double factor = coarsest_band_reach / (band.omega_low * band.dt);
+    throw InputError("parameter v: " + text(p.v) + " m/s renews the forces every a/v = " + text(renewal_time) +
+                     " s, and the time step " + text(band.dt) +
+                     " s that resolves that puts pi/dt more than 60 "
+                     "octaves above " +
+                     sub_band + ", beyond the estimator's reach; give v at most " + text(p.v / factor) +
+                     " m/s (or a at least " + text(p.a * factor) + " m)");
+  }
   const std::string why = " is below " + text(kFinestStepOfRenewalTime) +
                           " of the renewal time a/v = " + text(renewal_time) +
                           " s (the block's position would not resolve it)";
@@ -111,8 +124,16 @@ void check_step(const Parameters& p, const SubBand& band) {
                      text(l.omega_s) + " rad/s, whose time step 0.3/omega_s = " + text(band.dt) + " s" + why +
                      "; give k_drive at most " + text(p.k_drive * band.dt / finest) +
                      " N/m, or move F_drive further from F_kin");
-  throw InputError("{omega_max}: sub-band " + text(band.omega_low) + ".." + text(band.omega_high) +
-                   " rad/s needs a time step of " + text(band.dt) + " s" + why);
+  // The band sets the step. A renewal distance beyond any contact's (over a kilometre) is the
+  // slip; otherwise the band reaches too high above the renewals.
+  constexpr double kLongestPlausibleRenewal = 1e3;  // [m]
+  if (!(p.a > kLongestPlausibleRenewal))
+    throw InputError("{omega_max}: " + sub_band + " needs a time step of " + text(band.dt) + " s, which" + why +
+                     "; lower {omega_max}");
+  throw InputError("parameter a: " + text(p.a) + " m makes the renewal time a/v = " + text(renewal_time) +
+                   " s, more than " + text(1 / kFinestStepOfRenewalTime) + " times the time step " + text(band.dt) +
+                   " s of " + sub_band + " (the block's position would not resolve a step); give a at most " +
+                   text(p.a * band.dt / finest) + " m (or v at least " + text(p.v * finest / band.dt) + " m/s)");
 }
 
 void check_request_fields(const RunRequest& r) {

@@ -337,6 +337,14 @@ force-column-in-a-length-unit|force column x (um) is in um, a length unit: it ho
 record-value-just-beyond-1e30|1.0004e+30 m is beyond 1e+30 m|analyze big30.csv --out x --no-plot
 resume-another-case|a resumed run takes its case and parameters from its state|run --resume part --case fast --no-plot
 resume-state-file-another-case|part.state holds a run of case 'reference'|run --resume part.state --case fast --no-plot
+N-beyond-memory|parameter N: the tree would have 1000000000 blocks|run --set N=1e9 --no-plot
+a-renewal-time-beyond-the-step|parameter a: 1e+90 m makes the renewal time a/v = 2e+93 s|run --set a=1e90 --omega-min 1 --omega-max 100 --no-plot
+v-step-beyond-the-estimator|parameter v: 1e+90 m/s renews the forces|run --set v=1e90 --omega-min 1 --omega-max 100 --no-plot
+# values that would read as "not given" and be ignored
+synth-zero-strokes|--strokes: must be a whole number of strokes from 1|synth --strokes 0 --stroke-length 1mm --out x
+analyze-slider-mass-zero|--slider-mass: must be a mass > 0|analyze rec.tsv --slider-mass 0 --compare-case rig --machine-stiffness 1e6 --out x --no-plot
+analyze-slider-mass-negative|--slider-mass: must be a mass > 0|analyze rec.tsv --slider-mass -1 --out x --no-plot
+analyze-slider-mass-nan|--slider-mass|analyze rec.tsv --slider-mass nan --out x --no-plot
 TABLE
 
 echo "bad inputs: $tried tried, $failures failed"

@@ -34,6 +34,13 @@ expect_failed "analyze whose figure cannot be drawn" "an.png not drawn" $?
 [ "$(sha256sum an.tsv an.json an.png)" = "$before" ] || fail "analyze without its figure changed the set"
 ls an.*tmp* > /dev/null 2>&1 && fail "analyze without its figure left temporaries: $(ls an.*tmp*)"
 
+# A sampling interval no sensor has is blamed for an impossible speed, not the unit.
+awk 'BEGIN { print "x"; for (k = 0; k < 400; ++k) print k * 1e-6 }' > untimed.csv
+"$bin" analyze untimed.csv --dt 1e-300 --out tiny --no-plot 2> err
+grep -q "likely cause: the sampling interval 1e-300 s" err && ! grep -q "read in m" err ||
+  fail "analyze --dt 1e-300: the warning does not blame the interval: $(cat err)"
+rm -f tiny.*
+
 # A plotter that cannot start, or fails, is named with its interpreter: exit 1, no figure.
 "$bin" theory --out table > /dev/null 2>&1 || fail "theory fixture"
 SLIDESPEC_PYTHON=/nonexistent "$bin" plot table.tsv -o absent.png 2> err
