@@ -667,6 +667,10 @@ if in_part refusals; then
   refuse_naming "a=1e90" "parameter a: 1e+90 m makes the renewal time" run --set a=1e90 --omega-min 1 --omega-max 100 --no-plot
   refuse_naming "v=1e90" "parameter v: 1e+90 m/s renews the forces" run --set v=1e90 --omega-min 1 --omega-max 100 --no-plot
   refuse_naming "synth --strokes 0" "--strokes: must be a whole number" synth --strokes 0 --stroke-length 1mm --out s
+  printf '{"parameters": {"alpha": 0.5}, "alpha": 0.7}' > outer.json
+  refuse_naming "a parameter beside the parameters block" "alpha is given outside" run --params ../outer.json --no-plot
+  refuse_naming "--params -" "'-' (standard input) is not read here" run --params - --no-plot
+  refuse_naming "--omega-file -" "'-' (standard input) is not read here" theory --omega-file -
   for mass in 0 -1 nan; do
     refuse_naming "analyze --slider-mass $mass" "--slider-mass" analyze $R --slider-mass $mass --out a --no-plot
   done

@@ -57,15 +57,21 @@ void check_name(const File& f) {
     throw InputError(f.option + ": the path '" + f.path.substr(0, 40) + "...' is too long");
 }
 
+/// Whether `f` is read from standard input when named '-': a record is; a parameter file,
+/// an omega file, a state or a table is read twice or by another process, and is not.
+bool reads_standard_input(const File& f) { return f.option == "analyze" || f.option == "--record"; }
+
 void check_input(const File& f) {
-  if (f.path == "-") return;  // standard input
+  if (f.path == "-" && reads_standard_input(f)) return;
+  if (f.path == "-") throw InputError(f.option + ": '-' (standard input) is not read here; give the path of a file");
   check_name(f);
   std::error_code error;
   const fs::file_status status = fs::status(f.path, error);
   if (!fs::exists(status)) throw InputError(f.option + ": " + f.path + " does not exist");
   if (fs::is_directory(status)) throw InputError(f.option + ": " + f.path + " is a directory, not a file");
   if (fs::is_character_file(status) || fs::is_block_file(status))
-    throw InputError(f.option + ": " + f.path + " is a device, not a file (use '-' where standard input is meant)");
+    throw InputError(f.option + ": " + f.path + " is a device, not a file" +
+                     (reads_standard_input(f) ? " (use '-' where standard input is meant)" : ""));
   if (::access(f.path.c_str(), R_OK) != 0) throw InputError(f.option + ": " + f.path + " is not readable");
 }
 
@@ -98,6 +104,8 @@ void check_output(const File& f) {
 constexpr std::size_t kMostJsonBytes = std::size_t{1} << 20;
 
 void check_json_input(const File& f) {
+  if (f.path == "-")
+    throw InputError(f.option + ": '-' (standard input) is not read here; give the path of a JSON file");
   const std::string text = io::read_file(f.path, f.option, kMostJsonBytes);
   std::vector<std::set<std::string>> keys;  // of each object open at this point
   std::string twice;

@@ -563,7 +563,15 @@ std::vector<std::string> read_parameter_file(const std::string& path) {
   if (!doc.is_object()) throw InputError("parameter file '" + path + "': expected a JSON object of KEY: value");
   // A run's output JSON: its "parameters" block, where eta1 is listed beside the v it
   // was derived from (or v beside eta1: they agree, and v is kept).
-  if (doc.contains("parameters") && doc["parameters"].is_object()) doc = doc["parameters"];
+  if (doc.contains("parameters") && doc["parameters"].is_object()) {
+    // Only the block is read: a parameter beside it would be dropped without a word.
+    const std::vector<std::string>& keys = parameter_keys();
+    for (const auto& [key, value] : doc.items())
+      if (std::find(keys.begin(), keys.end(), key) != keys.end())
+        throw InputError("parameter file '" + path + "': " + key +
+                         " is given outside its \"parameters\" block, the one read; give it inside the block");
+    doc = nlohmann::json(doc["parameters"]);
+  }
   if (doc.contains("v") && doc.contains("eta1")) doc.erase("eta1");
   std::vector<std::string> assignments;
   for (const auto& [key, value] : doc.items()) {

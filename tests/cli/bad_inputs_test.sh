@@ -31,6 +31,7 @@ ln p.json hard.tsv
 # Parameter files that are not strict JSON, or endless.
 printf '{"alpha": 0.5, "alpha": 0.7}' > dup.json
 printf '{"alpha": 0.5} trailing' > trail.json
+printf '{"parameters": {"alpha": 0.5}, "alpha": 0.7}' > outer.json
 head -c 1100000 /dev/zero | tr '\0' ' ' > big.json
 # Records whose columns cannot be told apart, whose times no double holds, or with a NUL
 # inside a quoted field.
@@ -341,6 +342,11 @@ N-beyond-memory|parameter N: the tree would have 1000000000 blocks|run --set N=1
 a-renewal-time-beyond-the-step|parameter a: 1e+90 m makes the renewal time a/v = 2e+93 s|run --set a=1e90 --omega-min 1 --omega-max 100 --no-plot
 v-step-beyond-the-estimator|parameter v: 1e+90 m/s renews the forces|run --set v=1e90 --omega-min 1 --omega-max 100 --no-plot
 # values that would read as "not given" and be ignored
+params-key-beside-its-block|alpha is given outside its "parameters" block|theory --params outer.json
+synth-params-key-beside-its-block|alpha is given outside its "parameters" block|synth --params outer.json
+params-standard-input|--params: '-' (standard input) is not read here|run --params - --no-plot
+omega-file-standard-input|--omega-file: '-' (standard input) is not read here|theory --omega-file -
+params-device-no-dash-hint|--params: /dev/zero is a device, not a file|theory --params /dev/zero
 synth-zero-strokes|--strokes: must be a whole number of strokes from 1|synth --strokes 0 --stroke-length 1mm --out x
 analyze-slider-mass-zero|--slider-mass: must be a mass > 0|analyze rec.tsv --slider-mass 0 --compare-case rig --machine-stiffness 1e6 --out x --no-plot
 analyze-slider-mass-negative|--slider-mass: must be a mass > 0|analyze rec.tsv --slider-mass -1 --out x --no-plot
