@@ -717,7 +717,10 @@ if in_part results; then
         'ss.run(ss.Parameters("reference", drive="spring", k_drive=[1e4]))' \
         'ss.analyze(None, [0.0, 1.0, 2.0] * 100, dt=0.01, machine_stiffness=0)' \
         'ss.analyze(None, [0.0, 1.0, 2.0] * 100, dt=0)' 'ss.analyze("rec.csv", [0.0, 1.0, 2.0] * 100)' \
-        'ss.analyze(None, [0.0, 1.0, 2.0] * 100, dt=0.01, fit_slope=(1,))'; do
+        'ss.analyze(None, [0.0, 1.0, 2.0] * 100, dt=0.01, fit_slope=(1,))' \
+        'ss.analyze(None, [[0.0, 1.0, 2.0] * 100] * 2, dt=0.01)' \
+        'ss.analyze([0.0, 0.01, 0.02] * 100, [0.0, 1.0, 2.0] * 100, fit_slope=(1, 2, 3))' \
+        'ss.analyze([], [])' 'ss.analyze(None, [], dt=0.01)' 'ss.analyze(None, ["1", "2", "3"] * 100, dt=0.01)'; do
       python_refused "$call"
     done
     for k in 1 2 3; do

@@ -6,7 +6,7 @@ import warnings as _warnings
 import numpy as _np
 
 from . import _core
-from ._checks import _MOST_INT, _MOST_U64, _pair, _real, _whole
+from ._checks import _MOST_INT, _MOST_U64, _pair, _real, _samples, _whole
 from ._kinds import ModelWarning, RecordWarning
 from ._parameters import _SENSOR, _as_parameters
 from ._results import _Table, _value
@@ -113,8 +113,8 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
     record, plan = _format_and_plan(**options)
     if t is None and not record["dt"] > 0:
         raise ValueError(f"dt: {record['dt']} s; without the sample times t, give the sampling interval dt > 0 [s]")
-    time = _np.empty(0) if t is None else _np.asarray(t, dtype=float).ravel()
-    samples = _np.empty(0) if x is None else _np.asarray(x, dtype=float).ravel()
+    time = _np.empty(0) if t is None else _samples("t", t)
+    samples = _np.empty(0) if x is None else _samples("x", x)
     return _analysis(*_core.analyze(time, samples, record, plan), stacklevel=3)
 
 
@@ -160,9 +160,9 @@ def _format_and_plan(*, dt, units, force, force_units, normal_stress, normal_str
         if isinstance(window, (str, bytes)) or _np.ndim(window) != 1 or len(window) != 2:
             raise TypeError(f"window: expected a pair (t0, t1) [s], got {type(window).__name__} {window!r}")
         window = (_real("window t0", window[0]), _real("window t1", window[1]))
-    channel = None if force is None else _np.asarray(force, dtype=float).ravel()
+    channel = None if force is None else _samples("force", force)
     constant_stress = normal_stress is not None and _np.ndim(normal_stress) == 0
-    normal = None if normal_stress is None or constant_stress else _np.asarray(normal_stress, dtype=float).ravel()
+    normal = None if normal_stress is None or constant_stress else _samples("normal_stress", normal_stress)
     record = {"dt": float(dt or 0), "units": None if units is None else str(units),
               "time_tolerance": float(time_tolerance),
               "window": None if window is None else (float(window[0]), float(window[1])),

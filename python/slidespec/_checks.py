@@ -28,3 +28,16 @@ def _pair(name, value):
     if isinstance(value, (str, bytes)) or _np.ndim(value) != 1 or len(value) != 2:
         raise TypeError(f"{name}: expected a pair (low, high), got {type(value).__name__} {value!r}")
     return (_real(f"{name} low", value[0]), _real(f"{name} high", value[1]))
+
+
+def _samples(name, values):
+    """A record's channel as the command line reads a column: one real number per sample,
+    in a 1-D array (numpy would flatten a table and read numeric text silently)."""
+    array = _np.asarray(values)
+    if array.dtype.kind not in "iuf":
+        raise TypeError(f"{name}: expected an array of numbers, got {type(values).__name__} of dtype {array.dtype}")
+    if array.ndim != 1:
+        raise ValueError(f"{name}: expected a 1-D array, one value per sample, got shape {array.shape}")
+    if array.size == 0:
+        raise ValueError(f"{name}: an empty array; a record needs its samples")
+    return array.astype(float)

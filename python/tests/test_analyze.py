@@ -261,3 +261,21 @@ def test_a_band_that_is_not_one_is_refused():
     for band in ({"omega_max": -1}, {"omega_min": -5}, {"omega_min": 10, "omega_max": 1}):
         with pytest.raises(ValueError, match="omega_m"):
             ss.analyze(t, x, units="um", window=(11608, 11674), **band)
+
+
+@pytest.mark.parametrize("arguments, error, words", [
+    ({"x": np.zeros((2, 300))}, ValueError, "x: expected a 1-D array, one value per sample, got shape (2, 300)"),
+    ({"t": np.arange(300.0).reshape(300, 1)}, ValueError, "t: expected a 1-D array"),
+    ({"t": [], "x": []}, ValueError, "t: an empty array"),
+    ({"x": []}, ValueError, "x: an empty array"),
+    ({"x": [str(k) for k in range(300)]}, TypeError, "x: expected an array of numbers"),
+    ({"t": np.arange(300.0).astype(str)}, TypeError, "t: expected an array of numbers"),
+    ({"force": np.ones((2, 300)), "force_units": "N"}, ValueError, "force: expected a 1-D array"),
+    ({"fit_slope": (1, 2, 3)}, TypeError, "fit_slope: expected a pair (low, high)"),
+])
+def test_a_channel_that_is_not_one_column_of_numbers_is_refused_naming_it(arguments, error, words):
+    # numpy would flatten a table, read numeric text as numbers and pass an empty record on.
+    call = {"t": np.arange(300) * DT, "x": np.arange(300) * 1e-7} | arguments
+    with pytest.raises(error) as refused:
+        ss.analyze(call.pop("t"), call.pop("x"), **call)
+    assert words in str(refused.value)
