@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "slidespec/parameters.hpp"
+#include "util/numbers.hpp"
 
 namespace slidespec::estimator_detail {
 
@@ -141,11 +142,12 @@ std::shared_ptr<const Layout> build_layout(const EstimatorConfig& requested) {
   const double nyquist = kPi / c.dt;
   if (c.omega_max == 0) c.omega_max = 0.5 * nyquist;
   if (!(c.omega_max > 0) || !(c.omega_max <= 0.8 * nyquist))
-    throw InputError("estimator: omega-max must lie in (0, 0.8 pi/dt] = (0, " + std::to_string(0.8 * nyquist) +
-                     "] rad/s");
+    throw InputError("{omega_max} " + util::format_number(c.omega_max) + " must lie in (0, 0.8 pi/dt] = (0, " +
+                     util::format_number(0.8 * nyquist) + "] rad/s");
   if (c.omega_min == 0) c.omega_min = c.omega_max / 100;
   if (!(c.omega_min > 0) || !(c.omega_min <= c.omega_max))
-    throw InputError("estimator: need 0 < omega-min <= omega-max");
+    throw InputError("{omega_min} " + util::format_number(c.omega_min) + " must be above 0 and at most {omega_max} " +
+                     util::format_number(c.omega_max));
   if (c.points_per_decade < 1 || c.points_per_decade > 1000)
     throw InputError("estimator: points per decade must be between 1 and 1000");
 

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "model/linear_structure.hpp"
+#include "util/numbers.hpp"
 
 namespace slidespec {
 
@@ -69,9 +70,10 @@ double highest_theory_omega(const Parameters& p) {
 
 std::vector<double> log_spaced_omegas(double omega_min, double omega_max, int points_per_decade) {
   if (!(omega_min > 0) || !(omega_max > omega_min) || !std::isfinite(omega_max))
-    throw InputError("omega range: need 0 < omega-min < omega-max (finite)");
+    throw InputError("{omega_max} " + util::format_number(omega_max) + " must be finite and above {omega_min} " +
+                     util::format_number(omega_min) + ", which must be above 0");
   if (points_per_decade < 1 || points_per_decade > kMostPointsPerDecade)
-    throw InputError("points: need 1 to " + std::to_string(kMostPointsPerDecade) + " points per decade (got " +
+    throw InputError("{points}: need 1 to " + std::to_string(kMostPointsPerDecade) + " points per decade (got " +
                      std::to_string(points_per_decade) + ")");
   const double decades = std::log10(omega_max / omega_min);
   if (!(decades * points_per_decade < kMostPoints))

@@ -228,7 +228,7 @@ omega-min-nan|omega|run --omega-min nan --no-plot
 omega-min-tiny|--omega-min|run --omega-min 1e-10 --no-plot
 omega-max-huge|--omega-max|run --omega-max 1e300 --no-plot
 omega-span-huge|points|theory --omega-min 1e-300 --omega-max 1e300 --points 1000
-theory-omega-tiny-max|omega|theory --omega-min 1 --omega-max 1
+theory-omega-tiny-max|--omega-max 1 must be finite and above --omega-min 1|theory --omega-min 1 --omega-max 1
 theory-omega-below-double|lowest at which C_x and C_eq1 fit|theory --omega 1e-300,1
 theory-omega-above-double|the highest at which C_x is above the smallest double|theory --omega 1,1e45
 theory-omega-min-below-double|lowest at which C_x and C_eq1 fit|theory --omega-min 1e-100 --omega-max 1e-90
