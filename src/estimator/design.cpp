@@ -146,8 +146,7 @@ std::shared_ptr<const Layout> build_layout(const EstimatorConfig& requested) {
                      util::format_number(0.8 * nyquist) + "] rad/s");
   if (c.omega_min == 0) c.omega_min = c.omega_max / 100;
   if (!(c.omega_min > 0) || !(c.omega_min <= c.omega_max))
-    throw InputError("{omega_min} " + util::format_number(c.omega_min) + " must be above 0 and at most {omega_max} " +
-                     util::format_number(c.omega_max));
+    throw InputError("{omega_min} " + util::format_number(c.omega_min) + " must lie in (0, {omega_max}]");
   if (c.points_per_decade < 1 || c.points_per_decade > 1000)
     throw InputError("estimator: points per decade must be between 1 and 1000");
 

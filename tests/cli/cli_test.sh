@@ -52,7 +52,7 @@ expect_refused run-drive-below-friction F_drive run $out --set F_drive=1
 expect_refused run-bad-precision precision run $out --precision 2
 expect_refused run-bad-band omega run $out --omega-min 0
 expect_refused run-bad-simd simd run $out --simd neon
-expect_refused run-duration-and-precision excludes run $out --duration 10 --precision 0.1
+expect_refused run-duration-and-precision "cannot be given together" run $out --duration 10 --precision 0.1
 expect_refused run-missing-directory "does not exist" run --out "$work/nowhere/x"
 expect_refused plot-missing-file "missing.tsv" plot "$work/missing.tsv" -o "$work/out.png"
 expect_refused paper-unknown-figure fig9 paper fig9 --out-dir "$work"

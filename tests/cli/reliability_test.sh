@@ -37,7 +37,7 @@ ls an.*tmp* > /dev/null 2>&1 && fail "analyze without its figure left temporarie
 # A sampling interval no sensor has is blamed for an impossible speed, not the unit.
 awk 'BEGIN { print "x"; for (k = 0; k < 400; ++k) print k * 1e-6 }' > untimed.csv
 "$bin" analyze untimed.csv --dt 1e-300 --out tiny --no-plot 2> err
-grep -q "likely cause: the sampling interval 1e-300 s" err && ! grep -q "read in m" err ||
+grep -q "likely cause: the sampling interval 1e-300 s" err && ! grep -q "likely cause: the record was read" err ||
   fail "analyze --dt 1e-300: the warning does not blame the interval: $(cat err)"
 rm -f tiny.*
 
