@@ -1,7 +1,6 @@
 #include "slidespec/parameters.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cerrno>
 #include <cfloat>
 #include <cmath>
@@ -13,6 +12,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "util/numbers.hpp"
 #include "util/suggest.hpp"
 
 namespace slidespec {
@@ -230,10 +230,7 @@ void parse(const std::string& key, const std::string& text, Word& value) {
   value = static_cast<Word>(found - list.begin());
 }
 
-std::string text(double value) {  // the shortest text that reads back as value
-  char digits[32];
-  return std::string(digits, std::to_chars(digits, digits + sizeof digits, value).ptr);
-}
+std::string text(double value) { return util::format_number(value); }
 std::string text(int value) { return std::to_string(value); }
 std::string text(const LevelList& levels) {
   std::string list;
@@ -572,13 +569,10 @@ std::vector<std::string> read_parameter_file(const std::string& path) {
       assignments.push_back(key + "=" + value.get<std::string>());
     else if (value.is_number_integer())
       assignments.push_back(key + "=" + std::to_string(value.get<long long>()));
-    else if (value.is_number()) {
-      char text[32];
-      assignments.push_back(key + "=" +
-                            std::string(text, std::to_chars(text, text + sizeof text, value.get<double>()).ptr));
-    } else {
+    else if (value.is_number())
+      assignments.push_back(key + "=" + util::format_number(value.get<double>()));
+    else
       throw InputError("parameter file '" + path + "': value of " + key + " is neither a number nor a string");
-    }
   }
   return assignments;
 }
