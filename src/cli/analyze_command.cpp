@@ -370,11 +370,13 @@ void add_analysis_options(CLI::App& analyze, AnalyzeOptions& o) {
                      "the rig case's mean friction (N, or 15kN; default: the force channel's mean)");
   analyze.add_option("--slider-mass", o.slider_mass, "the rig case's slider mass M [kg] (default: held at 1 kg)");
   analyze.add_option("--set", o.overrides, "override a parameter of the compared case, KEY=VALUE");
+  std::string fittable;
+  for (const std::string& name : fittable_parameters()) fittable += (fittable.empty() ? "" : ", ") + name;
   analyze.add_option("--fit", o.fit,
-                     "alpha: fit the compared case's alpha; alpha,a (any of alpha, a, k_drive, k0): fit these model "
-                     "parameters jointly with the floor, with covariance and what the band cannot determine; "
-                     "power-law: C_x = A (omega/pivot)^s + floor jointly, with errors and correlations (the floor "
-                     "fitted unless --resolution/--sensor-noise give it)");
+                     "alpha: fit the compared case's alpha; alpha,a (any of " + fittable +
+                         "): fit these model parameters jointly with the floor, with covariance and what the band "
+                         "cannot determine; power-law: C_x = A (omega/pivot)^s + floor jointly, with errors and "
+                         "correlations (the floor fitted unless --resolution/--sensor-noise give it)");
   analyze
       .add_option(
           "--fit-band", o.fit_band,
