@@ -42,10 +42,11 @@ namespace {
 using Overrides = std::vector<std::pair<std::string, std::string>>;
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
+/// The case with its overrides, as the command line's --case and --set build it.
 Parameters build(const std::string& case_name, const Overrides& overrides) {
-  ParameterBuilder builder(case_name);
-  for (const auto& [key, value] : overrides) builder.set(key, value);
-  return builder.build();
+  std::vector<std::string> assignments;
+  for (const auto& [key, value] : overrides) assignments.push_back(key + "=" + value);
+  return build_case(case_name, assignments);
 }
 
 Array to_array(const std::vector<double>& values) {

@@ -68,9 +68,7 @@ int main(int argc, char** argv) {
         throw InputError("unknown option " + key);
     }
     if (argc % 2 == 0) throw InputError(std::string("option ") + argv[argc - 1] + " needs a value");
-    ParameterBuilder builder(case_name);
-    for (const std::string& s : sets) builder.set(s);
-    const Parameters p = builder.build();
+    const Parameters p = build_case(case_name, sets);
 
     std::vector<Tally> bands;
     Tally all;

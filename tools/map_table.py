@@ -7,17 +7,22 @@ import tempfile
 import numpy as np
 
 
-def read(path, columns, program):
-    """Rows of a map TSV by their first column (the renewal kind), as column arrays.
-    ValueError names the file when its header is not `columns`."""
+def rows(path, columns, program):
+    """The rows of a map TSV, each its fields as text. ValueError names the file when its
+    header is not `columns`."""
     with open(path) as f:
         lines = [line.rstrip("\n").split("\t") for line in f if line.strip()]
     if not lines or tuple(lines[0]) != columns:
         raise ValueError(f"{path}: not a {program} table (header {columns})")
-    rows = {}
-    for fields in lines[1:]:
-        rows.setdefault(fields[0], []).append([float(x) for x in fields[1:]])
-    return {kind: dict(zip(columns[1:], np.array(r).T)) for kind, r in rows.items()}
+    return lines[1:]
+
+
+def read(path, columns, program):
+    """Rows of a map TSV by their first column (the renewal kind), as column arrays."""
+    by_kind = {}
+    for fields in rows(path, columns, program):
+        by_kind.setdefault(fields[0], []).append([float(x) for x in fields[1:]])
+    return {kind: dict(zip(columns[1:], np.array(r).T)) for kind, r in by_kind.items()}
 
 
 def save(fig, out):

@@ -104,9 +104,7 @@ int main(int argc, char** argv) {
       else
         throw InputError("unknown option " + key);
     }
-    ParameterBuilder builder(case_name);
-    for (const std::string& s : sets) builder.set(s);
-    const Parameters p = builder.build();
+    const Parameters p = build_case(case_name, sets);
     const Landmarks l = landmarks(p);
     const double renewal_time = 1 / l.renewal_rate;
     const int bins_per_time = 4, bins = static_cast<int>(std::ceil(renewal_times * bins_per_time));

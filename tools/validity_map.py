@@ -231,11 +231,7 @@ def write_atomically(path, lines):
 
 
 def read_table(path):
-    with open(path) as f:
-        lines = [line.rstrip("\n").split("\t") for line in f if line.strip()]
-    if not lines or tuple(lines[0]) != COLUMNS:
-        raise ValueError(f"{path}: not a validity_map table (header {COLUMNS})")
-    return [dict(zip(COLUMNS, r)) for r in lines[1:]]
+    return [dict(zip(COLUMNS, r)) for r in map_table.rows(path, COLUMNS, "validity_map")]
 
 
 def pooled(runs, order):

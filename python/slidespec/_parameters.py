@@ -14,6 +14,12 @@ _RUN = _core.run_defaults
 _SENSOR = _core.sensor_defaults
 
 
+# Parameters.landmarks's doc, from the rows of include/slidespec/landmarks.def.
+_LANDMARKS_DOC = "The theory's landmarks {key: value}, SI units (docs/model.md §4):\n" + "".join(
+    f"    {row['key']}: {row['doc']}" + (' (with drive="spring" only)' if row["python"] == "with_spring" else "")
+    + "\n" for row in _core.landmark_table() if row["python"] != "never")
+
+
 def parameter_table():
     """The model's parameters (docs/model.md §2), one dict each, in display order: key,
     kind ("count", "real", "word" or "levels"), unit (SI, "" for none), symbol (as figures
@@ -128,17 +134,10 @@ class Parameters(_Mapping):
         """Every parameter {key: value} (int, float or str), JSON-serialisable."""
         return dict(self._values)
 
-    @property
-    def landmarks(self):
-        """The theory's landmarks: renewal_rate v/a [1/s], omega_c sqrt(N k0/M) [rad/s],
-        diffusion_D [m^2/s], eq1_prefactor [m^2 rad^4/s^3], coupling_eps [-],
-        forces_can_stall, outside_first_order (eps beyond the first order's measured limit, or
-        stalling forces; under a spring, beyond the spring's limits), theory_kind (the best
-        theory that holds: "second_order", "quasi_static", "first_order" or "none",
-        docs/model.md §7.4), theory_kind_note (why no better one),
-        omega_resonance [rad/s]; with drive="spring" also omega_s [rad/s] and C_x_zero,
-        C_x(0) [m^2 s]."""
+    def _landmarks(self):
         return _core.landmarks(self._case, list(self._overrides))
+
+    landmarks = property(_landmarks, doc=_LANDMARKS_DOC)
 
     def __getitem__(self, key):
         try:

@@ -54,11 +54,13 @@ def test_parameters_and_landmarks_are_numbers_under_the_jsons_keys(run):
     assert table.parameters["N"] == 12 and table.parameters["v"] == 5e-4
     assert table.landmarks == exact.landmarks
     assert [type(value) for value in table.landmarks.values()] == [type(value) for value in exact.landmarks.values()]
-    landmarks = {"renewal_rate", "omega_c", "diffusion_D", "eq1_prefactor", "coupling_eps", "forces_can_stall"}
+    landmarks = {"renewal_rate", "omega_c", "diffusion_D", "eq1_prefactor", "coupling_eps", "forces_can_stall",
+                 "stall_fraction"}
     if spring:
         landmarks |= {"omega_s", "omega_resonance", "d0", "C_x_zero"}
     assert set(table.landmarks) == landmarks
     assert table.landmarks["forces_can_stall"] is False
+    assert table.landmarks["stall_fraction"] == 0.5  # alpha F_kin / (2 (F_drive - F_kin)) = 1 x 5 / 10
     p = ss.Parameters("reference", N=12, **({"drive": "spring", "k_drive": 1e4} if spring else {}))
     assert ss.Parameters(**table.parameters) == p
     assert table.seed == exact.seed == 1

@@ -11,6 +11,7 @@
 #include "util/numbers.hpp"
 #include "slidespec/analysis.hpp"
 #include "slidespec/input_error.hpp"
+#include "slidespec/parameters.hpp"
 #include "slidespec/theory.hpp"
 #include "util/suggest.hpp"
 
@@ -30,6 +31,13 @@ double& field(Parameters& p, const std::string& name) {
   return p.k_drive;
 }
 double value_of(Parameters p, const std::string& name) { return field(p, name); }
+
+/// "alpha, a, k0": names as a sentence lists them.
+std::string listed(const std::vector<std::string>& names) {
+  std::string list;
+  for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
+  return list;
+}
 
 // The iteration stops when chi2 changes by less than this share.
 constexpr double kSettled = 1e-9;
@@ -85,7 +93,7 @@ std::vector<std::string> parse_fit_parameters(const std::string& list) {
     const std::string name = list.substr(start, comma - start);
     const auto& known = fittable_parameters();
     if (std::find(known.begin(), known.end(), name) == known.end())
-      throw InputError("{fit}: '" + name + "' is not a model parameter a fit can vary; known: alpha, a, k_drive, k0" +
+      throw InputError("{fit}: '" + name + "' is not a model parameter a fit can vary; known: " + listed(known) +
                        util::did_you_mean(name, known) + " (or power-law)");
     if (std::find(names.begin(), names.end(), name) != names.end())
       throw InputError("{fit}: '" + name + "' is named twice");
@@ -279,12 +287,14 @@ std::string undetermined(const ModelFit& fit, const std::vector<std::string>& na
   say("N and alpha are not separated: the spectrum's level is alpha^2/N = " + short_number(fit.amplitude) +
       (fit.amplitude_error > 0 ? " +- " + short_number(fit.amplitude_error) : std::string()) +
       ", and alpha is alpha at N = " + std::to_string(fit.fitted.N));
-  std::string held;
-  for (const char* key : {"alpha", "a", "k_drive", "M", "k0", "m", "eta0", "F_drive", "F_kin", "v"})
-    if (std::find(names.begin(), names.end(), key) == names.end() &&
-        (std::string(key) != "k_drive" || fit.fitted.drive == Drive::spring))
-      held += std::string(held.empty() ? "" : ", ") + key;
-  say("held at the case's values, not measured by this fit: " + held);
+  // Every real parameter of the model the fit did not vary, as parameters.def lists them; eta1
+  // follows from v and the forces, and k_drive is a spring's.
+  std::vector<std::string> held;
+  for (const ParameterInfo& row : parameter_table())
+    if (row.kind == "real" && row.key != "eta1" && row.shown(fit.fitted) &&
+        std::find(names.begin(), names.end(), row.key) == names.end())
+      held.push_back(row.key);
+  say("held at the case's values, not measured by this fit: " + listed(held));
   return said;
 }
 

@@ -78,7 +78,7 @@ std::unique_ptr<Command> make_sweep_command(CLI::App& app, const Context& contex
 std::unique_ptr<Command> make_merge_command(CLI::App& app, const Context& context);
 std::unique_ptr<Command> make_plot_command(CLI::App& app, const Context& context);
 std::unique_ptr<Command> make_paper_command(CLI::App& app, const Context& context);
-/// analyze and synth, which share their options (cli/analyze.hpp).
-void add_analysis_commands(CLI::App& app, const Context& context, std::vector<std::unique_ptr<Command>>& commands);
+std::unique_ptr<Command> make_analyze_command(CLI::App& app);
+std::unique_ptr<Command> make_synth_command(CLI::App& app);
 
 }  // namespace slidespec::cli

@@ -1,21 +1,12 @@
-// The options the model-facing commands share, analyze and synth as commands, and the
-// list of every command.
-#include <unistd.h>
-
-#include <cmath>
-#include <filesystem>
+// The options the model-facing commands share, and the list of every command.
 #include <cstdio>
 #include <iostream>
-#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "cli/analyze.hpp"
-#include "cli/analyze_many.hpp"
 #include "cli/command.hpp"
 #include "io/tables.hpp"
-#include "util/numbers.hpp"
 #include "slidespec/theory.hpp"
 
 namespace slidespec::cli {
@@ -56,76 +47,6 @@ void warn_if_no_theory_holds(const Parameters& p) {
     std::cerr << "slidespec: warning: no theory holds here (theory_kind = none): " << holds.reason << "\n";
 }
 
-namespace {
-
-/// analyze and synth, whose options and work live in AnalysisCommands: the files they
-/// name, read from their parsed options.
-class AnalysisCommand final : public Command {
- public:
-  AnalysisCommand(CLI::App& subcommand, std::shared_ptr<const AnalysisCommands> commands)
-      : Command(&subcommand), commands_(std::move(commands)) {}
-
-  Files files() const override {
-    Files files;
-    const CLI::App& c = subcommand();
-    if (c.get_name() == "analyze" && many_records(given("file"))) {
-      many_files(files);
-    } else if (c.get_name() == "analyze") {
-      for (const std::string& path : given("file")) files.input(path, "analyze");
-      files.outputs_of(one("--out", "analysis"), "--out", {".tsv", ".json", "." + one("--format", "png")});
-    } else {
-      for (const std::string& path : given("--params")) files.json_input(path, "--params");
-      files.outputs_of(one("--out", "record"), "--out", {".csv"});
-    }
-    return files;
-  }
-
-  int run() override {
-    // A sampling interval of 0 reads as "from the time column": refused when given.
-    for (const std::string& dt : given("--dt"))
-      if (const auto seconds = util::parse_number(dt); !seconds || !(*seconds > 0) || !std::isnormal(*seconds))
-        throw InputError("--dt: need a positive sampling interval in seconds, at least " +
-                         util::format_number(std::numeric_limits<double>::min()) + " (got " + dt + ")");
-    return commands_->run().value_or(0);
-  }
-
- private:
-  /// analyze A B C: each record's outputs and the combined table. A record that cannot be
-  /// read is not refused here but reported as the records are analysed, and the rest go on;
-  /// the records that can are inputs, which no output may replace.
-  void many_files(Files& files) const {
-    const std::string out = one("--out", "analysis");
-    const std::vector<std::string> records = expand_record_paths(given("file"));
-    const std::vector<std::string> prefixes = record_prefixes(out, records);
-    for (std::size_t k = 0; k < records.size(); ++k) {
-      std::error_code ignored;
-      if (std::filesystem::is_regular_file(records[k], ignored) && access(records[k].c_str(), R_OK) == 0)
-        files.input(records[k], "analyze");
-      files.outputs_of(prefixes[k], "--out", {".tsv", ".json", "." + one("--format", "png")});
-    }
-    files.outputs_of(out, "--out", {".tsv", ".json"});
-  }
-
-  std::vector<std::string> given(const std::string& name) const {
-    const CLI::Option* option = subcommand().get_option_no_throw(name);
-    return option == nullptr || option->count() == 0 ? std::vector<std::string>{} : option->results();
-  }
-  std::string one(const std::string& name, const std::string& fallback) const {
-    const auto values = given(name);
-    return values.empty() ? fallback : values.back();
-  }
-
-  std::shared_ptr<const AnalysisCommands> commands_;
-};
-
-}  // namespace
-
-void add_analysis_commands(CLI::App& app, const Context&, std::vector<std::unique_ptr<Command>>& commands) {
-  const auto analysis = std::make_shared<const AnalysisCommands>(app);
-  for (const char* name : {"analyze", "synth"})
-    commands.push_back(std::make_unique<AnalysisCommand>(*app.get_subcommand(name), analysis));
-}
-
 std::vector<std::unique_ptr<Command>> make_commands(CLI::App& app, const Context& context) {
   std::vector<std::unique_ptr<Command>> commands;
   commands.push_back(make_cases_command(app));
@@ -135,7 +56,8 @@ std::vector<std::unique_ptr<Command>> make_commands(CLI::App& app, const Context
   commands.push_back(make_merge_command(app, context));
   commands.push_back(make_plot_command(app, context));
   commands.push_back(make_paper_command(app, context));
-  add_analysis_commands(app, context, commands);
+  commands.push_back(make_analyze_command(app));
+  commands.push_back(make_synth_command(app));
   return commands;
 }
 

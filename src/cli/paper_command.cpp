@@ -1,5 +1,5 @@
 // `slidespec paper`: the runs of one of the paper's figures (and the drives figure), and
-// the figure; fig6 analyzes a record instead (cli/analyze.cpp).
+// the figure; fig6 analyzes a record instead (cli/analyze_command.cpp).
 #include <algorithm>
 #include <iostream>
 #include <memory>
@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "cli/analyze.hpp"
+#include "cli/analyze_command.hpp"
 #include "cli/command.hpp"
 #include "cli/plot.hpp"
 #include "cli/progress.hpp"

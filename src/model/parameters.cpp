@@ -12,6 +12,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "model/stall.hpp"
 #include "util/numbers.hpp"
 #include "util/suggest.hpp"
 
@@ -80,6 +81,17 @@ double Parameters::renewal_rate() const {
   return fastest;
 }
 
+double stall_resistance(const Parameters& p) {
+  // One level: alpha F_kin / 2, which stall decisions compare with F_drive - F_kin exactly
+  // as alpha F_kin against twice it (halving is exact).
+  if (p.levels == 1) return p.alpha * p.F_kin / 2;
+  double resistance = 0;
+  for (int level = 1; level <= p.levels; ++level)
+    if (p.touches(level))
+      resistance += static_cast<double>(p.blocks(level)) * p.level(level).alpha * p.friction_per_miniblock() / 2;
+  return resistance;
+}
+
 Landmarks landmarks(const Parameters& p) {
   const double drive_excess = p.F_drive - p.F_kin;
   Landmarks l{};
@@ -93,12 +105,12 @@ Landmarks landmarks(const Parameters& p) {
   l.eq1_prefactor =
       p.alpha * p.alpha * p.F_kin * p.F_kin * p.v * p.v * p.v / (12.0 * M_PI * p.N * p.a * drive_excess * drive_excess);
   l.coupling_eps = p.alpha * p.F_kin / (drive_excess * std::sqrt(6.0 * p.N));
-  l.forces_can_stall = p.alpha * p.F_kin >= 2.0 * drive_excess;
+  l.forces_can_stall = stall_resistance(p) >= drive_excess;
   if (p.levels > 1) {
     // The same landmarks summed over the touching levels (for one level the sums reduce
     // to the expressions above, which are kept so that flat outputs stay bit for bit).
     // Below every corner the tree moves as one body with drag (F_drive - F_kin)/v.
-    double force_variance = 0, diffusion = 0, eq1 = 0, resistance = 0;
+    double force_variance = 0, diffusion = 0, eq1 = 0;
     for (int level = 1; level <= p.levels; ++level) {
       if (!p.touches(level)) continue;
       const double contacts = static_cast<double>(p.blocks(level));
@@ -106,13 +118,11 @@ Landmarks landmarks(const Parameters& p) {
       force_variance += contacts * s2;
       diffusion += contacts * s2 * p.level(level).a;
       eq1 += contacts * s2 / p.level(level).a;
-      resistance += contacts * p.level(level).alpha * p.friction_per_miniblock() / 2;
     }
     l.diffusion = diffusion * p.v / (drive_excess * drive_excess);
     l.diffusion *= periodic_share;
     l.eq1_prefactor = eq1 * p.v * p.v * p.v / (M_PI * drive_excess * drive_excess);
     l.coupling_eps = std::sqrt(2 * force_variance) / drive_excess;
-    l.forces_can_stall = resistance >= drive_excess;
   }
   l.omega_resonance = l.omega_c;
   l.spring_offset = 0;
@@ -224,10 +234,7 @@ void parse(const std::string& key, const std::string& text, Word& value) {
   value = static_cast<Word>(found - list.begin());
 }
 
-std::string text(double value) {  // the shortest text that reads back as value
-  char digits[32];
-  return std::string(digits, std::to_chars(digits, digits + sizeof digits, value).ptr);
-}
+std::string text(double value) { return util::format_number(value); }
 std::string text(int value) { return std::to_string(value); }
 std::string text(const LevelList& levels) {
   std::string list;
@@ -579,13 +586,10 @@ std::vector<std::string> read_parameter_file(const std::string& path) {
       assignments.push_back(key + "=" + value.get<std::string>());
     else if (value.is_number_integer())
       assignments.push_back(key + "=" + std::to_string(value.get<long long>()));
-    else if (value.is_number()) {
-      char text[32];
-      assignments.push_back(key + "=" +
-                            std::string(text, std::to_chars(text, text + sizeof text, value.get<double>()).ptr));
-    } else {
+    else if (value.is_number())
+      assignments.push_back(key + "=" + util::format_number(value.get<double>()));
+    else
       throw InputError("parameter file '" + path + "': value of " + key + " is neither a number nor a string");
-    }
   }
   return assignments;
 }

@@ -2,6 +2,7 @@
 #include <functional>
 #include <optional>
 
+#include "model/stall.hpp"
 #include "slidespec/theory.hpp"
 
 namespace slidespec {

@@ -75,6 +75,11 @@ TEST(ModelFit, RecoversAlphaAandTheFloorWithinTheirErrors) {
   EXPECT_NEAR(f.amplitude, kAlpha * kAlpha / 30, kTolerance * f.amplitude_error);
   EXPECT_EQ(f.undetermined.find("alpha is not determined"), std::string::npos) << f.undetermined;
   EXPECT_NE(f.undetermined.find("N and alpha are not separated"), std::string::npos) << f.undetermined;
+  // Every real parameter but the fitted ones and eta1 (which v gives), the spring's too.
+  EXPECT_NE(f.undetermined.find("held at the case's values, not measured by this fit: M, m, k0, k1, eta0, v, "
+                                "F_drive, F_kin, k_drive"),
+            std::string::npos)
+      << f.undetermined;
   for (double r : f.residuals) {
     if (std::isfinite(r)) {
       EXPECT_LT(std::fabs(r), 5);

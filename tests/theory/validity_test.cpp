@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 #include <tuple>
+#include <variant>
 #include <vector>
 
 #include "slidespec/theory.hpp"
@@ -23,6 +24,14 @@ Parameters flat(int N, double eps, Renewal renewal) {
   p.alpha = eps * std::sqrt(6.0 * N);
   p.renewal = renewal;
   return p;
+}
+
+/// A landmark's number as a run's JSON shows it.
+double shown(const Parameters& p, const std::string& key) {
+  for (const Landmark& mark : shown_landmarks(p, LandmarkOutput::json))
+    if (mark.row->key == key) return std::get<double>(mark.value);
+  ADD_FAILURE() << key << " is not shown";
+  return NAN;
 }
 
 // Over all points of the map's runs at one (renewal, N, eps), open and ring pooled (the same
@@ -301,4 +310,27 @@ TEST(TheoryValidity, SpringLimitsAreTheMeasuredOnes) {
   const TheoryChoice soft = best_theory(stiff);
   EXPECT_EQ(soft.kind, TheoryKind::none);
   EXPECT_NE(soft.reason.find("omega_s = 0.2 v/a"), std::string::npos) << soft.reason;
+}
+
+// Each contact's random force is uniform over alpha f_kin about its mean, so the contacts can
+// hold at most half of that, summed, against the drive's excess F_drive - F_kin: at that
+// share 1 a constant force can stall the block (docs/model.md §8).
+TEST(TheoryValidity, TheStallFractionIsTheShareOfTheDriveTheRandomForcesCanHold) {
+  // The reference case: F_kin = F_drive - F_kin = 5 N, so the share is alpha / 2.
+  for (const char* alpha : {"0.25", "1", "1.99", "2", "2.01", "3"}) {
+    const Parameters p = ParameterBuilder("reference").set("alpha", alpha).build();
+    EXPECT_DOUBLE_EQ(shown(p, "stall_fraction"), std::stod(alpha) / 2) << alpha;
+    EXPECT_EQ(landmarks(p).forces_can_stall, std::stod(alpha) >= 2) << alpha;
+  }
+  // 2 miniblocks of 3 microblocks, both levels touching: 8 contacts share F_kin.
+  const Parameters tree = ParameterBuilder("hierarchical")
+                              .set("touching=1,2")
+                              .set("N=2")
+                              .set("N_2=3")
+                              .set("alpha=0.4")
+                              .set("alpha_2=0.7")
+                              .build();
+  const double f_kin = tree.F_kin / 8;
+  EXPECT_DOUBLE_EQ(shown(tree, "stall_fraction"),
+                   (2 * 0.4 * f_kin / 2 + 6 * 0.7 * f_kin / 2) / (tree.F_drive - tree.F_kin));
 }

@@ -1,11 +1,15 @@
-#include "cli/analyze.hpp"
+// `slidespec analyze`: a measured record's spectrum, slope and model fit (docs/analysis.md).
+#include "cli/analyze_command.hpp"
+
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <sstream>
+#include <limits>
+#include <memory>
 
 #include "analysis/report.hpp"
 #include "cli/analysis_text.hpp"
@@ -14,6 +18,7 @@
 #include "cli/outputs.hpp"
 #include "cli/plot.hpp"
 #include "cli/run_and_write.hpp"
+#include "cli/synth_command.hpp"
 #include "io/atomic_file.hpp"
 #include "io/tables.hpp"
 #include "slidespec/analysis.hpp"
@@ -22,8 +27,10 @@
 
 namespace slidespec::cli {
 
-struct AnalysisCommands::Options {
-  // analyze
+namespace {
+
+/// analyze's options, as parsed.
+struct AnalyzeOptions {
   std::vector<std::string> files;  // as given: records or glob patterns
   std::string file;                // the record analysed
   RecordFormat format;
@@ -50,23 +57,7 @@ struct AnalysisCommands::Options {
   bool quiet = false, no_plot = false;
   FigureStyle figure;
   std::string title;
-  // synth
-  std::string synth_case = "reference";
-  std::string synth_params;  // JSON file of parameter overrides
-  std::vector<std::string> synth_overrides;
-  SensorRequest sensor;
-  std::string synth_resolution, synth_sensor_noise;  // lengths, bare in m or with a unit
-  double strokes = 0;                                // with --stroke-length
-  std::string stroke_length;                         // bare in m or with a unit
-  double dwell = 0;                                  // [s]
-  std::string program;                               // F1:T1,F2:T2,...
-  std::string synth_units = "um";
-  std::string synth_out = "record";
 };
-
-namespace {
-
-using Options = AnalysisCommands::Options;
 
 using util::short_number;
 
@@ -110,7 +101,7 @@ void print_segments(const std::vector<SteadySegment>& steady) {
 /// analyze --segments: the steady stretches, one a line, on standard output; no file written.
 /// A record whose sampling rate changes is listed part by part (each read as its own
 /// --window), since an analysis can take any one of them.
-int list_segments(const Options& o, const Record& record) {
+int list_segments(const AnalyzeOptions& o, const Record& record) {
   const std::vector<SteadySegment> steady = steady_segments(record);
   const bool by_parts = record.parts.size() > 1 && !record.resampled && !o.format.window;
   if (!by_parts)
@@ -148,7 +139,7 @@ int list_segments(const Options& o, const Record& record) {
 }
 
 /// The plan the options ask for; the floor's lengths are read once the record gives their unit.
-AnalysisPlan plan_of(const Options& o) {
+AnalysisPlan plan_of(const AnalyzeOptions& o) {
   AnalysisPlan plan;
   plan.request = o.request;
   plan.request.estimator = parse_estimator(o.estimator);
@@ -167,7 +158,7 @@ AnalysisPlan plan_of(const Options& o) {
 }
 
 /// The record's format, from the options that read it.
-void parse_format(Options& o) {
+void parse_format(AnalyzeOptions& o) {
   if (!o.units.empty()) o.format.unit = parse_length_unit(o.units);
   o.format.observable = parse_observable(o.observable);
   if (!o.force_units.empty()) o.format.force_unit = parse_force_unit(o.force_units);
@@ -179,7 +170,7 @@ void parse_format(Options& o) {
 }
 
 /// PREFIX.tsv, .json and the figure, all or none; then the messages and the summary.
-int write_analysis(const Options& o, const AnalysisReport& report) {
+int write_analysis(const AnalyzeOptions& o, const AnalysisReport& report) {
   const AnalysisSource source{o.file, o.compare_case};
   std::string title = o.title;
   if (!report.ok()) {
@@ -216,7 +207,7 @@ int write_analysis(const Options& o, const AnalysisReport& report) {
 }
 
 /// Every option read and checked, before any record is: the plan they ask for.
-AnalysisPlan prepare(Options& o) {
+AnalysisPlan prepare(AnalyzeOptions& o) {
   o.figure.check();
   io::check_output_prefix(o.out);
   parse_format(o);
@@ -228,7 +219,7 @@ AnalysisPlan prepare(Options& o) {
 }
 
 /// The analysis of a record read: the floor's lengths in its unit, then the plan.
-AnalysisReport analyze_read(const Options& o, AnalysisPlan plan, Record record) {
+AnalysisReport analyze_read(const AnalyzeOptions& o, AnalysisPlan plan, Record record) {
   if (!o.resolution.empty()) plan.request.resolution = parse_length(o.resolution, record.unit, "--resolution");
   if (!o.sensor_noise.empty()) plan.request.sensor_noise = parse_length(o.sensor_noise, record.unit, "--sensor-noise");
   return analyze(std::move(record), plan);
@@ -237,7 +228,7 @@ AnalysisReport analyze_read(const Options& o, AnalysisPlan plan, Record record) 
 /// analyze A B C: each record analysed as one is, into its own OUT_STEM outputs, with a line
 /// each on stderr; a record refused is reported and the rest go on. The combined OUT.tsv and
 /// .json list the records done, also when a signal stops the command between two.
-int analyze_many(Options o) {
+int analyze_many(AnalyzeOptions o) {
   if (o.segments) throw InputError("--segments lists one record's segments: give one record");
   const AnalysisPlan plan = prepare(o);
   const std::vector<std::string> records = expand_record_paths(o.files);
@@ -249,7 +240,7 @@ int analyze_many(Options o) {
   bool written = true;
   for (std::size_t k = 0; k < records.size() && !stop_asked(); ++k) {
     if (!o.quiet) std::cerr << "slidespec: analyze " << k + 1 << "/" << records.size() << ": " << records[k] << "\n";
-    Options one = o;
+    AnalyzeOptions one = o;
     one.file = records[k];
     one.out = prefixes[k];
     one.quiet = true;
@@ -283,7 +274,7 @@ int analyze_many(Options o) {
   return failed > 0 ? kNotWhatItClaims : 0;
 }
 
-int command_analyze(Options o) {
+int command_analyze(AnalyzeOptions o) {
   if (many_records(o.files)) return analyze_many(std::move(o));
   if (!o.files.empty()) o.file = o.files.front();
   AnalysisPlan plan = prepare(o);  // before any reading
@@ -292,110 +283,8 @@ int command_analyze(Options o) {
   return write_analysis(o, analyze_read(o, std::move(plan), std::move(record)));
 }
 
-/// "F1:T1,F2:T2,...": the load point at F x the case's v for T seconds, stretch after stretch.
-std::vector<DriveStretch> parse_program(const std::string& text) {
-  std::vector<DriveStretch> program;
-  std::stringstream stretches(text);
-  for (std::string stretch; std::getline(stretches, stretch, ',');) {
-    const auto colon = stretch.find(':');
-    const std::optional<double> factor =
-        colon == std::string::npos ? std::nullopt : util::parse_number(stretch.substr(0, colon));
-    const std::optional<double> duration =
-        colon == std::string::npos ? std::nullopt : util::parse_number(stretch.substr(colon + 1));
-    if (!factor || !duration || !std::isfinite(*factor) || !(*duration > 0) || !std::isfinite(*duration))
-      throw InputError("--program: '" + stretch +
-                       "' is not F:T (F x the case's v, 0 a hold, for T > 0 seconds), e.g. 1:100,0:2,3:100");
-    program.push_back({*factor, *duration});
-  }
-  if (program.empty() || text.back() == ',') throw InputError("--program: an empty stretch in '" + text + "'");
-  return program;
-}
-
-/// The drive synth's options ask for: strokes, a program, or none (the case's v throughout).
-std::vector<DriveStretch> drive_of(const Options& o, const Parameters& p) {
-  if (!o.program.empty()) return parse_program(o.program);
-  // --strokes and --stroke-length come together: a length given means strokes asked for,
-  // and stroke_program refuses a count of 0 that would otherwise read as none.
-  if (o.stroke_length.empty()) return {};
-  return stroke_program(o.strokes, parse_length(o.stroke_length, LengthUnit::m, "--stroke-length"), p.v, o.dwell);
-}
-
-/// The CSV's '#' lines: what made the record, enough to make it again.
-std::string synth_comments(const Options& o, const Parameters& p, const SensorRequest& sensor) {
-  std::ostringstream comments;
-  comments << "slidespec " << SLIDESPEC_VERSION << " synth: a simulated slider read by a displacement sensor\n"
-           << "case = " << o.synth_case << "\n"
-           << "label = " << io::run_label(o.synth_case, p) << "\n";
-  for (const auto& [key, value] : describe(p)) comments << key << " = " << value << "\n";
-  comments << "seed = " << sensor.seed << "\nsample_interval = " << sensor.sample_interval << " s\n"
-           << "resolution = " << sensor.resolution << " m\nsensor_noise = " << sensor.sensor_noise << " m\n";
-  if (!o.stroke_length.empty())
-    comments << "strokes = " << o.strokes << " of " << o.stroke_length << " (dwell " << o.dwell << " s)\n";
-  if (!o.program.empty()) {
-    comments << "program (speed / v : seconds) =";
-    for (const DriveStretch& stretch : sensor.program)
-      comments << " " << util::format_number(stretch.speed_factor) << ":" << util::format_number(stretch.duration);
-    comments << "\n";
-  }
-  if (sensor.load_point && !sensor.program.empty())
-    comments << "note: each speed's mean force is the model's steady friction F_kin + (speed / v) (F_drive - F_kin); "
-                "in a hold the load point and the slider stand and the force stands at its last value (the model does "
-                "not relax it)\n";
-  comments << "columns: t (s), x (" << to_string(parse_length_unit(o.synth_units)) << ")"
-           << (sensor.load_point ? ", F (N)" : "") << "\n";
-  return comments.str();
-}
-
-int command_synth(const Options& o) {
-  io::check_output_prefix(o.synth_out);
-  const LengthUnit unit = parse_length_unit(o.synth_units);
-  const Parameters p = build_case(o.synth_case, o.synth_params, o.synth_overrides);
-  SensorRequest sensor = o.sensor;
-  if (!o.synth_resolution.empty()) sensor.resolution = parse_length(o.synth_resolution, LengthUnit::m, "--resolution");
-  if (!o.synth_sensor_noise.empty())
-    sensor.sensor_noise = parse_length(o.synth_sensor_noise, LengthUnit::m, "--sensor-noise");
-  sensor.program = drive_of(o, p);
-  const Record record = synthesize_record(p, sensor);
-  io::write_atomically(o.synth_out + ".csv", record_csv(record, unit, synth_comments(o, p, sensor)));
-  std::cerr << "slidespec: wrote " << o.synth_out << ".csv (" << record.displacement.size()
-            << " samples); analyse it with: slidespec analyze " << o.synth_out << ".csv --resolution "
-            << util::format_number(sensor.resolution) << "m --sensor-noise " << util::format_number(sensor.sensor_noise)
-            << "m" << (sensor.load_point ? " --machine-stiffness " + util::format_number(p.k_drive) : "") << "\n";
-  return 0;
-}
-
-}  // namespace
-
-int paper_fig6(const std::string& record, const std::string& directory, const FigureStyle& figure, bool quiet) {
-  figure.check();
-  Options o;
-  o.out = directory + "/fig6";
-  io::check_output_prefix(o.out);
-  o.file = record;
-  if (record.empty()) {
-    // A measured-like record: the concrete-fit slider read by the paper's sensor.
-    Options synth;
-    synth.synth_case = "concrete-fit";
-    synth.synth_out = directory + "/fig6_record";
-    io::check_output_prefix(synth.synth_out);
-    command_synth(synth);
-    o.file = synth.synth_out + ".csv";
-    o.sensor_noise = util::format_number(synth.sensor.sensor_noise) + "m";
-  }
-  o.resolution = "0.5um";  // the paper's sensor (docs/model.md §5)
-  o.compare_case = "concrete-fit";
-  o.fit = "alpha";
-  o.quiet = quiet;
-  o.figure = figure;
-  o.title = "Fig. 6: the concrete-fit model (" +
-            (record.empty() ? std::string("synthetic record") : literal_title(record)) + ", alpha fitted)";
-  return command_analyze(o);
-}
-
-namespace {
-
 /// analyze's options that read the record: its columns, units, channels, sampling and window.
-void add_record_options(CLI::App& analyze, Options& o) {
+void add_record_options(CLI::App& analyze, AnalyzeOptions& o) {
   analyze
       .add_option("file", o.files,
                   "CSV/TSV record ('-': stdin): a time column (or --dt) and a displacement column; several records "
@@ -446,7 +335,7 @@ void add_record_options(CLI::App& analyze, Options& o) {
 }
 
 /// analyze's options of the analysis itself: the floor, band, estimator, fits and outputs.
-void add_analysis_options(CLI::App& analyze, Options& o) {
+void add_analysis_options(CLI::App& analyze, AnalyzeOptions& o) {
   analyze.add_option("--resolution", o.resolution,
                      "sensor resolution q (record's unit, or with one: 0.5um): draws the q^2/12 floor");
   analyze.add_option("--sensor-noise", o.sensor_noise,
@@ -475,11 +364,13 @@ void add_analysis_options(CLI::App& analyze, Options& o) {
           },
           ""));
   analyze.add_option("--set", o.overrides, "override a parameter of the compared case, KEY=VALUE");
+  std::string fittable;
+  for (const std::string& name : fittable_parameters()) fittable += (fittable.empty() ? "" : ", ") + name;
   analyze.add_option("--fit", o.fit,
-                     "alpha: fit the compared case's alpha; alpha,a (any of alpha, a, k_drive, k0): fit these model "
-                     "parameters jointly with the floor, with covariance and what the band cannot determine; "
-                     "power-law: C_x = A (omega/pivot)^s + floor jointly, with errors and correlations (the floor "
-                     "fitted unless --resolution/--sensor-noise give it)");
+                     "alpha: fit the compared case's alpha; alpha,a (any of " + fittable +
+                         "): fit these model parameters jointly with the floor, with covariance and what the band "
+                         "cannot determine; power-law: C_x = A (omega/pivot)^s + floor jointly, with errors and "
+                         "correlations (the floor fitted unless --resolution/--sensor-noise give it)");
   analyze
       .add_option(
           "--fit-band", o.fit_band,
@@ -505,62 +396,84 @@ void add_analysis_options(CLI::App& analyze, Options& o) {
     if (CLI::Option* option = analyze.get_option_no_throw(ignored)) analyze.get_option("--segments")->excludes(option);
 }
 
-void add_synth_options(CLI::App& synth, Options& o) {
-  synth.add_option("--case", o.synth_case, "named case (default reference)");
-  synth.add_option("--set", o.synth_overrides, "override a parameter, KEY=VALUE (repeatable)");
-  synth.add_option("--params", o.synth_params,
-                   "JSON file of parameter overrides (as for run: a run's output JSON or its parameters block)");
-  const SensorRequest sensor_default{};
-  synth.add_option("--sample-interval", o.sensor.sample_interval,
-                   with_default("sensor sampling interval [s]", sensor_default.sample_interval));
-  synth.add_option("--duration", o.sensor.duration, with_default("record length [s]", sensor_default.duration));
-  synth.add_option("--resolution", o.synth_resolution,
-                   with_default("sensor resolution q, bare in m or with a unit (0.5um), 0 for exact readings",
-                                sensor_default.resolution));
-  synth.add_option("--sensor-noise", o.synth_sensor_noise,
-                   with_default("rms noise before quantization, bare in m or with a unit (0.25um), which dithers "
-                                "the quantizer",
-                                sensor_default.sensor_noise));
-  synth.add_option("--seed", o.sensor.seed, with_default("random seed", static_cast<double>(sensor_default.seed)));
-  CLI::Option* strokes =
-      synth.add_option("--strokes", o.strokes,
-                       "a reciprocating record: K strokes of --stroke-length at the case's v, alternating in "
-                       "direction (the record's length follows; no --duration)");
-  CLI::Option* length =
-      synth.add_option("--stroke-length", o.stroke_length, "a stroke's length, bare in m or with a unit (2mm)");
-  CLI::Option* dwell = synth.add_option("--dwell", o.dwell, "a hold of T seconds at each reversal (default 0)");
-  CLI::Option* program = synth.add_option(
-      "--program", o.program,
-      "the drive, stretch after stretch: F1:T1,F2:T2,... (F x the case's v for T seconds; 0 a hold, negative "
-      "backwards; each speed the case at that speed), e.g. 1:100,0:2,1:100,3:100,0:10,0.3:290 (no --duration)");
-  strokes->needs(length);
-  length->needs(strokes);
-  dwell->needs(strokes);
-  for (CLI::Option* drive : {strokes, program}) drive->excludes(synth.get_option("--duration"));
-  strokes->excludes(program);
-  synth.add_option("--units", o.synth_units, "unit of the x column: m|mm|um (default um)");
-  synth.add_flag(
-      "--load-point", o.sensor.load_point,
-      "with drive = spring, what a rig records: x the load point's position, F (N) the spring's force "
-      "(analyze with --machine-stiffness k_drive); with a program, each speed's mean force is the model's steady "
-      "friction F_kin + N m eta1 v, and in a hold the force stands");
-  synth.add_option("--out", o.synth_out, "output prefix: PREFIX.csv (default record)");
-}
+/// analyze: the files it reads and writes, from its options, and the analysis.
+class AnalyzeCommand final : public Command {
+ public:
+  explicit AnalyzeCommand(CLI::App& app)
+      : Command(app.add_subcommand("analyze", "spectrum, slope and model fit of a measured sliding-distance record")) {
+    add_record_options(subcommand(), options_);
+    add_analysis_options(subcommand(), options_);
+  }
+
+  Files files() const override {
+    Files files;
+    if (many_records(options_.files)) {
+      many_files(files);
+    } else {
+      for (const std::string& path : options_.files) files.input(path, "analyze");
+      files.outputs_of(options_.out, "--out", {".tsv", ".json", "." + options_.figure.format});
+    }
+    return files;
+  }
+
+  int run() override {
+    // A sampling interval of 0 reads as "from the time column": refused when given, in the
+    // words the user typed (the option holds it parsed).
+    const CLI::Option* dt = subcommand().get_option("--dt");
+    for (const std::string& text : dt->count() == 0 ? std::vector<std::string>{} : dt->results())
+      if (const auto seconds = util::parse_number(text); !seconds || !(*seconds > 0) || !std::isnormal(*seconds))
+        throw InputError("--dt: need a positive sampling interval in seconds, at least " +
+                         util::format_number(std::numeric_limits<double>::min()) + " (got " + text + ")");
+    return command_analyze(options_);
+  }
+
+ private:
+  /// analyze A B C: each record's outputs and the combined table. A record that cannot be
+  /// read is not refused here but reported as the records are analysed, and the rest go on;
+  /// the records that can are inputs, which no output may replace.
+  void many_files(Files& files) const {
+    const std::vector<std::string> records = expand_record_paths(options_.files);
+    const std::vector<std::string> prefixes = record_prefixes(options_.out, records);
+    for (std::size_t k = 0; k < records.size(); ++k) {
+      std::error_code ignored;
+      if (std::filesystem::is_regular_file(records[k], ignored) && access(records[k].c_str(), R_OK) == 0)
+        files.input(records[k], "analyze");
+      files.outputs_of(prefixes[k], "--out", {".tsv", ".json", "." + options_.figure.format});
+    }
+    files.outputs_of(options_.out, "--out", {".tsv", ".json"});
+  }
+
+  AnalyzeOptions options_;
+};
 
 }  // namespace
 
-AnalysisCommands::AnalysisCommands(CLI::App& app) : options_(std::make_shared<Options>()) {
-  analyze_ = app.add_subcommand("analyze", "spectrum, slope and model fit of a measured sliding-distance record");
-  add_record_options(*analyze_, *options_);
-  add_analysis_options(*analyze_, *options_);
-  synth_ = app.add_subcommand("synth", "a synthetic displacement-sensor record of a simulated slider (CSV)");
-  add_synth_options(*synth_, *options_);
+int paper_fig6(const std::string& record, const std::string& directory, const FigureStyle& figure, bool quiet) {
+  figure.check();
+  AnalyzeOptions o;
+  o.out = directory + "/fig6";
+  io::check_output_prefix(o.out);
+  o.file = record;
+  if (record.empty()) {
+    // A measured-like record: the concrete-fit slider read by the paper's sensor.
+    SynthOptions synth;
+    synth.model.case_name = "concrete-fit";
+    synth.out = directory + "/fig6_record";
+    io::check_output_prefix(synth.out);
+    synthesize(synth);
+    o.file = synth.out + ".csv";
+    o.sensor_noise = util::format_number(synth.sensor.sensor_noise) + "m";
+  }
+  o.resolution = "0.5um";  // the paper's sensor (docs/model.md §5)
+  o.compare_case = "concrete-fit";
+  o.fit = "alpha";
+  o.quiet = quiet;
+  o.figure = figure;
+  o.title = "Fig. 6: the concrete-fit model (" +
+            (record.empty() ? std::string("synthetic record") : literal_title(record)) + ", alpha fitted)";
+  return command_analyze(o);
 }
 
-std::optional<int> AnalysisCommands::run() const {
-  if (*analyze_) return command_analyze(*options_);
-  if (*synth_) return command_synth(*options_);
-  return std::nullopt;
-}
+std::unique_ptr<Command> make_analyze_command(CLI::App& app) { return std::make_unique<AnalyzeCommand>(app); }
 
 }  // namespace slidespec::cli
