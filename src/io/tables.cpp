@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <variant>
@@ -14,6 +15,8 @@
 
 #include "io/points.hpp"
 #include "slidespec/estimator.hpp"
+#include "slidespec/input_error.hpp"
+#include "slidespec/simd.hpp"
 #include "slidespec/theory.hpp"
 #include "util/numbers.hpp"
 
@@ -223,6 +226,17 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
   return out.str();
 }
 
+nlohmann::ordered_json request_json(const RunRequest& request) {
+  return {{"omega_min", request.omega_min},
+          {"omega_max", request.omega_max},
+          {"points_per_decade", request.points_per_decade},
+          {"precision", request.precision},
+          {"duration", request.duration},
+          {"realizations", request.realizations},
+          {"seed", request.seed},
+          {"control_variate", request.control_variate ? "shadow" : "off"}};
+}
+
 std::string run_json(const Parameters& p, const std::string& case_name, const RunRequest& request,
                      const RunResult& result, FrontEnd reader) {
   nlohmann::ordered_json doc;
@@ -234,14 +248,7 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
   doc["landmarks"] = nlohmann::ordered_json::object();
   for (const Landmark& mark : shown_landmarks(p, LandmarkOutput::json))
     std::visit([&](const auto& value) { doc["landmarks"][mark.row->key] = value; }, mark.value);
-  doc["request"] = {{"omega_min", request.omega_min},
-                    {"omega_max", request.omega_max},
-                    {"points_per_decade", request.points_per_decade},
-                    {"precision", request.precision},
-                    {"duration", request.duration},
-                    {"realizations", request.realizations},
-                    {"seed", request.seed},
-                    {"control_variate", request.control_variate ? "shadow" : "off"}};
+  doc["request"] = request_json(request);
   doc["complete"] = result.complete;
   doc["stationary"] = result.stationary;
   if (!result.stationary) doc["stationarity"] = worded(result.stationarity, reader);
@@ -270,6 +277,93 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                                 {"rounds", band.rounds}});
   for (const RunPoint& point : result.points) doc["points"].push_back(run_point_json(p, point));
   return json_file_text(doc);
+}
+
+}  // namespace slidespec::io
+
+namespace slidespec::io {
+
+namespace {
+
+/// A number as run_json wrote it: JSON has no inf or nan, and writes them as null.
+double number(const nlohmann::ordered_json& holder, const char* key) {
+  const nlohmann::ordered_json& value = holder.at(key);
+  return value.is_null() ? std::numeric_limits<double>::quiet_NaN() : value.get<double>();
+}
+
+std::string text_or_empty(const nlohmann::ordered_json& holder, const char* key) {
+  return holder.contains(key) ? holder.at(key).get<std::string>() : std::string();
+}
+
+TheoryKind theory_kind_named(const std::string& name) {
+  for (TheoryKind kind : {TheoryKind::second_order, TheoryKind::quasi_static, TheoryKind::first_order})
+    if (name == theory_kind_name(kind)) return kind;
+  if (name == theory_kind_name(TheoryKind::none)) return TheoryKind::none;
+  throw InputError("no theory kind '" + name + "'");
+}
+
+RunPoint point_from_json(const nlohmann::ordered_json& row) {
+  RunPoint point{};
+  point.omega = number(row, "omega");
+  point.C_x = number(row, "C_x");
+  point.standard_error = number(row, "stderr");
+  point.theory = number(row, "theory");
+  point.theory_at_omega = number(row, "theory_at_omega");
+  point.n_avg = number(row, "n_avg");
+  point.bandwidth = number(row, "bandwidth");
+  const nlohmann::ordered_json& bins = row.at("bins");
+  point.bins = {number(bins, "first"), number(bins, "last"), number(bins, "spacing"), bins.at("count").get<int>()};
+  point.theory2 = number(row, "theory2");
+  point.variance_ratio = number(row, "variance_ratio");
+  point.estimator = row.at("estimator").get<std::string>();
+  point.theory_kind = theory_kind_named(row.at("theory_kind").get<std::string>());
+  return point;
+}
+
+SubBand sub_band_from_json(const nlohmann::ordered_json& entry) {
+  SubBand band;
+  band.omega_low = number(entry, "omega_low");
+  band.omega_high = number(entry, "omega_high");
+  band.dt = number(entry, "dt");
+  band.duration = number(entry, "duration");
+  band.warm_up = number(entry, "warm_up");
+  band.warm_up_dt = number(entry, "warm_up_dt");
+  band.shadow = entry.at("shadow").get<bool>();
+  band.realizations = entry.at("realizations").get<std::uint64_t>();
+  band.rounds = entry.at("rounds").get<int>();
+  return band;
+}
+
+}  // namespace
+
+RunResult run_result_from_json(const nlohmann::ordered_json& doc) {
+  try {
+    RunResult result;
+    result.complete = doc.at("complete").get<bool>();
+    result.stationary = doc.at("stationary").get<bool>();
+    result.stationarity = text_or_empty(doc, "stationarity");
+    result.reached_precision = number(doc, "reached_precision");
+    result.theory2_note = text_or_empty(doc, "theory2_note");
+    result.theory_kind = theory_kind_named(doc.at("theory_kind").get<std::string>());
+    result.theory_kind_note = text_or_empty(doc, "theory_kind_note");
+    result.mean_speed = number(doc.at("measured_mean_speed"), "value");
+    result.mean_speed_error = number(doc.at("measured_mean_speed"), "standard_error");
+    result.simulated_time = number(doc, "simulated_time");
+    result.wall_seconds = number(doc, "wall_seconds");
+    result.realization_steps = number(doc, "realization_steps");
+    result.miniblock_steps = number(doc, "miniblock_steps");
+    result.simd_path = parse_simd_path(doc.at("simd_path").get<std::string>());
+    result.threads = doc.at("threads").get<int>();
+    // A run of no sub-band (or no point) writes no array: JSON's null.
+    if (doc.contains("sub_bands") && !doc.at("sub_bands").is_null())
+      for (const nlohmann::ordered_json& entry : doc.at("sub_bands"))
+        result.sub_bands.push_back(sub_band_from_json(entry));
+    if (doc.contains("points") && !doc.at("points").is_null())
+      for (const nlohmann::ordered_json& row : doc.at("points")) result.points.push_back(point_from_json(row));
+    return result;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(std::string("not a run's JSON (") + e.what() + ")");
+  }
 }
 
 }  // namespace slidespec::io
