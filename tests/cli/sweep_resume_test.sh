@@ -48,7 +48,7 @@ cut_in() {
 # --- Cut in the first run: nothing finished, the cut run continues from its state.
 cut_in 1 INT first
 [ $status -eq 130 ] || fail "cut in the first run: exit status $status, expected 130"
-[ -s "first/sw_alpha=0.5.state" ] || fail "cut in the first run: no state of it"
+[ -s "first/sw_alpha=0.5.state" ] || fail "cut in the first run: no state of it: $(cat first/err)"
 [ -s first/sw.sweep ] || fail "cut in the first run: no sw.sweep"
 (cd first && "$bin" sweep $grid $options --out sw --resume 2> err)
 status=$?
@@ -124,12 +124,12 @@ refused() {  # NAME WORD ARGS...
   expect_refused "$name" "$word" sweep "$@"
   [ "$(sha256sum *)" = "$snapshot" ] || fail "$name: files changed"
 }
-refused "other values" "the grid: alpha=0.5,0.7,1 there, alpha=0.5,0.7,2 here" alpha=0.5,0.7,2 $options --out sw --resume
-refused "another case" "case: reference there, weak-noise here" $grid $options --case weak-noise --out sw --resume
-refused "another seed" "seed: 3 there, 4 here" $grid ${options% --seed 3} --seed 4 --out sw --resume
-refused "another precision" "precision: 0.005 there, 0.01 here" $grid --omega-min 10 --omega-max 1000 --precision 0.01 \
+refused "other values" "sw.sweep holds another sweep (the grid: alpha=0.5,0.7,1 there, alpha=0.5,0.7,2 here" alpha=0.5,0.7,2 $options --out sw --resume
+refused "another case" "sw.sweep holds another sweep (--case: reference there, weak-noise here)" $grid $options --case weak-noise --out sw --resume
+refused "another seed" "sw.sweep holds another sweep (--seed: 3 there, 4 here)" $grid ${options% --seed 3} --seed 4 --out sw --resume
+refused "another precision" "sw.sweep holds another sweep (--precision: 0.005 there, 0.01 here)" $grid --omega-min 10 --omega-max 1000 --precision 0.01 \
   --seed 3 --out sw --resume
-refused "another parameter" "run alpha=0.5: parameter N: 30 there, 12 here" $grid $options --set N=12 --out sw --resume
+refused "another parameter" "sw.sweep holds another sweep (run alpha=0.5: parameter N: 30 there, 12 here)" $grid $options --set N=12 --out sw --resume
 refused "nothing to continue" "nothing to continue: no other.sweep" $grid $options --out other --resume
 refused "a fresh sweep over a cut one" "sw.sweep holds a sweep not yet written whole" $grid $options --out sw
 # A finished run's outputs replaced by those of another seed: refused, naming the run.
