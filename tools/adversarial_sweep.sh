@@ -786,6 +786,99 @@ if in_part signals; then
   if [ $first -eq 0 ] && [ $second -eq 0 ]; then
     work_lost=$((work_lost + 1)); report LOST "two parts onto one --save-state both exited 0"
   fi
+  # An interrupted sweep continues with --resume: whatever the signal and wherever it lands
+  # (a run, between runs, the continuation itself), the continued sweep's combined table and
+  # JSON are the uninterrupted one's, bit for bit, and nothing of it is left behind.
+  sweep_args="alpha=0.3,0.6,0.9 --omega-min 10 --omega-max 1000 --precision 0.01 --seed 5 --no-plot"
+  mkdir -p swwhole && (cd swwhole && "$bin" sweep $sweep_args --out s --quiet)
+  continued_as_whole() {  # NAME: continues the sweep in swcut and compares it with swwhole
+    (cd swcut && timeout 120 "$bin" sweep $sweep_args --out s --quiet --resume 2> "$logs/stderr")
+    local status=$?
+    if [ $status -ne 0 ]; then
+      work_lost=$((work_lost + 1)); report LOST "$1: the continuation exited $status: $(head -c 200 "$logs/stderr")"
+    elif ! cmp -s swcut/s.tsv swwhole/s.tsv || ! cmp -s swcut/s.json swwhole/s.json; then
+      work_lost=$((work_lost + 1)); report LOST "$1: the continued sweep differs from the uninterrupted one"
+    elif [ -n "$(ls swcut | grep '\.state$\|\.sweep$\|\.lock$\|tmp')" ]; then
+      other=$((other + 1)); report LEFT "$1: the continued sweep left $(ls swcut | tr '\n' ' ')"
+    fi
+  }
+  for delay in 0.1 0.4 0.8 1.2 1.6; do
+    for sig in INT TERM KILL; do
+      attacks=$((attacks + 1))
+      rm -rf swcut && mkdir swcut
+      (cd swcut && exec "$bin" sweep $sweep_args --out s --quiet 2> /dev/null) &
+      pid=$!
+      sleep $delay
+      kill -s $sig $pid 2> /dev/null
+      wait $pid 2> /dev/null
+      status=$?
+      if [ -e swcut/s.sweep ]; then
+        [ $sig != KILL ] && [ $status -lt 128 ] && { nonsense=$((nonsense + 1)); report NONSENSE "sweep cut by $sig: exit $status"; }
+        continued_as_whole "sweep cut by $sig after $delay s"
+      elif [ $status -eq 0 ] && ! cmp -s swcut/s.tsv swwhole/s.tsv; then  # finished before the signal
+        work_lost=$((work_lost + 1)); report LOST "sweep finished before $sig: differs"
+      fi
+    done
+  done
+  # Killed between two runs (held there by SLIDESPEC_SWEEP_STALL), and a continuation cut in turn.
+  for sig in INT KILL; do
+    attacks=$((attacks + 1))
+    rm -rf swcut && mkdir swcut
+    (cd swcut && SLIDESPEC_SWEEP_STALL=$work/swcut/stalled exec "$bin" sweep $sweep_args --out s --quiet 2> /dev/null) &
+    pid=$!
+    for _ in $(seq 600); do [ -s swcut/stalled ] && break; sleep 0.05; done
+    kill -s $sig $pid 2> /dev/null
+    wait $pid 2> /dev/null
+    rm -f swcut/stalled
+    continued_as_whole "sweep cut by $sig between runs"
+  done
+  attacks=$((attacks + 1))
+  rm -rf swcut && mkdir swcut
+  (cd swcut && exec "$bin" sweep $sweep_args --out s --quiet 2> /dev/null) &
+  pid=$!
+  sleep 0.5; kill -INT $pid 2> /dev/null; wait $pid 2> /dev/null
+  (cd swcut && exec "$bin" sweep $sweep_args --out s --quiet --resume 2> /dev/null) &
+  pid=$!
+  sleep 0.3; kill -TERM $pid 2> /dev/null; wait $pid 2> /dev/null
+  continued_as_whole "a continuation cut again"
+  # Continuing another sweep than the one cut, or nothing, is refused and touches nothing.
+  rm -rf swref && mkdir swref
+  (cd swref && exec "$bin" sweep $sweep_args --out s --quiet 2> /dev/null) &
+  pid=$!
+  sleep 0.5; kill -INT $pid 2> /dev/null; wait $pid 2> /dev/null
+  if [ -e swref/s.sweep ]; then
+    refused_naming() {  # NAME WORDS ARGS...: refused, and the message names WORDS
+      local name=$1 words=$2; shift 2
+      attack refuse "$name" "$@"
+      grep -q -- "$words" "$logs/stderr" || { other=$((other + 1)); report UNCLEAR "$name: $(head -c 200 "$logs/stderr")"; }
+    }
+    refused_naming "sweep --resume, other values" "the grid: alpha=0.3,0.6,0.9 there, alpha=0.3,0.6,1 here" \
+      sweep alpha=0.3,0.6,1 ${sweep_args#* } --out ../swref/s --resume
+    refused_naming "sweep --resume, a value less" "the grid" sweep alpha=0.3,0.6 ${sweep_args#* } --out ../swref/s --resume
+    refused_naming "sweep --resume, another seed" "--seed: 5 there, 6 here" \
+      sweep ${sweep_args% --seed*} --seed 6 --no-plot --out ../swref/s --resume
+    refused_naming "sweep --resume, another precision" "--precision: 0.01 there, 0.02 here" \
+      sweep alpha=0.3,0.6,0.9 --omega-min 10 --omega-max 1000 --precision 0.02 --seed 5 --no-plot --out ../swref/s --resume
+    refused_naming "sweep --resume, another case" "--case: reference there, weak-noise here" \
+      sweep $sweep_args --case weak-noise --out ../swref/s --resume
+    refused_naming "sweep --resume, another --set" "parameter N: 30 there, 12 here" \
+      sweep $sweep_args --set N=12 --out ../swref/s --resume
+    refused_naming "sweep --resume, another band" "--omega-min: 10 there, 20 here" \
+      sweep alpha=0.3,0.6,0.9 --omega-min 20 --omega-max 1000 --precision 0.01 --seed 5 --no-plot --out ../swref/s --resume
+    refused_naming "a fresh sweep over a cut one" "s.sweep holds a sweep not yet written whole" \
+      sweep $sweep_args --out ../swref/s
+    refused_naming "sweep --resume, nothing to continue" "nothing to continue" sweep $sweep_args --out ../swwhole/s --resume
+    refused_naming "sweep --resume, nothing ever run" "nothing to continue" sweep $sweep_args --out nothing --resume
+    if [ -e "swref/s_alpha=0.3.json" ]; then
+      (cd swref && "$bin" run --set alpha=0.3 --omega-min 10 --omega-max 1000 --precision 0.01 --seed 6 \
+        --out other --no-plot --quiet && cp other.json "s_alpha=0.3.json" && cp other.tsv "s_alpha=0.3.tsv")
+      refused_naming "sweep --resume, a run's outputs of another seed" "run alpha=0.3: .* is of another run" \
+        sweep $sweep_args --out ../swref/s --resume
+    fi
+  else
+    other=$((other + 1)); report OTHER "sweep --resume refusals: the sweep to refuse was not cut (finished in 0.5 s?)"
+  fi
+  rm -rf swcut swref swwhole
 fi
 
 echo "adversarial sweep: $attacks attacks: crashes $crashes, hangs $hangs, inputs lost $inputs_lost," \

@@ -206,6 +206,7 @@ class SweepCommand final : public Command {
     if (planned.left.from == RunLeft::From::outputs) {
       if (says) std::cerr << place << ": reused " << planned.prefix << ".tsv, .json (complete, of this sweep)\n";
       single.shared_progress->update(single.work_before + single.work_share, single.progress_prefix + "reused");
+      if (context_.writes_outputs()) warn_if_not_stationary(planned.left.result, planned.prefix);
       return {planned.left.result, true};
     }
     if (planned.left.from == RunLeft::From::state) {

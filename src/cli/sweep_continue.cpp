@@ -8,6 +8,7 @@
 #include "io/atomic_file.hpp"
 #include "io/tables.hpp"
 #include "slidespec/options.hpp"
+#include "util/numbers.hpp"
 
 namespace slidespec::cli {
 
@@ -18,9 +19,10 @@ bool exists(const std::string& path) {
   return std::filesystem::exists(path, ignored);
 }
 
-/// A JSON value as a message shows it: a word without its quotes.
+/// A JSON value as a message shows it: a word without its quotes, a number as typed (10, not 10.0).
 std::string shown_value(const nlohmann::ordered_json& value) {
-  return value.is_string() ? value.get<std::string>() : value.dump();
+  if (value.is_string()) return value.get<std::string>();
+  return value.is_number_float() ? util::format_number(value.get<double>()) : value.dump();
 }
 
 /// The first key of two flat objects whose values differ, named by `name`: "KEY: A there,

@@ -129,6 +129,8 @@ refused "another case" "sw.sweep holds another sweep (--case: reference there, w
 refused "another seed" "sw.sweep holds another sweep (--seed: 3 there, 4 here)" $grid ${options% --seed 3} --seed 4 --out sw --resume
 refused "another precision" "sw.sweep holds another sweep (--precision: 0.005 there, 0.01 here)" $grid --omega-min 10 --omega-max 1000 --precision 0.01 \
   --seed 3 --out sw --resume
+refused "another band" "sw.sweep holds another sweep (--omega-min: 10 there, 20 here)" $grid --omega-min 20 \
+  --omega-max 1000 --precision 0.005 --seed 3 --out sw --resume
 refused "another parameter" "sw.sweep holds another sweep (run alpha=0.5: parameter N: 30 there, 12 here)" $grid $options --set N=12 --out sw --resume
 refused "nothing to continue" "nothing to continue: no other.sweep" $grid $options --out other --resume
 refused "a fresh sweep over a cut one" "sw.sweep holds a sweep not yet written whole" $grid $options --out sw
