@@ -7,10 +7,10 @@
 source "$(dirname "$0")/common.sh"
 cd "$work" || exit 1
 
-# Three runs of about a second each (0.4-1 s on two busy cores): a signal sent 0.15 s after a
-# run starts lands inside it.
+# Three runs of 0.3, 0.4 and 0.6 s on two idle cores (more when busy): a signal sent 0.05 s
+# after a run starts lands inside it.
 grid="alpha=0.5,0.7,1"
-options="--omega-min 10 --omega-max 1000 --precision 0.005 --seed 3"
+options="--omega-min 10 --omega-max 1000 --precision 0.003 --seed 3"
 mkdir whole
 (cd whole && "$bin" sweep $grid $options --out sw --quiet) || fail "the uninterrupted sweep"
 
@@ -30,7 +30,7 @@ same_as_whole() {
   for left in "$dir"/*.state "$dir"/sw.sweep "$dir"/*.lock; do [ -e "$left" ] && fail "$name: left $left"; done
 }
 
-# cut_in RUN SIGNAL DIR [ARGS...]: starts the sweep in DIR and sends SIGNAL 0.15 s after run RUN
+# cut_in RUN SIGNAL DIR [ARGS...]: starts the sweep in DIR and sends SIGNAL 0.05 s after run RUN
 # of 3 starts ("sweep RUN/3" on stderr); its exit status in $status, its stderr in DIR/err.
 cut_in() {
   local run=$1 signal=$2 dir=$3
@@ -39,7 +39,7 @@ cut_in() {
   (cd "$dir" && exec "$bin" sweep $grid $options --out sw --no-plot "$@" 2> err) &
   local pid=$!
   for _ in $(seq 600); do grep -q "sweep $run/3" "$dir/err" 2> /dev/null && break; sleep 0.02; done
-  sleep 0.15
+  sleep 0.05
   kill -s "$signal" $pid
   wait $pid
   status=$?
@@ -100,7 +100,7 @@ cut_in 2 INT twice
 (cd twice && exec "$bin" sweep $grid $options --out sw --no-plot --resume 2> err) &
 pid=$!
 for _ in $(seq 600); do grep -q "sweep 3/3" twice/err && break; sleep 0.02; done
-sleep 0.15
+sleep 0.05
 kill -INT $pid
 wait $pid
 status=$?
@@ -127,10 +127,10 @@ refused() {  # NAME WORD ARGS...
 refused "other values" "sw.sweep holds another sweep (the grid: alpha=0.5,0.7,1 there, alpha=0.5,0.7,2 here" alpha=0.5,0.7,2 $options --out sw --resume
 refused "another case" "sw.sweep holds another sweep (--case: reference there, weak-noise here)" $grid $options --case weak-noise --out sw --resume
 refused "another seed" "sw.sweep holds another sweep (--seed: 3 there, 4 here)" $grid ${options% --seed 3} --seed 4 --out sw --resume
-refused "another precision" "sw.sweep holds another sweep (--precision: 0.005 there, 0.01 here)" $grid --omega-min 10 --omega-max 1000 --precision 0.01 \
+refused "another precision" "sw.sweep holds another sweep (--precision: 0.003 there, 0.01 here)" $grid --omega-min 10 --omega-max 1000 --precision 0.01 \
   --seed 3 --out sw --resume
 refused "another band" "sw.sweep holds another sweep (--omega-min: 10 there, 20 here)" $grid --omega-min 20 \
-  --omega-max 1000 --precision 0.005 --seed 3 --out sw --resume
+  --omega-max 1000 --precision 0.003 --seed 3 --out sw --resume
 refused "another parameter" "sw.sweep holds another sweep (run alpha=0.5: parameter N: 30 there, 12 here)" $grid $options --set N=12 --out sw --resume
 refused "nothing to continue" "nothing to continue: no other.sweep" $grid $options --out other --resume
 refused "a fresh sweep over a cut one" "sw.sweep holds a sweep not yet written whole" $grid $options --out sw
