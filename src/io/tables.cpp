@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -302,19 +303,29 @@ TheoryKind theory_kind_named(const std::string& name) {
   throw InputError("no theory kind '" + name + "'");
 }
 
+/// The numbers run_json writes under `fields`' keys, into their members of `into`.
+template <class Holder>
+void read_numbers(const nlohmann::ordered_json& from, Holder& into,
+                  std::initializer_list<std::pair<const char*, double Holder::*>> fields) {
+  for (const auto& [key, member] : fields) into.*member = number(from, key);
+}
+
 RunPoint point_from_json(const nlohmann::ordered_json& row) {
   RunPoint point{};
-  point.omega = number(row, "omega");
-  point.C_x = number(row, "C_x");
-  point.standard_error = number(row, "stderr");
-  point.theory = number(row, "theory");
-  point.theory_at_omega = number(row, "theory_at_omega");
-  point.n_avg = number(row, "n_avg");
-  point.bandwidth = number(row, "bandwidth");
+  read_numbers(row, point,
+               {{"omega", &RunPoint::omega},
+                {"C_x", &RunPoint::C_x},
+                {"stderr", &RunPoint::standard_error},
+                {"theory", &RunPoint::theory},
+                {"theory_at_omega", &RunPoint::theory_at_omega},
+                {"n_avg", &RunPoint::n_avg},
+                {"bandwidth", &RunPoint::bandwidth},
+                {"theory2", &RunPoint::theory2},
+                {"variance_ratio", &RunPoint::variance_ratio}});
   const nlohmann::ordered_json& bins = row.at("bins");
-  point.bins = {number(bins, "first"), number(bins, "last"), number(bins, "spacing"), bins.at("count").get<int>()};
-  point.theory2 = number(row, "theory2");
-  point.variance_ratio = number(row, "variance_ratio");
+  read_numbers(bins, point.bins,
+               {{"first", &BinRange::first}, {"last", &BinRange::last}, {"spacing", &BinRange::spacing}});
+  point.bins.count = bins.at("count").get<int>();
   point.estimator = row.at("estimator").get<std::string>();
   point.theory_kind = theory_kind_named(row.at("theory_kind").get<std::string>());
   return point;
@@ -322,12 +333,13 @@ RunPoint point_from_json(const nlohmann::ordered_json& row) {
 
 SubBand sub_band_from_json(const nlohmann::ordered_json& entry) {
   SubBand band;
-  band.omega_low = number(entry, "omega_low");
-  band.omega_high = number(entry, "omega_high");
-  band.dt = number(entry, "dt");
-  band.duration = number(entry, "duration");
-  band.warm_up = number(entry, "warm_up");
-  band.warm_up_dt = number(entry, "warm_up_dt");
+  read_numbers(entry, band,
+               {{"omega_low", &SubBand::omega_low},
+                {"omega_high", &SubBand::omega_high},
+                {"dt", &SubBand::dt},
+                {"duration", &SubBand::duration},
+                {"warm_up", &SubBand::warm_up},
+                {"warm_up_dt", &SubBand::warm_up_dt}});
   band.shadow = entry.at("shadow").get<bool>();
   band.realizations = entry.at("realizations").get<std::uint64_t>();
   band.rounds = entry.at("rounds").get<int>();
@@ -342,16 +354,17 @@ RunResult run_result_from_json(const nlohmann::ordered_json& doc) {
     result.complete = doc.at("complete").get<bool>();
     result.stationary = doc.at("stationary").get<bool>();
     result.stationarity = text_or_empty(doc, "stationarity");
-    result.reached_precision = number(doc, "reached_precision");
     result.theory2_note = text_or_empty(doc, "theory2_note");
     result.theory_kind = theory_kind_named(doc.at("theory_kind").get<std::string>());
     result.theory_kind_note = text_or_empty(doc, "theory_kind_note");
-    result.mean_speed = number(doc.at("measured_mean_speed"), "value");
-    result.mean_speed_error = number(doc.at("measured_mean_speed"), "standard_error");
-    result.simulated_time = number(doc, "simulated_time");
-    result.wall_seconds = number(doc, "wall_seconds");
-    result.realization_steps = number(doc, "realization_steps");
-    result.miniblock_steps = number(doc, "miniblock_steps");
+    read_numbers(doc, result,
+                 {{"reached_precision", &RunResult::reached_precision},
+                  {"simulated_time", &RunResult::simulated_time},
+                  {"wall_seconds", &RunResult::wall_seconds},
+                  {"realization_steps", &RunResult::realization_steps},
+                  {"miniblock_steps", &RunResult::miniblock_steps}});
+    read_numbers(doc.at("measured_mean_speed"), result,
+                 {{"value", &RunResult::mean_speed}, {"standard_error", &RunResult::mean_speed_error}});
     result.simd_path = parse_simd_path(doc.at("simd_path").get<std::string>());
     result.threads = doc.at("threads").get<int>();
     // A run of no sub-band (or no point) writes no array: JSON's null.
