@@ -49,7 +49,8 @@ struct PlannedRun {
 };
 
 /// The continuation tests (tests/cli/sweep_resume_test.sh) interrupt a sweep between two
-/// runs: SLIDESPEC_SWEEP_STALL=FILE writes the pid to FILE there and waits for a signal.
+/// runs: SLIDESPEC_SWEEP_STALL=FILE writes the pid to FILE there and waits for a signal
+/// (a minute at most).
 void stall_between_runs() {
   const char* stall = std::getenv("SLIDESPEC_SWEEP_STALL");
   if (stall == nullptr) return;
