@@ -134,6 +134,8 @@ class SweepCommand final : public Command {
     }
     progress.finish();
     const int figure_status = writes ? write_combined(options, axes, done, interrupted || !written) : 0;
+    // A signal while the figure is drawn cuts the sweep too: --resume draws it.
+    interrupted = interrupted || stop_asked();
     // The record goes once the sweep is whole on disk; until then --resume continues it.
     if (writes && !interrupted && written && figure_status == 0) io::remove_durably(options.out + ".sweep");
     if (interrupted) {
@@ -238,6 +240,7 @@ class SweepCommand final : public Command {
       const std::string temporary =
           combined.add_written_by_other(picture, std::filesystem::path(picture).extension().string());
       if (!cut_short) figure_status = plot(tables, temporary, figure_title(axes), options.figure);
+      cut_short = cut_short || stop_asked();
       if (cut_short || figure_status != 0) combined.drop(picture);
     }
     combined.commit();

@@ -95,6 +95,25 @@ ls between/sw_alpha=0.7.* > /dev/null 2>&1 && fail "cut between runs: run 2 bega
   || fail "the sweep cut between runs, continued: $(cat between/err)"
 same_as_whole between "cut between runs"
 
+# --- Cut while the combined figure is drawn (a plotter that never finishes): all runs are
+# done, but not the sweep; the continuation reuses every run and draws the figure.
+mkdir figure
+printf '#!/bin/sh\necho $$ > "%s/plotter.pid"\nexec sleep 60\n' "$work/figure" > figure/slow_plotter
+chmod +x figure/slow_plotter
+(cd figure && SLIDESPEC_PYTHON=$work/figure/slow_plotter exec "$bin" sweep $grid $options --out sw 2> err) &
+pid=$!
+# The plotter starts with the sweep; the figure is drawn once the last run is written.
+for _ in $(seq 600); do grep -q "wrote sw_alpha=1.tsv" figure/err 2> /dev/null && break; sleep 0.05; done
+sleep 0.2
+kill -INT $pid
+wait $pid
+status=$?
+[ $status -eq 130 ] || fail "cut while the figure is drawn: exit status $status, expected 130: $(cat figure/err)"
+[ -e figure/sw.png ] && fail "cut while the figure is drawn: a figure was written"
+(cd figure && "$bin" sweep $grid $options --out sw --resume 2> err) || fail "cut in the figure, continued: $(cat figure/err)"
+grep -q "3 of 3 runs reused" figure/err || fail "cut in the figure: the runs were not all reused: $(cat figure/err)"
+same_as_whole figure "cut while the figure is drawn" --figure
+
 # --- The continuation cut in its turn keeps what it finished, and continues again.
 cut_in 2 INT twice
 (cd twice && exec "$bin" sweep $grid $options --out sw --no-plot --resume 2> err) &
