@@ -8,7 +8,8 @@
 # Usage: SLIDESPEC=build/slidespec [PYTHONPATH=build/python] tools/adversarial_sweep.sh [PART]
 # PART: refusals (files, numbers, options, figures, JSON, units), results (stalls, theory,
 # streams, memory, failed writes, Python: 88 attacks, 1 min), signals (interrupts, resumes,
-# locks), or all (the default: 1030 attacks, about 8 min on 2 busy cores). Not part of ctest.
+# continued sweeps, locks: about 1.5 min), or all (the default: about 10 min on 2 busy cores;
+# it prints its counts). Not part of ctest.
 # PYTHONPATH may be relative: it is made absolute, as the attacks run in a scratch directory.
 set -u
 part=${1:-all}
@@ -829,6 +830,102 @@ if in_part signals; then
   if [ $first -eq 0 ] && [ $second -eq 0 ]; then
     work_lost=$((work_lost + 1)); report LOST "two parts onto one --save-state both exited 0"
   fi
+  # An interrupted sweep continues with --resume: whatever the signal and wherever it lands
+  # (a run, between runs, the continuation itself), the continued sweep's combined table and
+  # JSON are the uninterrupted one's, bit for bit, and nothing of it is left behind.
+  sweep_args="alpha=0.3,0.6,0.9 --omega-min 10 --omega-max 1000 --precision 0.01 --seed 5 --no-plot"
+  mkdir -p swwhole && (cd swwhole && "$bin" sweep $sweep_args --out s --quiet)
+  continued_as_whole() {  # NAME: continues the sweep in swcut and compares it with swwhole
+    (cd swcut && timeout 120 "$bin" sweep $sweep_args --out s --quiet --resume 2> "$logs/stderr")
+    local status=$?
+    if [ $status -ne 0 ]; then
+      work_lost=$((work_lost + 1)); report LOST "$1: the continuation exited $status: $(head -c 200 "$logs/stderr")"
+    elif ! cmp -s swcut/s.tsv swwhole/s.tsv || ! cmp -s swcut/s.json swwhole/s.json; then
+      work_lost=$((work_lost + 1)); report LOST "$1: the continued sweep differs from the uninterrupted one"
+    elif [ -n "$(ls swcut | grep '\.state$\|\.sweep$\|\.lock$\|tmp')" ]; then
+      other=$((other + 1)); report LEFT "$1: the continued sweep left $(ls swcut | tr '\n' ' ')"
+    fi
+  }
+  for delay in 0.1 0.4 0.8 1.2 1.6; do
+    for sig in INT TERM KILL; do
+      attacks=$((attacks + 1))
+      rm -rf swcut && mkdir swcut
+      (cd swcut && exec "$bin" sweep $sweep_args --out s --quiet 2> /dev/null) &
+      pid=$!
+      sleep $delay
+      kill -s $sig $pid 2> /dev/null
+      wait $pid 2> /dev/null
+      status=$?
+      if [ -e swcut/s.sweep ]; then
+        [ $sig != KILL ] && [ $status -lt 128 ] && { nonsense=$((nonsense + 1)); report NONSENSE "sweep cut by $sig: exit $status"; }
+        continued_as_whole "sweep cut by $sig after $delay s"
+      elif [ $status -eq 0 ] && ! cmp -s swcut/s.tsv swwhole/s.tsv; then  # finished before the signal
+        work_lost=$((work_lost + 1)); report LOST "sweep finished before $sig: differs"
+      fi
+    done
+  done
+  # Cut between two runs (held there by SLIDESPEC_SWEEP_STALL): SIG in DIR, and whether it took.
+  cut_between() {  # SIG DIR [--resume]
+    local sig=$1 dir=$2
+    rm -f "$dir/stalled"
+    (cd "$dir" && SLIDESPEC_SWEEP_STALL=$work/$dir/stalled exec "$bin" sweep $sweep_args --out s --quiet ${3:-} \
+      2> /dev/null) &
+    local pid=$!
+    for _ in $(seq 600); do [ -s "$dir/stalled" ] && break; sleep 0.05; done
+    kill -s "$sig" $pid 2> /dev/null
+    wait $pid 2> /dev/null
+    rm -f "$dir/stalled"
+    [ -e "$dir/s.sweep" ]
+  }
+  for sig in INT KILL; do
+    attacks=$((attacks + 1))
+    rm -rf swcut && mkdir swcut
+    cut_between $sig swcut && continued_as_whole "sweep cut by $sig between runs"
+  done
+  # A continuation cut in its turn (between its runs), then continued again.
+  attacks=$((attacks + 1))
+  rm -rf swcut && mkdir swcut
+  if cut_between INT swcut && cut_between TERM swcut --resume; then
+    continued_as_whole "a continuation cut again"
+  else
+    other=$((other + 1)); report OTHER "a continuation cut again: a cut between runs did not take"
+  fi
+  # Continuing another sweep than the one cut, or nothing, is refused and touches nothing.
+  rm -rf swref && mkdir swref
+  cut_between INT swref
+  if [ -e swref/s.sweep ]; then
+    refused_naming() {  # NAME WORDS ARGS...: refused, and the message names WORDS
+      local name=$1 words=$2; shift 2
+      attack refuse "$name" "$@"
+      grep -q -- "$words" "$logs/stderr" || { other=$((other + 1)); report UNCLEAR "$name: $(head -c 200 "$logs/stderr")"; }
+    }
+    refused_naming "sweep --resume, other values" "the grid: alpha=0.3,0.6,0.9 there, alpha=0.3,0.6,1 here" \
+      sweep alpha=0.3,0.6,1 ${sweep_args#* } --out ../swref/s --resume
+    refused_naming "sweep --resume, a value less" "the grid" sweep alpha=0.3,0.6 ${sweep_args#* } --out ../swref/s --resume
+    refused_naming "sweep --resume, another seed" "--seed: 5 there, 6 here" \
+      sweep ${sweep_args% --seed*} --seed 6 --no-plot --out ../swref/s --resume
+    refused_naming "sweep --resume, another precision" "--precision: 0.01 there, 0.02 here" \
+      sweep alpha=0.3,0.6,0.9 --omega-min 10 --omega-max 1000 --precision 0.02 --seed 5 --no-plot --out ../swref/s --resume
+    refused_naming "sweep --resume, another case" "--case: reference there, weak-noise here" \
+      sweep $sweep_args --case weak-noise --out ../swref/s --resume
+    refused_naming "sweep --resume, another --set" "parameter N: 30 there, 12 here" \
+      sweep $sweep_args --set N=12 --out ../swref/s --resume
+    refused_naming "sweep --resume, another band" "--omega-min: 10 there, 20 here" \
+      sweep alpha=0.3,0.6,0.9 --omega-min 20 --omega-max 1000 --precision 0.01 --seed 5 --no-plot --out ../swref/s --resume
+    refused_naming "a fresh sweep over a cut one" "s.sweep holds a sweep not yet written whole" \
+      sweep $sweep_args --out ../swref/s
+    refused_naming "sweep --resume, nothing to continue" "nothing to continue" sweep $sweep_args --out ../swwhole/s --resume
+    refused_naming "sweep --resume, nothing ever run" "nothing to continue" sweep $sweep_args --out nothing --resume
+    if [ -e "swref/s_alpha=0.3.json" ]; then
+      (cd swref && "$bin" run --set alpha=0.3 --omega-min 10 --omega-max 1000 --precision 0.01 --seed 6 \
+        --out other --no-plot --quiet && cp other.json "s_alpha=0.3.json" && cp other.tsv "s_alpha=0.3.tsv")
+      refused_naming "sweep --resume, a run's outputs of another seed" "run alpha=0.3: .* is of another run" \
+        sweep $sweep_args --out ../swref/s --resume
+    fi
+  else
+    other=$((other + 1)); report OTHER "sweep --resume refusals: the sweep to refuse was not cut"
+  fi
+  rm -rf swcut swref swwhole
 fi
 
 echo "adversarial sweep: $attacks attacks: crashes $crashes, hangs $hangs, inputs lost $inputs_lost," \

@@ -183,8 +183,12 @@ RunOutcome run_and_write(const Context& context, RunSession& session, const RunO
   if (writes) {
     save(session);
     if (!finished && !options.quiet)
-      std::cerr << "slidespec: saved the run to " << state_path << "; continue it with: slidespec run --resume " << out
-                << (options.save_state.empty() ? "" : " --save-state " + options.save_state) << "\n";
+      std::cerr << "slidespec: saved the run to " << state_path << "; continue it with: "
+                << (options.continue_with.empty()
+                        ? "slidespec run --resume " + out +
+                              (options.save_state.empty() ? "" : " --save-state " + options.save_state)
+                        : options.continue_with)
+                << "\n";
     // merge reads only finished parts; an interrupted one lives on in PREFIX.state alone.
     if (finished && !options.save_state.empty()) io::write_atomically(options.save_state, session.save());
   }

@@ -41,6 +41,7 @@ struct RunOptions {
   double checkpoint_every = 0;  // [s]; 0 = no periodic checkpoints
   std::string resume;           // PREFIX of a run to continue from PREFIX.state
   std::string save_state;       // where to save the finished part
+  std::string continue_with;    // how an interrupted run goes on; "" = slidespec run --resume OUT
   FigureStyle figure;
   // One bar over several runs (sweep, paper): this run's place in the planned work.
   Progress* shared_progress = nullptr;

@@ -7,6 +7,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <variant>
@@ -14,6 +16,8 @@
 
 #include "io/points.hpp"
 #include "slidespec/estimator.hpp"
+#include "slidespec/input_error.hpp"
+#include "slidespec/simd.hpp"
 #include "slidespec/theory.hpp"
 #include "util/numbers.hpp"
 
@@ -223,6 +227,17 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
   return out.str();
 }
 
+nlohmann::ordered_json request_json(const RunRequest& request) {
+  return {{"omega_min", request.omega_min},
+          {"omega_max", request.omega_max},
+          {"points_per_decade", request.points_per_decade},
+          {"precision", request.precision},
+          {"duration", request.duration},
+          {"realizations", request.realizations},
+          {"seed", request.seed},
+          {"control_variate", request.control_variate ? "shadow" : "off"}};
+}
+
 std::string run_json(const Parameters& p, const std::string& case_name, const RunRequest& request,
                      const RunResult& result, FrontEnd reader) {
   nlohmann::ordered_json doc;
@@ -234,14 +249,7 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
   doc["landmarks"] = nlohmann::ordered_json::object();
   for (const Landmark& mark : shown_landmarks(p, LandmarkOutput::json))
     std::visit([&](const auto& value) { doc["landmarks"][mark.row->key] = value; }, mark.value);
-  doc["request"] = {{"omega_min", request.omega_min},
-                    {"omega_max", request.omega_max},
-                    {"points_per_decade", request.points_per_decade},
-                    {"precision", request.precision},
-                    {"duration", request.duration},
-                    {"realizations", request.realizations},
-                    {"seed", request.seed},
-                    {"control_variate", request.control_variate ? "shadow" : "off"}};
+  doc["request"] = request_json(request);
   doc["complete"] = result.complete;
   doc["stationary"] = result.stationary;
   if (!result.stationary) doc["stationarity"] = worded(result.stationarity, reader);
@@ -270,6 +278,105 @@ std::string run_json(const Parameters& p, const std::string& case_name, const Ru
                                 {"rounds", band.rounds}});
   for (const RunPoint& point : result.points) doc["points"].push_back(run_point_json(p, point));
   return json_file_text(doc);
+}
+
+}  // namespace slidespec::io
+
+namespace slidespec::io {
+
+namespace {
+
+/// A number as run_json wrote it: JSON has no inf or nan, and writes them as null.
+double number(const nlohmann::ordered_json& holder, const char* key) {
+  const nlohmann::ordered_json& value = holder.at(key);
+  return value.is_null() ? std::numeric_limits<double>::quiet_NaN() : value.get<double>();
+}
+
+std::string text_or_empty(const nlohmann::ordered_json& holder, const char* key) {
+  return holder.contains(key) ? holder.at(key).get<std::string>() : std::string();
+}
+
+TheoryKind theory_kind_named(const std::string& name) {
+  for (TheoryKind kind : {TheoryKind::second_order, TheoryKind::quasi_static, TheoryKind::first_order})
+    if (name == theory_kind_name(kind)) return kind;
+  if (name == theory_kind_name(TheoryKind::none)) return TheoryKind::none;
+  throw InputError("no theory kind '" + name + "'");
+}
+
+/// The numbers run_json writes under `fields`' keys, into their members of `into`.
+template <class Holder>
+void read_numbers(const nlohmann::ordered_json& from, Holder& into,
+                  std::initializer_list<std::pair<const char*, double Holder::*>> fields) {
+  for (const auto& [key, member] : fields) into.*member = number(from, key);
+}
+
+RunPoint point_from_json(const nlohmann::ordered_json& row) {
+  RunPoint point{};
+  read_numbers(row, point,
+               {{"omega", &RunPoint::omega},
+                {"C_x", &RunPoint::C_x},
+                {"stderr", &RunPoint::standard_error},
+                {"theory", &RunPoint::theory},
+                {"theory_at_omega", &RunPoint::theory_at_omega},
+                {"n_avg", &RunPoint::n_avg},
+                {"bandwidth", &RunPoint::bandwidth},
+                {"theory2", &RunPoint::theory2},
+                {"variance_ratio", &RunPoint::variance_ratio}});
+  const nlohmann::ordered_json& bins = row.at("bins");
+  read_numbers(bins, point.bins,
+               {{"first", &BinRange::first}, {"last", &BinRange::last}, {"spacing", &BinRange::spacing}});
+  point.bins.count = bins.at("count").get<int>();
+  point.estimator = row.at("estimator").get<std::string>();
+  point.theory_kind = theory_kind_named(row.at("theory_kind").get<std::string>());
+  return point;
+}
+
+SubBand sub_band_from_json(const nlohmann::ordered_json& entry) {
+  SubBand band;
+  read_numbers(entry, band,
+               {{"omega_low", &SubBand::omega_low},
+                {"omega_high", &SubBand::omega_high},
+                {"dt", &SubBand::dt},
+                {"duration", &SubBand::duration},
+                {"warm_up", &SubBand::warm_up},
+                {"warm_up_dt", &SubBand::warm_up_dt}});
+  band.shadow = entry.at("shadow").get<bool>();
+  band.realizations = entry.at("realizations").get<std::uint64_t>();
+  band.rounds = entry.at("rounds").get<int>();
+  return band;
+}
+
+}  // namespace
+
+RunResult run_result_from_json(const nlohmann::ordered_json& doc) {
+  try {
+    RunResult result;
+    result.complete = doc.at("complete").get<bool>();
+    result.stationary = doc.at("stationary").get<bool>();
+    result.stationarity = text_or_empty(doc, "stationarity");
+    result.theory2_note = text_or_empty(doc, "theory2_note");
+    result.theory_kind = theory_kind_named(doc.at("theory_kind").get<std::string>());
+    result.theory_kind_note = text_or_empty(doc, "theory_kind_note");
+    read_numbers(doc, result,
+                 {{"reached_precision", &RunResult::reached_precision},
+                  {"simulated_time", &RunResult::simulated_time},
+                  {"wall_seconds", &RunResult::wall_seconds},
+                  {"realization_steps", &RunResult::realization_steps},
+                  {"miniblock_steps", &RunResult::miniblock_steps}});
+    read_numbers(doc.at("measured_mean_speed"), result,
+                 {{"value", &RunResult::mean_speed}, {"standard_error", &RunResult::mean_speed_error}});
+    result.simd_path = parse_simd_path(doc.at("simd_path").get<std::string>());
+    result.threads = doc.at("threads").get<int>();
+    // A run of no sub-band (or no point) writes no array: JSON's null.
+    if (doc.contains("sub_bands") && !doc.at("sub_bands").is_null())
+      for (const nlohmann::ordered_json& entry : doc.at("sub_bands"))
+        result.sub_bands.push_back(sub_band_from_json(entry));
+    if (doc.contains("points") && !doc.at("points").is_null())
+      for (const nlohmann::ordered_json& row : doc.at("points")) result.points.push_back(point_from_json(row));
+    return result;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(std::string("not a run's JSON (") + e.what() + ")");
+  }
 }
 
 }  // namespace slidespec::io

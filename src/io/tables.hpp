@@ -65,8 +65,17 @@ nlohmann::ordered_json run_point_json(const Parameters& p, const RunPoint& point
 std::string run_table(const Parameters& p, const std::string& case_name, const RunRequest& request,
                       const RunResult& result, FrontEnd reader = FrontEnd::command_line);
 
+/// The request as a run's JSON holds it: every field that changes a number (threads, SIMD
+/// path and work budget change none).
+nlohmann::ordered_json request_json(const RunRequest& request);
+
 /// The same as JSON, plus wall time, throughput, SIMD path and threads.
 std::string run_json(const Parameters& p, const std::string& case_name, const RunRequest& request,
                      const RunResult& result, FrontEnd reader = FrontEnd::command_line);
+
+/// A result back from the document run_json wrote (its notes as worded there, a null
+/// number as nan): run_json of it gives that document again. Throws InputError when a
+/// field is missing or of another type.
+RunResult run_result_from_json(const nlohmann::ordered_json& doc);
 
 }  // namespace slidespec::io

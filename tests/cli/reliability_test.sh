@@ -149,6 +149,7 @@ expect_refused "a sweep value twice" "twice" sweep alpha=0.5,0.50 $band --out ou
 expect_refused "resume with a work budget" "--work-budget" run --resume pa --work-budget 1 --no-plot
 # A sweep does not start over a run's state left at one of its runs' prefixes (an interrupted
 # sweep leaves one): refused before any work, naming it.
+rm -f sw.sweep sw_alpha=*.state  # the sweep cut above, given up to start afresh
 cp s.copy "sw_alpha=1.state"
 expect_refused "a sweep over a run's left state" "sw_alpha=1.state holds a finished part" \
   sweep alpha=0.5,1 $band --out sw --no-plot
