@@ -771,6 +771,83 @@ if in_part signals; then
     rm -f syn.*
   done
   rm -f feed core core.*
+  # With the most contacts a run steps (2^20) a signal is heard within about a second, its
+  # state saved (the result rebuilt the million-block tree five times after it: 2-2.7 s).
+  for sig in INT TERM; do
+    attacks=$((attacks + 1))
+    rm -f wide.*
+    "$bin" run --set N=1048576 --omega-min 1 --omega-max 10 --precision 0.2 --work-budget 1e15 --out wide \
+      --no-plot --quiet 2> /dev/null &
+    pid=$!
+    sleep 2
+    kill -s $sig $pid 2> /dev/null
+    waited=0
+    while kill -0 $pid 2> /dev/null && [ $waited -lt 30 ]; do sleep 0.1; waited=$((waited + 1)); done
+    if kill -0 $pid 2> /dev/null; then
+      hangs=$((hangs + 1)); report HANG "SIG$sig with 2^20 contacts: still running 3 s later"
+      kill -KILL $pid 2> /dev/null
+    elif [ $waited -gt 12 ]; then
+      other=$((other + 1)); report SLOW "SIG$sig with 2^20 contacts: heard only after $waited tenths of a second"
+    fi
+    wait $pid 2> /dev/null
+    [ -e wide.state ] || { work_lost=$((work_lost + 1)); report LOST "SIG$sig with 2^20 contacts: no state"; }
+  done
+  rm -f wide.*
+  # A signal while the plotter reads the theory lines leaves no scratch directory.
+  mkdir -p scratch/tmp
+  printf '#!/bin/sh\nexec sleep 60\n' > slow_plotter
+  chmod +x slow_plotter
+  for sig in INT TERM HUP QUIT; do
+    attacks=$((attacks + 1))
+    TMPDIR=$work/scratch/tmp SLIDESPEC_PYTHON=$work/slow_plotter "$bin" analyze rec.csv --out sfig --quiet \
+      2> /dev/null &
+    pid=$!
+    for _ in $(seq 100); do ls scratch/tmp/slidespec-plot-* > /dev/null 2>&1 && break; sleep 0.05; done
+    sleep 0.2
+    kill -s $sig $pid 2> /dev/null
+    wait $pid 2> /dev/null
+    if ls -d scratch/tmp/slidespec-plot-* > /dev/null 2>&1; then
+      other=$((other + 1)); report LEFT "analyze ended by SIG$sig in its figure left its scratch directory"
+    fi
+    rm -rf scratch/tmp/* sfig.* core core.*
+  done
+  # Python: Ctrl-C ends ss.analyze of 3e7 samples within a second, and ss.analyze_many
+  # keeps the records finished.
+  if [ -n "${PYTHONPATH:-}" ]; then
+    attacks=$((attacks + 1))
+    timeout 120 /usr/bin/python3 -c '
+import os, signal, threading, time, numpy as np, slidespec as ss
+x = 1e-9 * np.arange(30_000_000) + np.cumsum(np.random.default_rng(1).normal(0, 1e-9, 30_000_000))
+sent = []
+threading.Timer(0.5, lambda: (sent.append(time.monotonic()), os.kill(os.getpid(), signal.SIGINT))).start()
+try:
+    ss.analyze(None, x, dt=1e-3)
+    print("finished")
+except KeyboardInterrupt:
+    print("interrupted after %.2f s" % (time.monotonic() - sent[0]))' > "$logs/stdout" 2> "$logs/stderr"
+    case $(cat "$logs/stdout") in
+      "interrupted after 0."* | "interrupted after 1."*) ;;
+      *) other=$((other + 1)); report SLOW "ss.analyze of 3e7 samples, Ctrl-C: $(cat "$logs/stdout") $(tail -c 200 "$logs/stderr")" ;;
+    esac
+    attacks=$((attacks + 1))
+    for k in 1 2 3 4 5 6; do cp rec.csv "many$k.csv"; done
+    timeout 120 /usr/bin/python3 -c '
+import os, signal, threading, time, slidespec as ss
+paths = ["many%d.csv" % k for k in range(1, 7)] * 40
+threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+try:
+    ss.analyze_many(paths)
+    print("finished")
+except ss.AnalysesInterrupted as cut:
+    print("kept", len(cut.results), len(cut.table))
+except KeyboardInterrupt:
+    print("lost")' > "$logs/stdout" 2> "$logs/stderr"
+    case $(cat "$logs/stdout") in
+      kept*) ;;
+      *) work_lost=$((work_lost + 1)); report LOST "ss.analyze_many, Ctrl-C: $(cat "$logs/stdout") $(tail -c 200 "$logs/stderr")" ;;
+    esac
+    rm -f many*.csv
+  fi
   # Two parts at once onto one --save-state: one is refused, the other's state stays whole.
   attacks=$((attacks + 1))
   rm -f same.state
