@@ -254,11 +254,12 @@ namespace {
 /// and sample count in `result`. Each stroke is its own line (its own direction and speed);
 /// the speed reported is the strokes' mean |v|, its error from their scatter.
 std::vector<std::vector<double>> sliding_pieces(const Record& record, const std::vector<Record>& strokes,
-                                                RecordSpectrum& result) {
+                                                RecordSpectrum& result, const std::atomic<bool>* stop) {
   std::vector<std::vector<double>> pieces;
   if (strokes.empty()) {
     result.samples = record.samples();
     result.sliding = fit_sliding(record);
+    hear_stop(stop);
     pieces.push_back(sliding_fluctuation(record, result.sliding));
     return pieces;
   }
@@ -315,7 +316,8 @@ RecordSpectrum analyze(const Record& record, const std::vector<Record>& strokes,
   result.observable = record.observable;
   result.channel = observable_channel(record);
   result.dt = record.dt;
-  const std::vector<std::vector<double>> pieces = sliding_pieces(record, strokes, result);
+  const std::vector<std::vector<double>> pieces = sliding_pieces(record, strokes, result, request.stop);
+  hear_stop(request.stop);
   result.duration = static_cast<double>(result.samples) * record.dt;
   result.quantization_variance = request.resolution * request.resolution / 12;
   result.sensor_noise_variance = request.sensor_noise * request.sensor_noise;

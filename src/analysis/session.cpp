@@ -37,6 +37,7 @@ Record analyzed_stretch(Record record, const AnalysisPlan& plan, AnalysisReport&
                         std::optional<Strokes>& strokes) {
   report.notes = as_notes(record.notes, "sampling");
   report.segments = steady_segments(record);
+  hear_stop(plan.request.stop);
   if (!plan.windowed) strokes = find_strokes(report.segments, record.dt);
   if (strokes) return record;
   if (!plan.windowed) {
@@ -254,6 +255,7 @@ std::string AnalysisReport::failure() const {
 double AnalysisReport::end_time() const { return record.start_time + double(record.samples() - 1) * record.dt; }
 
 AnalysisReport analyze(Record record, const AnalysisPlan& plan) {
+  hear_stop(plan.request.stop);
   check_plan(plan, record.machine_stiffness);
   AnalysisReport r;
   r.request = plan.request;
