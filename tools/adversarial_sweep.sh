@@ -693,6 +693,19 @@ time.sleep(0.5)' > /dev/null 2> "$logs/stderr"
   fi
 fi
 if in_part signals; then
+  # stop_within PID SIG WHAT: signals PID and waits 3 s at most (past that a hang, then
+  # SIGKILL); the tenths of a second waited in $waited, its exit status in $status.
+  stop_within() {
+    kill -s "$2" "$1" 2> /dev/null
+    waited=0
+    while kill -0 "$1" 2> /dev/null && [ $waited -lt 30 ]; do sleep 0.1; waited=$((waited + 1)); done
+    if kill -0 "$1" 2> /dev/null; then
+      hangs=$((hangs + 1)); report HANG "$3: still running 3 s later"
+      kill -KILL "$1" 2> /dev/null
+    fi
+    wait "$1" 2> /dev/null
+    status=$?
+  }
   # A signal inside one long realization (a block coasting near the stall, its warm-up or
   # its steps) ends the run within about a second, saving its state: else a hang.
   # (At 100..1000 rad/s a second in, a fixed count: a precision there is refused.)
@@ -704,15 +717,7 @@ if in_part signals; then
       --no-plot --quiet 2> /dev/null &
     pid=$!
     sleep $delay
-    kill -s $sig $pid 2> /dev/null
-    waited=0
-    while kill -0 $pid 2> /dev/null && [ $waited -lt 30 ]; do sleep 0.1; waited=$((waited + 1)); done
-    if kill -0 $pid 2> /dev/null; then
-      hangs=$((hangs + 1)); report HANG "SIG$sig after $delay s inside a long realization at $low..: still running 3 s later"
-      kill -KILL $pid 2> /dev/null
-    fi
-    wait $pid 2> /dev/null
-    status=$?
+    stop_within $pid $sig "SIG$sig after $delay s inside a long realization at $low.."
     [ $status -ge 128 ] || { nonsense=$((nonsense + 1)); report NONSENSE "SIG$sig in a long realization: exit $status"; }
     [ -e coast.state ] || { work_lost=$((work_lost + 1)); report LOST "SIG$sig in a long realization: no state"; }
   done
@@ -780,16 +785,10 @@ if in_part signals; then
       --no-plot --quiet 2> /dev/null &
     pid=$!
     sleep 2
-    kill -s $sig $pid 2> /dev/null
-    waited=0
-    while kill -0 $pid 2> /dev/null && [ $waited -lt 30 ]; do sleep 0.1; waited=$((waited + 1)); done
-    if kill -0 $pid 2> /dev/null; then
-      hangs=$((hangs + 1)); report HANG "SIG$sig with 2^20 contacts: still running 3 s later"
-      kill -KILL $pid 2> /dev/null
-    elif [ $waited -gt 12 ]; then
+    stop_within $pid $sig "SIG$sig with 2^20 contacts"
+    if [ $waited -gt 12 ] && [ $waited -lt 30 ]; then
       other=$((other + 1)); report SLOW "SIG$sig with 2^20 contacts: heard only after $waited tenths of a second"
     fi
-    wait $pid 2> /dev/null
     [ -e wide.state ] || { work_lost=$((work_lost + 1)); report LOST "SIG$sig with 2^20 contacts: no state"; }
   done
   rm -f wide.*

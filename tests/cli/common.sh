@@ -13,7 +13,7 @@ export TMPDIR
 scratch_left() {
   local left
   left=$(ls -d "$TMPDIR"/slidespec-plot-* 2> /dev/null) || return 1
-  echo "FAIL: scratch directories left behind: $left"
+  echo "FAIL: scratch directories left behind: $left: $(ls -A $left)"
 }
 trap '[ "$BASHPID" = "$owner" ] && { left=0; scratch_left && left=1; rm -rf "$work" "$TMPDIR"; [ $left -eq 0 ] || exit 1; }' EXIT
 failures=0
