@@ -602,15 +602,64 @@ py::tuple analysis_result(const AnalysisReport& report, const std::string& file,
   return py::make_tuple(analysis_fields(report, file, compare_case), analysis_columns(report), messages);
 }
 
+bool on_main_thread() {
+  const py::module_ threading = py::module_::import("threading");
+  return threading.attr("current_thread")().is(threading.attr("main_thread")());
+}
+
+/// `work(stop)` on a thread of its own while this one waits without the GIL, taking it back
+/// every tenth of a second to let Python's signal handlers run: when one raises (Ctrl-C),
+/// `stop` is set, which the library hears within a second, and the error is raised once the
+/// work has ended. Off the main thread no handler runs: the work runs there, without the GIL.
+template <class Work>
+auto interruptible(const Work& work) -> decltype(work(nullptr)) {
+  if (!on_main_thread()) {
+    py::gil_scoped_release release;
+    return work(nullptr);
+  }
+  std::atomic<bool> stop{false};
+  std::optional<decltype(work(nullptr))> result;
+  std::exception_ptr failure;
+  std::mutex mutex;
+  std::condition_variable ended;
+  bool done = false;
+  std::thread worker([&] {
+    try {
+      result.emplace(work(&stop));
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    const std::lock_guard<std::mutex> lock(mutex);
+    done = true;
+    ended.notify_all();
+  });
+  bool interrupted = false;
+  for (bool finished = false; !finished;) {
+    {
+      py::gil_scoped_release release;
+      std::unique_lock<std::mutex> lock(mutex);
+      finished = ended.wait_for(lock, std::chrono::milliseconds(100), [&] { return done; });
+    }
+    if (!interrupted && PyErr_CheckSignals() != 0) {
+      interrupted = true;
+      stop = true;
+    }
+  }
+  worker.join();
+  if (interrupted) throw py::error_already_set();
+  if (failure) std::rethrow_exception(failure);
+  return std::move(*result);
+}
+
 /// `slidespec analyze` of a record given as arrays.
 py::tuple analyze_record(const Array& time, const Array& x, const py::dict& format, const py::dict& plan) {
   Record record = record_of(time, x, format);
   const AnalysisPlan p = plan_of(plan, !format["window"].is_none());
-  AnalysisReport report;
-  {
-    py::gil_scoped_release release;
-    report = analyze(std::move(record), p);
-  }
+  const AnalysisReport report = interruptible([&](const std::atomic<bool>* stop) {
+    AnalysisPlan heard = p;
+    heard.request.stop = stop;
+    return analyze(std::move(record), heard);
+  });
   return analysis_result(report, "", p.compare_case);
 }
 
@@ -627,25 +676,31 @@ py::dict row_dict(const RecordRow& r) {
                   py::arg("reason") = worded(r.reason, FrontEnd::python));
 }
 
-/// `slidespec analyze A B C`: each record file analysed in order, as [(result or None when it
-/// was refused, its row)]; a plan no record satisfies is refused before any file is read.
-py::list analyze_files(const std::vector<std::string>& paths, const py::dict& format, const py::dict& plan) {
+/// `slidespec analyze A B C`: each record file analysed in order, as ([(result or None when it
+/// was refused, its row)], interrupted): a KeyboardInterrupt ends the list early, with every
+/// record finished before it. A plan no record satisfies is refused before any file is read.
+py::tuple analyze_files(const std::vector<std::string>& paths, const py::dict& format, const py::dict& plan) {
   const RecordFormat f = format_of(format);
   const AnalysisPlan p = plan_of(plan, f.window.has_value());
   check_band(p.request);
   check_plan(p, f.machine_stiffness);
   py::list out;
   for (const std::string& path : paths) {
-    RecordOfMany one;
-    {
-      py::gil_scoped_release release;
-      one = analyze_one_of_many(path, f, p);
+    try {
+      const RecordOfMany one = interruptible([&](const std::atomic<bool>* stop) {
+        AnalysisPlan heard = p;
+        heard.request.stop = stop;
+        return analyze_one_of_many(path, f, heard);
+      });
+      const py::object result =
+          one.report ? py::object(analysis_result(*one.report, path, p.compare_case)) : py::none();
+      out.append(py::make_tuple(result, row_dict(one.row)));
+    } catch (py::error_already_set& e) {
+      if (!e.matches(PyExc_KeyboardInterrupt)) throw;
+      return py::make_tuple(out, true);
     }
-    const py::object result = one.report ? py::object(analysis_result(*one.report, path, p.compare_case)) : py::none();
-    out.append(py::make_tuple(result, row_dict(one.row)));
-    if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C between two records
   }
-  return out;
+  return py::make_tuple(out, false);
 }
 
 py::dict landmarks_dict(const std::string& case_name, const Overrides& overrides) {

@@ -737,6 +737,19 @@ time.sleep(0.5)' > /dev/null 2> "$logs/stderr"
   fi
 fi
 if in_part signals; then
+  # stop_within PID SIG WHAT: signals PID and waits 3 s at most (past that a hang, then
+  # SIGKILL); the tenths of a second waited in $waited, its exit status in $status.
+  stop_within() {
+    kill -s "$2" "$1" 2> /dev/null
+    waited=0
+    while kill -0 "$1" 2> /dev/null && [ $waited -lt 30 ]; do sleep 0.1; waited=$((waited + 1)); done
+    if kill -0 "$1" 2> /dev/null; then
+      hangs=$((hangs + 1)); report HANG "$3: still running 3 s later"
+      kill -KILL "$1" 2> /dev/null
+    fi
+    wait "$1" 2> /dev/null
+    status=$?
+  }
   # A signal inside one long realization (a block coasting near the stall, its warm-up or
   # its steps) ends the run within about a second, saving its state: else a hang.
   # (At 100..1000 rad/s a second in, a fixed count: a precision there is refused.)
@@ -748,15 +761,7 @@ if in_part signals; then
       --no-plot --quiet 2> /dev/null &
     pid=$!
     sleep $delay
-    kill -s $sig $pid 2> /dev/null
-    waited=0
-    while kill -0 $pid 2> /dev/null && [ $waited -lt 30 ]; do sleep 0.1; waited=$((waited + 1)); done
-    if kill -0 $pid 2> /dev/null; then
-      hangs=$((hangs + 1)); report HANG "SIG$sig after $delay s inside a long realization at $low..: still running 3 s later"
-      kill -KILL $pid 2> /dev/null
-    fi
-    wait $pid 2> /dev/null
-    status=$?
+    stop_within $pid $sig "SIG$sig after $delay s inside a long realization at $low.."
     [ $status -ge 128 ] || { nonsense=$((nonsense + 1)); report NONSENSE "SIG$sig in a long realization: exit $status"; }
     [ -e coast.state ] || { work_lost=$((work_lost + 1)); report LOST "SIG$sig in a long realization: no state"; }
   done
@@ -815,6 +820,79 @@ if in_part signals; then
     rm -f syn.*
   done
   rm -f feed core core.*
+  # With the most contacts a run steps (2^20) a signal is heard within about a second, its
+  # state saved (the result rebuilt the million-block tree five times after it: 2-2.7 s).
+  for sig in INT TERM; do
+    attacks=$((attacks + 1))
+    rm -f wide.*
+    "$bin" run --set N=1048576 --omega-min 1 --omega-max 10 --precision 0.2 --work-budget 1e15 --out wide \
+      --no-plot --quiet 2> /dev/null &
+    pid=$!
+    sleep 2
+    stop_within $pid $sig "SIG$sig with 2^20 contacts"
+    if [ $waited -gt 12 ] && [ $waited -lt 30 ]; then
+      other=$((other + 1)); report SLOW "SIG$sig with 2^20 contacts: heard only after $waited tenths of a second"
+    fi
+    [ -e wide.state ] || { work_lost=$((work_lost + 1)); report LOST "SIG$sig with 2^20 contacts: no state"; }
+  done
+  rm -f wide.*
+  # A signal while the plotter reads the theory lines leaves no scratch directory.
+  mkdir -p scratch/tmp
+  printf '#!/bin/sh\nexec sleep 60\n' > slow_plotter
+  chmod +x slow_plotter
+  for sig in INT TERM HUP QUIT; do
+    attacks=$((attacks + 1))
+    TMPDIR=$work/scratch/tmp SLIDESPEC_PYTHON=$work/slow_plotter "$bin" analyze rec.csv --out sfig --quiet \
+      2> /dev/null &
+    pid=$!
+    for _ in $(seq 100); do ls scratch/tmp/slidespec-plot-* > /dev/null 2>&1 && break; sleep 0.05; done
+    sleep 0.2
+    kill -s $sig $pid 2> /dev/null
+    wait $pid 2> /dev/null
+    if ls -d scratch/tmp/slidespec-plot-* > /dev/null 2>&1; then
+      other=$((other + 1)); report LEFT "analyze ended by SIG$sig in its figure left its scratch directory"
+    fi
+    rm -rf scratch/tmp/* sfig.* core core.*
+  done
+  # Python: Ctrl-C ends ss.analyze of 3e7 samples within a second, and ss.analyze_many
+  # keeps the records finished.
+  if [ -n "${PYTHONPATH:-}" ]; then
+    attacks=$((attacks + 1))
+    timeout 120 /usr/bin/python3 -c '
+import os, signal, threading, time, numpy as np, slidespec as ss
+x = 1e-9 * np.arange(30_000_000) + np.cumsum(np.random.default_rng(1).normal(0, 1e-9, 30_000_000))
+sent = []
+threading.Timer(0.5, lambda: (sent.append(time.monotonic()), os.kill(os.getpid(), signal.SIGINT))).start()
+try:
+    ss.analyze(None, x, dt=1e-3)
+    print("finished")
+except KeyboardInterrupt:
+    print("interrupted after %.2f s" % (time.monotonic() - sent[0]))' > "$logs/stdout" 2> "$logs/stderr"
+    case $(cat "$logs/stdout") in
+      "interrupted after 0."* | "interrupted after 1."*) ;;
+      *) other=$((other + 1)); report SLOW "ss.analyze of 3e7 samples, Ctrl-C: $(cat "$logs/stdout") $(tail -c 200 "$logs/stderr")" ;;
+    esac
+    attacks=$((attacks + 1))
+    # Records of 2e5 samples, some 50 ms each: 240 of them outlast the interrupt at 1 s.
+    "$bin" synth --duration 2000 --sample-interval 0.01 --out many1 > /dev/null 2>&1
+    for k in 2 3 4 5 6; do cp many1.csv "many$k.csv"; done
+    timeout 120 /usr/bin/python3 -c '
+import os, signal, threading, time, slidespec as ss
+paths = ["many%d.csv" % k for k in range(1, 7)] * 40
+threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+try:
+    ss.analyze_many(paths)
+    print("finished")
+except ss.AnalysesInterrupted as cut:
+    print("kept", len(cut.results), len(cut.table))
+except KeyboardInterrupt:
+    print("lost")' > "$logs/stdout" 2> "$logs/stderr"
+    case $(cat "$logs/stdout") in
+      kept*) ;;
+      *) work_lost=$((work_lost + 1)); report LOST "ss.analyze_many, Ctrl-C: $(cat "$logs/stdout") $(tail -c 200 "$logs/stderr")" ;;
+    esac
+    rm -f many*.csv
+  fi
   # Two parts at once onto one --save-state: one is refused, the other's state stays whole.
   attacks=$((attacks + 1))
   rm -f same.state

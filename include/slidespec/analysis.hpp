@@ -4,6 +4,7 @@
 // Method and error bars: docs/analysis.md.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
@@ -266,7 +267,8 @@ struct WelchRequest {
   double omega_min = 0;  ///< [rad/s]; 0: bin 2 of 8 half-overlapping segments (9 x 2 pi / T)
   double omega_max = 0;  ///< [rad/s]; 0: up to the bin below Nyquist
   int points_per_decade = 8;
-  std::size_t segment_samples = 0;  ///< 0: chosen from the record length and omega_min
+  std::size_t segment_samples = 0;          ///< 0: chosen from the record length and omega_min
+  const std::atomic<bool>* stop = nullptr;  ///< heard between segments (AnalysisRequest::stop)
 };
 
 /// One point of a Welch spectrum: the mean over `bins` FFT bins from `first_bin`.
@@ -321,7 +323,18 @@ struct AnalysisRequest {
   int points_per_decade = 8;
   double resolution = 0;    ///< sensor resolution q [m]; 0 = no quantization floor
   double sensor_noise = 0;  ///< rms white noise of the sensor before quantization [m]
+  /// Heard between the analysis's stages and between pieces of its samples, each well within
+  /// a second however long the record: once set, the analysis throws AnalysisStopped.
+  const std::atomic<bool>* stop = nullptr;
 };
+
+/// What an analysis throws when its request's stop is set.
+struct AnalysisStopped {};
+
+/// Throws AnalysisStopped once `stop` (none: never) is set.
+inline void hear_stop(const std::atomic<bool>* stop) {
+  if (stop != nullptr && stop->load(std::memory_order_relaxed)) throw AnalysisStopped{};
+}
 
 /// Refuses a band no spectrum can have (a negative or non-finite omega_min or omega_max,
 /// omega_min >= omega_max) or points per decade outside 1..100, naming the option; before any

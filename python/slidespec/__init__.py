@@ -27,8 +27,8 @@ from ._results import Result
 from ._runs import run, resume
 from ._records import read
 from ._analysis import Analysis, analyze, synth
-from ._many import Records, analyze_many
+from ._many import AnalysesInterrupted, Records, analyze_many
 
 __version__ = _core.version
 __all__ = ["Parameters", "parameter_table", "Result", "Analysis", "cases", "omegas", "theory", "spring_force_theory", "eq1", "long_time_motion", "run", "resume",
-           "read", "analyze", "analyze_many", "Records", "synth", "PrecisionWarning", "ModelWarning", "RecordWarning"]
+           "read", "analyze", "analyze_many", "AnalysesInterrupted", "Records", "synth", "PrecisionWarning", "ModelWarning", "RecordWarning"]

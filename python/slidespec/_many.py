@@ -37,6 +37,16 @@ class Records(_Table):
         return f"<slidespec.Records: {len(self)} records, {failed} not ok>"
 
 
+class AnalysesInterrupted(KeyboardInterrupt):
+    """Ctrl-C during analyze_many(): `results` and `table` hold the records finished before
+    it, in order (fewer rows than the table's `named`); the record it cut is not among them."""
+
+    def __init__(self, results, table):
+        super().__init__(f"interrupted after {len(results)} of {table.named} records")
+        self.results = results
+        self.table = table
+
+
 def analyze_many(paths, **keywords):
     """Each record file in `paths` analysed as analyze() analyses a record, with analyze's
     keywords (but the arrays force and normal_stress: a file's channels are its columns, named
@@ -46,7 +56,8 @@ def analyze_many(paths, **keywords):
     order, and a Records table of them all. A file refused (missing, a directory, malformed,
     too short for the band) does not stop the others: its Analysis has ok False and reason,
     and its row says the same. Raises ValueError before any file is read for keywords no
-    record can satisfy; warnings name the file they are of.
+    record can satisfy; warnings name the file they are of. Ctrl-C stops it within about a
+    second and raises AnalysesInterrupted (a KeyboardInterrupt) holding the records finished.
     """
     if isinstance(paths, (str, bytes, _os.PathLike)):
         paths = [paths]
@@ -61,12 +72,15 @@ def analyze_many(paths, **keywords):
     options = _KEYWORDS | {"units": None} | keywords
     record, plan = _format_and_plan(**options)
     results, rows = [], []
-    for done, row in _core.analyze_files(paths, record, plan):
+    analysed, interrupted = _core.analyze_files(paths, record, plan)
+    for done, row in analysed:
         if done is None:
             results.append(Analysis({"ok": False, "reason": row["reason"], "record": {"file": row["file"]}}))
         else:
             results.append(_analysis(*done, stacklevel=3, about=f"{row['file']}: "))
         rows.append(row)
     table = Records({"slidespec_version": _core.version, "named": len(paths), "points": rows})
+    if interrupted:
+        raise AnalysesInterrupted(results, table)
     return results, table
 

@@ -145,7 +145,12 @@ std::vector<AnalysisPoint> streaming_points(const Record& record, const Analysis
   };
   if (request.omega_min <= 0 && config.omega_min >= full_rate_band_floor(record.dt)) throw too_short();
   SpectrumEstimator estimator(config, 1);
-  estimator.push(xi.data(), xi.size());
+  // In pieces of a few milliseconds, between which a stop is heard (pieces change no number).
+  constexpr std::size_t kPieceSamples = std::size_t{1} << 18;
+  for (std::size_t first = 0; first < xi.size(); first += kPieceSamples) {
+    hear_stop(request.stop);
+    estimator.push(xi.data() + first, std::min(kPieceSamples, xi.size() - first));
+  }
   result.accumulator = estimator.merged();
   std::vector<AnalysisPoint> points;
   for (const SpectrumPoint& e : result.accumulator.spectrum(PointValue::bin_average)) {
@@ -166,6 +171,7 @@ std::vector<AnalysisPoint> welch_points(const Record& record, const AnalysisRequ
   welch.omega_min = request.omega_min;
   welch.omega_max = request.omega_max;
   welch.points_per_decade = request.points_per_decade;
+  welch.stop = request.stop;
   result.welch =
       pieces.size() == 1 ? welch_spectrum(pieces.front(), record.dt, welch) : welch_spectrum(pieces, record.dt, welch);
   std::vector<AnalysisPoint> points;
@@ -248,11 +254,12 @@ namespace {
 /// and sample count in `result`. Each stroke is its own line (its own direction and speed);
 /// the speed reported is the strokes' mean |v|, its error from their scatter.
 std::vector<std::vector<double>> sliding_pieces(const Record& record, const std::vector<Record>& strokes,
-                                                RecordSpectrum& result) {
+                                                RecordSpectrum& result, const std::atomic<bool>* stop) {
   std::vector<std::vector<double>> pieces;
   if (strokes.empty()) {
     result.samples = record.samples();
     result.sliding = fit_sliding(record);
+    hear_stop(stop);
     pieces.push_back(sliding_fluctuation(record, result.sliding));
     return pieces;
   }
@@ -309,7 +316,8 @@ RecordSpectrum analyze(const Record& record, const std::vector<Record>& strokes,
   result.observable = record.observable;
   result.channel = observable_channel(record);
   result.dt = record.dt;
-  const std::vector<std::vector<double>> pieces = sliding_pieces(record, strokes, result);
+  const std::vector<std::vector<double>> pieces = sliding_pieces(record, strokes, result, request.stop);
+  hear_stop(request.stop);
   result.duration = static_cast<double>(result.samples) * record.dt;
   result.quantization_variance = request.resolution * request.resolution / 12;
   result.sensor_noise_variance = request.sensor_noise * request.sensor_noise;

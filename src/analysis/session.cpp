@@ -37,6 +37,7 @@ Record analyzed_stretch(Record record, const AnalysisPlan& plan, AnalysisReport&
                         std::optional<Strokes>& strokes) {
   report.notes = as_notes(record.notes, "sampling");
   report.segments = steady_segments(record);
+  hear_stop(plan.request.stop);
   if (!plan.windowed) strokes = find_strokes(report.segments, record.dt);
   if (strokes) return record;
   if (!plan.windowed) {
@@ -260,15 +261,18 @@ std::string AnalysisReport::failure() const {
 double AnalysisReport::end_time() const { return record.start_time + double(record.samples() - 1) * record.dt; }
 
 AnalysisReport analyze(Record record, const AnalysisPlan& plan) {
+  hear_stop(plan.request.stop);
   check_plan(plan, record.machine_stiffness);
   AnalysisReport r;
   r.request = plan.request;
+  r.request.stop = nullptr;  // the report outlives the analysis's stop
   if (plan.normal_mass > 0 || plan.driving_mass > 0) r.mu = friction_coefficient(plan.normal_mass, plan.driving_mass);
   std::optional<Strokes> strokes;
   // The rig's velocity steps lie outside the stretch analysed: measured on the whole record.
   const std::vector<FrictionStep> steps =
       plan.compare_case == kRigCase ? friction_steps(record, steady_segments(record)) : std::vector<FrictionStep>{};
   r.record = analyzed_stretch(std::move(record), plan, r, strokes);
+  hear_stop(plan.request.stop);
   if (strokes) {
     std::vector<std::string> notes;
     r.spectrum = analyze_strokes(r.record, *strokes, plan.request, notes);
@@ -284,6 +288,7 @@ AnalysisReport analyze(Record record, const AnalysisPlan& plan) {
                                      short_number(100 * r.record.window_hold_share) +
                                      "% of it; the whole record's segments, " + named(Option::segments) +
                                      "): the record does not slide there, so its spectrum is no sliding noise"};
+  hear_stop(plan.request.stop);
   fit_power_and_slope(plan, r);
   if (!plan.compare_case.empty()) compare_model(plan, r, steps);
   r.warnings = warnings(r, plan);

@@ -181,7 +181,8 @@ std::vector<double> hann_window(std::size_t length, double& power) {
 /// `starts` (window.size() + 1 samples each), each segment's mean difference removed,
 /// normalised as C (docs/model.md §3).
 std::vector<double> difference_periodogram(const std::vector<const double*>& starts, double dt,
-                                           const std::vector<double>& window, double window_power) {
+                                           const std::vector<double>& window, double window_power,
+                                           const std::atomic<bool>* stop) {
   const std::size_t segments = starts.size();
   const std::size_t length = window.size(), bins = length / 2 + 1;
   const std::unique_ptr<double, FftwFree> in(fftw_alloc_real(length));
@@ -189,6 +190,7 @@ std::vector<double> difference_periodogram(const std::vector<const double*>& sta
   const fftw_plan plan = r2c_plan(length);
   std::vector<double> periodogram(bins, 0.0);
   for (std::size_t s = 0; s < segments; ++s) {
+    hear_stop(stop);
     const double* segment = starts[s];
     // The segment's mean difference is its mean slope: removing it removes each segment's trend.
     double mean = 0;
@@ -320,7 +322,7 @@ WelchSpectrum welch_spectrum(const std::vector<std::vector<double>>& pieces, dou
 
   double window_power = 0;
   const std::vector<double> window = hann_window(length, window_power);
-  std::vector<double> periodogram = difference_periodogram(starts, dt, window, window_power);
+  std::vector<double> periodogram = difference_periodogram(starts, dt, window, window_power, request.stop);
 
   const PointVariance variance = point_variance(window, window_power, hop, segments, overlapping_pairs);
   std::vector<double> point_differences;  // each point's mean difference spectrum

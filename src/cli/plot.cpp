@@ -40,23 +40,39 @@ std::string tools_directory() {
   return from_environment("SLIDESPEC_TOOLS", SLIDESPEC_TOOLS_DIR);
 }
 
-/// A scratch directory for the theory lines, removed with everything in it.
+/// A scratch directory for the theory lines, removed with everything in it, also by a
+/// signal that ends the command while the plotter reads them.
 class ScratchDirectory {
  public:
   ScratchDirectory() {
     std::string pattern = (std::filesystem::temp_directory_path() / "slidespec-plot-XXXXXX").string();
-    if (mkdtemp(pattern.data()) != nullptr) path_ = pattern;
+    if (mkdtemp(pattern.data()) == nullptr) return;
+    path_ = pattern;
+    io::remove_on_signals(path_);
   }
   ~ScratchDirectory() {
+    if (path_.empty()) return;
     std::error_code ignored;
-    if (!path_.empty()) std::filesystem::remove_all(path_, ignored);
+    std::filesystem::remove_all(path_, ignored);
+    for (const std::string& file : files_) io::forget_on_signals(file);
+    io::forget_on_signals(path_);
   }
   ScratchDirectory(const ScratchDirectory&) = delete;
   ScratchDirectory& operator=(const ScratchDirectory&) = delete;
   const std::string& path() const { return path_; }
 
+  /// Writes `content` to NAME in the directory; returns its path.
+  std::string write(const std::string& name, const std::string& content) {
+    std::string file = path_ + "/" + name;
+    io::remove_on_signals(file);
+    files_.push_back(file);
+    io::write_atomically(file, content);
+    return file;
+  }
+
  private:
   std::string path_;
+  std::vector<std::string> files_;
 };
 
 /// A plotting process started ahead of its work: tools/plot_server.py loads matplotlib and
@@ -212,8 +228,7 @@ int plot(const std::vector<std::string>& tables, const std::string& out, const s
       table << "# exact first-order theory on a fine grid\n# omega\tC_x\n";
       for (std::size_t i = 0; i < omegas.size(); ++i)
         table << util::format_number(omegas[i]) << "\t" << util::format_number(spectrum[i]) << "\n";
-      path = scratch.path() + "/theory_" + std::to_string(k) + ".tsv";
-      io::write_atomically(path, table.str());
+      path = scratch.write("theory_" + std::to_string(k) + ".tsv", table.str());
       any_theory = true;
     }
     theory_lines += (k == 0 ? "" : ",") + path;

@@ -131,9 +131,13 @@ void withdraw_removable(const std::string& path) {
 extern "C" void remove_files_and_end(int signal) {
   // The plotter would go on writing a temporary removed here, or read a table gone.
   if (const pid_t child = child_stopped.load(); child > 0) ::kill(child, SIGKILL);
-  if (::getpid() == removable_owner.load())
+  if (::getpid() == removable_owner.load()) {
     for (int k = 0; k < removable_count.load(); ++k)
       if (removable[k][0] != '\0') ::unlink(removable[k]);
+    // Directories after every file: a scratch directory empties before it goes.
+    for (int k = 0; k < removable_count.load(); ++k)
+      if (removable[k][0] != '\0') ::rmdir(removable[k]);
+  }
   std::signal(signal, SIG_DFL);
   std::raise(signal);
 }
@@ -260,6 +264,10 @@ void remove_locks_on_signals() {
 }
 
 void stop_on_signals(pid_t child) { child_stopped = child; }
+
+void remove_on_signals(const std::string& path) { publish_removable(path); }
+
+void forget_on_signals(const std::string& path) { withdraw_removable(path); }
 
 OutputLock::OutputLock(const std::vector<std::string>& prefixes) {
   for (const std::string& prefix : prefixes) {

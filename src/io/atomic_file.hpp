@@ -82,6 +82,11 @@ class OutputLock {
 /// signal leaves no PREFIX.lock (run replaces the INT and TERM handlers with its own, which save its state first).
 void remove_locks_on_signals();
 
+/// Until forget_on_signals(path), those signals also remove `path`: a scratch file, or a
+/// scratch directory, removed once the files published in it are gone.
+void remove_on_signals(const std::string& path);
+void forget_on_signals(const std::string& path);
+
 /// From now on those signals first end `child` (the plotter, drawing into a temporary that
 /// they remove); 0 names none.
 void stop_on_signals(pid_t child);

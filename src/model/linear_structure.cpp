@@ -1,8 +1,10 @@
 #include "model/linear_structure.hpp"
 
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace slidespec::model {
 
@@ -122,9 +124,23 @@ LumpedStructure lump(const LinearStructure& structure, const std::vector<int>& c
   out.damping = reduce(structure.damping, "damping");
   out.stiffness = reduce(structure.stiffness, "stiffness");
   for (const Contact& c : structure.contacts) out.class_of_contact.push_back(class_of[c.coordinate]);
+  out.contacts = structure.contacts;
   return out;
 }
 
-LumpedStructure lumped_tree_structure(const Parameters& p) { return lump(tree_structure(p), level_of_coordinates(p)); }
+LumpedStructure lumped_tree_structure(const Parameters& p) {
+  // describe() names every parameter exactly (it is what makes two runs the same run).
+  static std::mutex kept_mutex;
+  static std::vector<std::pair<std::string, std::string>> kept_key;
+  static LumpedStructure kept;
+  auto key = describe(p);
+  // Built under the lock: the threads of a run all ask at once, and one build serves them.
+  const std::lock_guard<std::mutex> lock(kept_mutex);
+  if (key != kept_key) {
+    kept = lump(tree_structure(p), level_of_coordinates(p));
+    kept_key = std::move(key);
+  }
+  return kept;
+}
 
 }  // namespace slidespec::model

@@ -56,6 +56,7 @@ struct LumpedStructure {
   Eigen::MatrixXd stiffness;  ///< P^T K P
   /// class_of_contact[j]: which lumped coordinate contact j's force is added to.
   std::vector<int> class_of_contact;
+  std::vector<Contact> contacts;  ///< the full structure's contacts, whose forces the classes sum
 };
 
 /// Lumps `structure` over `class_of` (class 0 must be the block alone); throws
@@ -64,6 +65,9 @@ LumpedStructure lump(const LinearStructure& structure, const std::vector<int>& c
 
 /// The tree lumped by level: levels + 1 coordinates whatever the number of blocks; input
 /// class l carries the forces of level l (the flat model's lumping for one level).
+/// The last parameter set's is kept: with a million blocks the full tree takes about half a
+/// second to build, and a run asks for it per batch and several times over for its result,
+/// where a signal waits for it.
 LumpedStructure lumped_tree_structure(const Parameters& p);
 
 }  // namespace slidespec::model

@@ -319,6 +319,13 @@ double least_state_bytes(const Parameters& p, const RunRequest& r) {
 
 void validate_request(const Parameters& p, const RunRequest& r) {
   check_request_fields(r);
+  // The stepper sums a level's forces exactly in a double (stepper/renewal.hpp): up to 2^20.
+  constexpr long long kMostTouchingBlocks = 1LL << 20;
+  for (int l = 1; l <= p.levels; ++l)
+    if (p.touches(l) && p.blocks(l) > kMostTouchingBlocks)
+      throw InputError("parameter N: level " + std::to_string(l) + " has " + std::to_string(p.blocks(l)) +
+                       " blocks touching the substrate, more than the " + std::to_string(kMostTouchingBlocks) +
+                       " (2^20) a run can step; the theory (slidespec theory) holds for more");
   // The random forces' size is alpha F_kin: whichever is zero takes them away.
   if (!(expected_jump_energy(p, p.a) > 0))
     throw InputError(std::string(p.F_kin == 0 ? "parameter F_kin: 0 gives" : "alpha: 0 gives") +

@@ -62,17 +62,25 @@ struct Stepper::Impl {
     // A chunk of increments of about 256 KiB: big enough to amortize the kernel call,
     // small enough to stay in L2 while the sink reads it.
     chunk_steps = std::max<std::int64_t>(64, 32768 / padded);
+    // Each start draws every contact's force and mark: a tenth of a second or more with a
+    // million contacts, so the stop is heard between them too.
+    hear_stop();
     paths.push_back(start_path(1.0));
+    hear_stop();
     if (c.shadow) paths.push_back(start_path(0.0));
     if (c.warm_up > 0) warm_up();
+  }
+
+  void hear_stop() const {
+    if (config.stop && config.stop->load(std::memory_order_relaxed)) throw StepperStopped{};
   }
 
   /// A path at the start: fresh forces, marks ahead, and z in equilibrium with the forces
   /// (docs/model.md §1: steady sliding), computed in plain scalar code so that every SIMD
   /// path starts from the same bits.
   PathState start_path(double crossing_weight) const {
-    PathState s(stepper::RenewalState(model::tree_structure(params).contacts, lumped.class_of_contact, params.renewal,
-                                      config.seed, config.stream, first, padded),
+    PathState s(stepper::RenewalState(lumped.contacts, lumped.class_of_contact, params.renewal, config.seed,
+                                      config.stream, first, padded),
                 crossing_weight);
     s.z.assign(static_cast<size_t>(step.dimension) * padded, 0.0);
     s.xi.assign(padded, 0.0);
@@ -126,7 +134,7 @@ struct Stepper::Impl {
       return warming(steps);
     }
     for (std::int64_t row = 0; row < steps;) {
-      if (config.stop->load(std::memory_order_relaxed)) throw StepperStopped{};
+      hear_stop();
       const std::int64_t piece = std::min(steps - row, piece_steps);
       const auto start = std::chrono::steady_clock::now();
       run_kernel(s, exact, origin, done + row, piece, row);

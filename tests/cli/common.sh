@@ -6,7 +6,16 @@ work=$(mktemp -d)
 # Only this shell removes it: a forked subshell (a background job not yet exec'ed when a
 # signal lands) inherits the trap too.
 owner=$BASHPID
-trap '[ "$BASHPID" = "$owner" ] && rm -rf "$work"' EXIT
+# The figure's scratch directories (/tmp/slidespec-plot-*) go to a directory of the test's
+# own, where its end finds any a command left behind, ended by a signal or not.
+TMPDIR=$(mktemp -d)
+export TMPDIR
+scratch_left() {
+  local left
+  left=$(ls -d "$TMPDIR"/slidespec-plot-* 2> /dev/null) || return 1
+  echo "FAIL: scratch directories left behind: $left: $(ls -A $left)"
+}
+trap '[ "$BASHPID" = "$owner" ] && { left=0; scratch_left && left=1; rm -rf "$work" "$TMPDIR"; [ $left -eq 0 ] || exit 1; }' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
