@@ -128,6 +128,25 @@ void withdraw_removable(const std::string& path) {
     if (removable[k][0] != '\0' && path == removable[k]) removable[k][0] = '\0';
 }
 
+// Holds back the signals that remove files, from a file's creation until it is published:
+// a signal between the two would leave a lock or a temporary nobody removes. On the
+// creating thread; the locks are taken before any worker thread starts.
+class SignalsHeld {
+ public:
+  SignalsHeld() {
+    sigset_t held;
+    sigemptyset(&held);
+    for (const int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&held, signal);
+    pthread_sigmask(SIG_BLOCK, &held, &before_);
+  }
+  ~SignalsHeld() { pthread_sigmask(SIG_SETMASK, &before_, nullptr); }
+  SignalsHeld(const SignalsHeld&) = delete;
+  SignalsHeld& operator=(const SignalsHeld&) = delete;
+
+ private:
+  sigset_t before_{};
+};
+
 extern "C" void remove_files_and_end(int signal) {
   // The plotter would go on writing a temporary removed here, or read a table gone.
   if (const pid_t child = child_stopped.load(); child > 0) ::kill(child, SIGKILL);
@@ -164,15 +183,20 @@ void OutputSet::forget_pending() {
 
 void OutputSet::add(const std::string& path, const std::string& content) {
   std::string temp = path + ".tmp.XXXXXX";
-  const int fd = mkstemp(temp.data());
-  if (fd < 0) throw WriteError("cannot create " + temp + ": " + std::strerror(errno));
-  publish_removable(temp);
+  int fd = -1;
+  {
+    const SignalsHeld held;
+    fd = mkstemp(temp.data());
+    if (fd < 0) throw WriteError("cannot create " + temp + ": " + std::strerror(errno));
+    publish_removable(temp);
+  }
   write_all(fd, temp, content);
   pending_.push_back({path, temp});
 }
 
 std::string OutputSet::add_written_by_other(const std::string& path, const std::string& extension) {
   std::string temp = path + ".tmp.XXXXXX" + extension;
+  const SignalsHeld held;
   const int fd = mkstemps(temp.data(), static_cast<int>(extension.size()));
   if (fd < 0) throw WriteError("cannot create " + temp + ": " + std::strerror(errno));
   ::close(fd);
@@ -278,6 +302,7 @@ OutputLock::OutputLock(const std::vector<std::string>& prefixes) {
     // A lock taken on a file another holder has just removed would lock nothing: take it
     // again until the locked file is the one at `path`.
     for (int attempt = 0;; ++attempt) {
+      const SignalsHeld held;
       const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
       if (fd < 0) throw FileError(prefix + ": cannot create the lock file " + path + ": " + std::strerror(errno));
       if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
@@ -300,6 +325,7 @@ OutputLock::OutputLock(const std::vector<std::string>& prefixes) {
 }
 
 OutputLock::~OutputLock() {
+  const SignalsHeld held;
   for (const Held& h : held_) {
     withdraw_removable(h.path);
     ::unlink(h.path.c_str());
