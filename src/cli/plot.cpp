@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "io/atomic_file.hpp"
@@ -158,10 +159,14 @@ void FigureStyle::check() const {
   if (format != "png" && format != "pdf" && format != "svg")
     throw InputError("--format: unknown figure format '" + format + "' (known: png, pdf, svg)");
   if (!size.empty()) {
-    double width = 0, height = 0;
-    char rest = 0;
-    if (std::sscanf(size.c_str(), "%lfx%lf%c", &width, &height, &rest) != 2 || !(width >= 0.5 && width <= 100) ||
-        !(height >= 0.5 && height <= 100))
+    // Digits and points, as the plotter reads them: sscanf would take 0x10x5 for 16 by 5.
+    const bool plain = size.find_first_not_of("0123456789.x") == std::string::npos;
+    const std::size_t times = plain ? size.find('x') : std::string::npos;
+    std::string problem;
+    const auto width = times == std::string::npos ? std::nullopt : util::parse_decimal(size.substr(0, times), problem);
+    const auto height =
+        times == std::string::npos ? std::nullopt : util::parse_decimal(size.substr(times + 1), problem);
+    if (!width || !height || !(*width >= 0.5 && *width <= 100) || !(*height >= 0.5 && *height <= 100))
       throw InputError("--size: '" + size + "' is not WxH in inches (e.g. 7x5, each 0.5 to 100)");
   }
   if (!(dpi >= 10 && dpi <= 2400)) throw InputError("--dpi: must be between 10 and 2400");

@@ -128,6 +128,8 @@ work-budget-zero|--work-budget|run --work-budget 0 --no-plot
 sweep-work-budget-zero|--work-budget|sweep alpha=1 --work-budget 0 --no-plot
 analyze-dt-zero|--dt|analyze rec.tsv --dt 0 --no-plot --out x
 analyze-dt-subnormal|--dt|analyze rec.tsv --dt 1e-320 --no-plot --out x
+analyze-size-hexadecimal|--size|analyze rec.tsv --out x --size 0x10x5
+analyze-size-exponent|--size|analyze rec.tsv --out x --size 1e1x5
 # options that would be ignored, repeated or conflicting
 run-no-plot-format|--format|run --no-plot --format pdf
 analyze-no-plot-size|--size|analyze rec.tsv --out x --no-plot --size 3x3
