@@ -106,6 +106,7 @@ WaitingPlotter start_server() {
   if (child == 0) {
     // Ctrl-C stops the run, which then draws what accumulated: the plotter must outlive it.
     std::signal(SIGINT, SIG_IGN);
+    std::signal(SIGHUP, SIG_IGN);
     if (dup2(ends[1], STDIN_FILENO) < 0) _exit(127);
     execv(argv[0], argv.data());
     _exit(127);

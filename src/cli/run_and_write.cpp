@@ -32,6 +32,8 @@ extern "C" void request_stop(int signal) {
 void catch_stop_signals() {
   std::signal(SIGINT, request_stop);
   std::signal(SIGTERM, request_stop);
+  // A closed terminal or a dropped ssh session: the run is saved as after an interrupt.
+  if (!io::hangups_ignored()) std::signal(SIGHUP, request_stop);
 }
 
 void refuse_state_left_at(const std::string& prefix, const std::string& option) {
@@ -134,16 +136,17 @@ bool write_outputs(const Context& context, const RunSession& session, const RunR
 namespace {
 
 /// A run resumed from PREFIX.state into another --out has finished there, its outputs
-/// written: the checkpoint it was resumed from holds no more than they do, and left behind
-/// it would refuse the next fresh run at PREFIX. A part's state stays: merge may read it.
-void remove_resumed_state(const RunOptions& options, const std::string& out) {
+/// written, or was interrupted again and saved as OUT.state: the checkpoint it was resumed
+/// from holds no more than they do, and left behind it would refuse the next fresh run at
+/// PREFIX. A part's state stays: merge may read it.
+void remove_resumed_state(const RunOptions& options, const std::string& out, const std::string& now_in) {
   const std::string state_path = out + ".state";
   if (options.resume.empty()) return;
   const std::string resumed = options.resume + ".state";
   std::error_code ignored;
   if (std::filesystem::equivalent(resumed, state_path, ignored) || !std::filesystem::exists(resumed, ignored)) return;
   io::remove_durably(resumed);
-  if (!options.quiet) std::cerr << "slidespec: removed " << resumed << ": its run finished, written as " << out << "\n";
+  if (!options.quiet) std::cerr << "slidespec: removed " << resumed << ": its run is now in " << now_in << "\n";
 }
 
 }  // namespace
@@ -189,6 +192,7 @@ RunOutcome run_and_write(const Context& context, RunSession& session, const RunO
                               (options.save_state.empty() ? "" : " --save-state " + options.save_state)
                         : options.continue_with)
                 << "\n";
+    if (!finished && !session.request().part) remove_resumed_state(options, out, state_path);
     // merge reads only finished parts; an interrupted one lives on in PREFIX.state alone.
     if (finished && !options.save_state.empty()) io::write_atomically(options.save_state, session.save());
   }
@@ -202,7 +206,7 @@ RunOutcome run_and_write(const Context& context, RunSession& session, const RunO
         session.request().part ||
         (!options.save_state.empty() && std::filesystem::equivalent(options.save_state, state_path, ignored));
     if (outcome.written && !part_of_a_run) io::remove_durably(state_path);
-    if (outcome.written && !session.request().part) remove_resumed_state(options, out);
+    if (outcome.written && !session.request().part) remove_resumed_state(options, out, out + "'s outputs");
     if (!outcome.written)
       std::cerr << "slidespec: the finished run is kept in " << state_path
                 << "; write its outputs with: slidespec run --resume " << out << (options.no_plot ? " --no-plot" : "")

@@ -283,9 +283,19 @@ void OutputSet::commit() {
   forget_pending();
 }
 
+namespace {
+bool hangups_ignored_at_start = false;
+}  // namespace
+
 void remove_locks_on_signals() {
-  for (const int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) std::signal(signal, remove_files_and_end);
+  // nohup's ignored SIGHUP is kept: such a command is meant to outlive its terminal.
+  struct sigaction hangup {};
+  hangups_ignored_at_start = sigaction(SIGHUP, nullptr, &hangup) == 0 && hangup.sa_handler == SIG_IGN;
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT})
+    if (signal != SIGHUP || !hangups_ignored_at_start) std::signal(signal, remove_files_and_end);
 }
+
+bool hangups_ignored() { return hangups_ignored_at_start; }
 
 void stop_on_signals(pid_t child) { child_stopped = child; }
 

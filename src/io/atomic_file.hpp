@@ -82,6 +82,9 @@ class OutputLock {
 /// signal leaves no PREFIX.lock (run replaces the INT and TERM handlers with its own, which save its state first).
 void remove_locks_on_signals();
 
+/// Whether SIGHUP was ignored when remove_locks_on_signals() was called (nohup): it stays so.
+bool hangups_ignored();
+
 /// Until forget_on_signals(path), those signals also remove `path`: a scratch file, or a
 /// scratch directory, removed once the files published in it are gone.
 void remove_on_signals(const std::string& path);

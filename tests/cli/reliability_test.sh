@@ -99,7 +99,7 @@ fi
 "$bin" sweep alpha=1,0.9 --omega-min 0.1 --omega-max 1e4 --precision 0.003 --out sw --no-plot 2> err &
 sweep=$!
 for _ in $(seq 400); do grep -q "sweep 2/2" err && break; sleep 0.05; done
-sleep 0.3
+sleep 0.5
 kill -INT $sweep
 wait $sweep
 status=$?
@@ -292,12 +292,43 @@ if [ -e from.state ]; then
   "$bin" run --resume from --out into --no-plot 2> err || fail "a run resumed into another prefix: $(cat err)"
   [ -e into.tsv ] && [ ! -e into.state ] || fail "a run resumed into another prefix: its outputs missing"
   [ -e from.state ] && fail "a run resumed into another prefix left the state it was resumed from"
-  grep -q "removed from.state: its run finished, written as into" err || fail "the removal is not said: $(cat err)"
+  grep -q "removed from.state: its run is now in into's outputs" err || fail "the removal is not said: $(cat err)"
   "$bin" run $long_run --out from --quiet --no-plot || fail "a fresh run where the state was"
   cmp -s <(grep -v '^#' from.tsv) <(grep -v '^#' into.tsv) || fail "the run resumed into another prefix differs from the undisturbed one"
 else
   fail "an interrupted run saved no state to resume"
 fi
+
+# --- A hangup (a closed terminal, a dropped ssh session) saves the run as an interrupt does;
+# resumed into another prefix and interrupted there, the state it came from goes (the new
+# one holds its run); under nohup (SIGHUP ignored) the run goes on.
+start_in_background run $long_run --out hup --quiet --no-plot
+sleep 1
+kill -HUP $pid
+wait $pid
+status=$?
+[ $status -eq 129 ] || fail "a run ended by SIGHUP: exit status $status, expected 129"
+[ -e hup.state ] && [ -e hup.tsv ] || fail "a run ended by SIGHUP lost its work: $(ls hup.* 2> /dev/null)"
+[ -e hup.lock ] && fail "a run ended by SIGHUP left its lock"
+start_in_background run --resume hup --out hup2 --quiet --no-plot --checkpoint-every 0.05
+for _ in $(seq 200); do [ -s hup2.state ] && break; sleep 0.05; done
+kill -INT $pid
+wait $pid
+status=$?
+if [ $status -eq 130 ]; then
+  [ -e hup2.state ] || fail "a resumed run interrupted in its new prefix saved no state"
+  [ -e hup.state ] && fail "a resumed run saved in another prefix left the state it was resumed from"
+fi
+"$bin" run --resume hup2 --quiet --no-plot 2> err || fail "the hung-up run resumed twice: $(cat err)"
+[ -e hup.state ] || [ -e hup2.state ] && fail "a run resumed twice left a state: $(ls ./*.state)"
+cmp -s <(grep -v '^#' from.tsv) <(grep -v '^#' hup2.tsv) || fail "the hung-up run resumed twice differs from the undisturbed one"
+( trap "" HUP; exec "$bin" run $long_run --out nohup --quiet --no-plot ) &
+pid=$!
+sleep 0.5
+kill -HUP $pid
+wait $pid
+status=$?
+[ $status -eq 0 ] && [ -e nohup.tsv ] || fail "a run under nohup ended by SIGHUP: exit status $status"
 "$bin" run --resume pa --out pa2 --save-state pa2.state --quiet --no-plot 2> err || fail "a part resumed elsewhere: $(cat err)"
 [ -e pa.state ] || fail "a part resumed into another prefix removed the state it was resumed from"
 
