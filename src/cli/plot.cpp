@@ -214,14 +214,17 @@ int plot(const std::vector<std::string>& tables, const std::string& out, const s
          const FigureStyle& style) {
   WaitingPlotter plotter = waiting_plotter().pid >= 0 ? waiting_plotter() : start_server();
   waiting_plotter() = {};
-  std::vector<std::string> args = tables;
-  args.insert(args.end(), {"-o", out, "--dpi", util::format_number(style.dpi)});
-  if (!title.empty()) args.insert(args.end(), {"--title", title});
-  if (!style.size.empty()) args.insert(args.end(), {"--size", style.size});
+  // Values joined to their options and paths that start with '-' led by './': the
+  // plotter's parser would take -dash.tsv or a title '-x' for an option.
+  std::vector<std::string> args;
+  for (const std::string& table : tables) args.push_back(table.rfind('-', 0) == 0 ? "./" + table : table);
+  args.insert(args.end(), {"--out=" + out, "--dpi=" + util::format_number(style.dpi)});
+  if (!title.empty()) args.push_back("--title=" + title);
+  if (!style.size.empty()) args.push_back("--size=" + style.size);
   std::string colors;
   for (const std::string& color : style.colors) colors += (colors.empty() ? "" : ",") + color;
-  if (!colors.empty()) args.insert(args.end(), {"--colors", colors});
-  if (!style.layout.empty()) args.insert(args.end(), {"--layout", style.layout});
+  if (!colors.empty()) args.push_back("--colors=" + colors);
+  if (!style.layout.empty()) args.push_back("--layout=" + style.layout);
 
   ScratchDirectory scratch;
   std::string theory_lines;
@@ -239,7 +242,7 @@ int plot(const std::vector<std::string>& tables, const std::string& out, const s
     }
     theory_lines += (k == 0 ? "" : ",") + path;
   }
-  if (any_theory) args.insert(args.end(), {"--theory", theory_lines});
+  if (any_theory) args.push_back("--theory=" + theory_lines);
 
   const int status = finish(plotter, args);
   // Which interpreter ran, and how to choose another: the usual cure of a plotter that fails.

@@ -423,6 +423,16 @@ expect_refused "a spring near the stall over the budget" \
   "parameter k_drive: 200 N/m puts omega_s .* at 1e+05 rad/s.*give k_drive at most about" \
   run --set drive=spring --set k_drive=200 --set F_drive=5.000001 --out out --no-plot
 
+# --- Output names and titles that start with '-' reach the plotter as names, not options.
+"$bin" synth --duration 20 --out dashrec > /dev/null 2>&1 || fail "synth for the dash names"
+"$bin" analyze dashrec.csv --out -dash --quiet 2> err || fail "analyze --out -dash: $(cat err)"
+[ -s -dash.png ] && [ -s -dash.tsv ] || fail "analyze --out -dash wrote no figure"
+"$bin" theory --out dashbase > /dev/null 2>&1 || fail "theory for the dash names"
+"$bin" plot dashbase.tsv -o -p.png --title "-x" 2> err || fail "plot -o -p.png --title -x: $(cat err)"
+[ -s -p.png ] || fail "plot -o -p.png wrote no figure"
+cp dashbase.tsv ./-base.tsv
+"$bin" plot ./-base.tsv -o dashplot.png 2> err || fail "plot of -base.tsv: $(cat err)"
+
 [ $failures -eq 0 ] && echo "reliability: failed writes, file-size limits, state files, interrupted sweeps," \
   "spectra of nothing, file formats and ignored options"
 exit $((failures > 0))
