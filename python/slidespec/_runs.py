@@ -107,7 +107,13 @@ def _drive(handle, threads, simd, progress):
         handle.join()
         bar.update(1.0, "done")
         bar.close()
-        return _finish(handle)
+        result = _finish(handle)
+        if not result.complete:
+            # Stopped from elsewhere (the interpreter's exit, a signal to the process): a
+            # caller that does not look at `complete` would take a part for the whole.
+            _warnings.warn("the run was stopped before it finished: its Result is partial (complete = False); "
+                           "resume(result) continues it", RuntimeWarning, stacklevel=3)
+        return result
     finally:
         with _driven_lock:
             _driven.discard(handle)

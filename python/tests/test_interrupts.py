@@ -69,3 +69,31 @@ def test_ctrl_c_in_analyze_many_keeps_the_records_finished(tmp_path):
     assert all(result.ok for result in finished)
     assert finished[0].C_x.tolist() == one[0].C_x.tolist()
     assert stopped < max(2.0, each)
+
+
+def test_a_run_stopped_from_elsewhere_warns_that_its_result_is_partial():
+    # A run on a worker thread, the main thread ended by Ctrl-C: the interpreter's exit stops
+    # the run, whose Result came back partial without a word.
+    import subprocess
+    import sys
+    script = """
+import os, signal, threading, time, warnings
+import slidespec as ss
+warnings.simplefilter("always")
+def work():
+    r = ss.run(ss.Parameters("reference"), omega_min=1, omega_max=1000, precision=0.002, seed=3, threads=1)
+    print("complete", r.complete, flush=True)
+worker = threading.Thread(target=work)
+worker.start()
+threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+try:
+    worker.join()
+except KeyboardInterrupt:
+    worker.join(timeout=60)
+"""
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120,
+                          env=dict(os.environ))
+    if "complete True" in done.stdout:
+        pytest.skip("the run finished before the interrupt")
+    assert "complete False" in done.stdout, done.stdout + done.stderr
+    assert "RuntimeWarning: the run was stopped before it finished" in done.stderr, done.stderr

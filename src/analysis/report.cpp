@@ -152,6 +152,11 @@ Verdict judge_spectrum(const RecordSpectrum& s) {
     if (!std::isfinite(point.C_x) || !std::isfinite(point.standard_error) || !std::isfinite(point.omega))
       return {false, std::string("the point at omega = ") + short_number(point.omega) + " rad/s holds inf or nan: " +
                          "beyond the range of a double (the sampling interval, units or stiffness given?)"};
+  for (const AnalysisPoint& point : s.points)
+    if (point.C_x != 0 && std::abs(point.C_x) < util::kSmallestSquarableSpectrum)
+      return {false, std::string("the point at omega = ") + short_number(point.omega) + " rad/s holds " + name + " = " +
+                         short_number(point.C_x) + ", below the " + short_number(util::kSmallestSquarableSpectrum) +
+                         " whose square (its error bar) a double holds (the record's unit given?)"};
   if (!s.points.empty() &&
       std::all_of(s.points.begin(), s.points.end(), [](const AnalysisPoint& p) { return p.C_x == 0; }))
     return {false, std::string(name) +

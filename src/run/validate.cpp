@@ -1,5 +1,6 @@
 // Run requests checked before any work: the same refusals for the command line and the
 // library (and so the Python bindings).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -8,6 +9,7 @@
 #include "estimator/design.hpp"
 #include "run/session.hpp"
 #include "slidespec/theory.hpp"
+#include "util/numbers.hpp"
 
 namespace slidespec {
 
@@ -317,6 +319,22 @@ double least_state_bytes(const Parameters& p, const RunRequest& r) {
   return bytes;
 }
 
+namespace {
+
+// A point's error bar sums squared periodograms, of the size of C_x^2.
+void check_spectrum_squares(const Parameters& p, const RunRequest& r) {
+  constexpr double kLeastSpectrum = util::kSmallestSquarableSpectrum;
+  const LumpedTheory C_x(p);
+  const double lowest = std::min(C_x(r.omega_min), C_x(r.omega_max));
+  if (lowest >= kLeastSpectrum || !std::isfinite(lowest)) return;
+  throw InputError("parameters: C_x falls to " + text(lowest) + " m^2 s in {omega_min}..{omega_max} = " +
+                   text(r.omega_min) + ".." + text(r.omega_max) + " rad/s, below the " + text(kLeastSpectrum) +
+                   " m^2 s whose squares (a point's error bar) a double holds; the random forces (alpha F_kin) "
+                   "are too weak for this band: raise them or lower {omega_max}");
+}
+
+}  // namespace
+
 void validate_request(const Parameters& p, const RunRequest& r) {
   check_request_fields(r);
   // The stepper sums a level's forces exactly in a double (stepper/renewal.hpp): up to 2^20.
@@ -331,6 +349,7 @@ void validate_request(const Parameters& p, const RunRequest& r) {
     throw InputError(std::string(p.F_kin == 0 ? "parameter F_kin: 0 gives" : "alpha: 0 gives") +
                      " no random force (its size is alpha F_kin), so C_x is zero at every omega and there is "
                      "nothing to simulate");
+  check_spectrum_squares(p, r);
   // One plan for every check, its step counts known finite before any is counted.
   const std::vector<SubBand> plan = plan_sub_bands(p, r);
   check_plan(p, plan);

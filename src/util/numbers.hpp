@@ -17,4 +17,8 @@ std::optional<double> parse_number(const std::string& text);
 /// CLI11 would also read hexadecimal, "inf", "nan" and padded text.
 std::optional<double> parse_decimal(const std::string& text, std::string& problem);
 
+/// The smallest spectrum value [m^2 s, N^2 s] whose square a double holds with digits to
+/// spare: an error bar sums such squares, and below it would read 0.
+constexpr double kSmallestSquarableSpectrum = 1e-150;
+
 }  // namespace slidespec::util

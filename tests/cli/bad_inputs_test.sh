@@ -128,6 +128,8 @@ work-budget-zero|--work-budget|run --work-budget 0 --no-plot
 sweep-work-budget-zero|--work-budget|sweep alpha=1 --work-budget 0 --no-plot
 analyze-dt-zero|--dt|analyze rec.tsv --dt 0 --no-plot --out x
 analyze-dt-subnormal|--dt|analyze rec.tsv --dt 1e-320 --no-plot --out x
+run-spectrum-squares-underflow|whose squares|run --omega-min 1 --omega-max 10 --set alpha=1e-80 --no-plot
+run-spectrum-squares-underflow-eta0|whose squares|run --omega-min 1 --omega-max 10 --set eta0=1e100 --no-plot
 analyze-size-hexadecimal|--size|analyze rec.tsv --out x --size 0x10x5
 analyze-size-exponent|--size|analyze rec.tsv --out x --size 1e1x5
 # options that would be ignored, repeated or conflicting

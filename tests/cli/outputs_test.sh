@@ -144,7 +144,7 @@ if [ -n "${SLIDESPEC_BUILD_DIR:-}" ]; then
   "$prefix/bin/slidespec" plot "$work/small.tsv" -o "$work/installed.png" && [ -s "$work/installed.png" ] || fail "installed slidespec cannot plot"
   cat > "$prefix/share/slidespec/plot_spectra.py" << 'EOF'
 def main(argv):
-    open(argv[argv.index("-o") + 1], "w").write("stub")
+    open(next(a for a in argv if a.startswith("--out="))[len("--out="):], "w").write("stub")
     return 0
 EOF
   "$prefix/bin/slidespec" plot "$work/small.tsv" -o "$work/stub.png"
