@@ -349,7 +349,6 @@ void validate_request(const Parameters& p, const RunRequest& r) {
     throw InputError(std::string(p.F_kin == 0 ? "parameter F_kin: 0 gives" : "alpha: 0 gives") +
                      " no random force (its size is alpha F_kin), so C_x is zero at every omega and there is "
                      "nothing to simulate");
-  check_spectrum_squares(p, r);
   // One plan for every check, its step counts known finite before any is counted.
   const std::vector<SubBand> plan = plan_sub_bands(p, r);
   check_plan(p, plan);
@@ -359,7 +358,11 @@ void validate_request(const Parameters& p, const RunRequest& r) {
   const FirstRoundWork each = first_round(p, r, plan);
   const double work = each.steps + each.renewals;
   const double budget = r.work_budget > 0 ? r.work_budget : kDefaultWorkBudget;
-  if (work <= budget) return;
+  if (work <= budget) {
+    // Last: a stiff spring or a stalling block, which also shrink C_x, are named first.
+    check_spectrum_squares(p, r);
+    return;
+  }
   const std::string plans = "the run plans " + text(work) + " realization-steps";
   const std::string over = " before its first result, over the work budget of " + text(budget) +
                            (r.work_budget > 0 ? "" : " (the default: about an hour on two cores)");
