@@ -759,14 +759,20 @@ def main(argv=None):
             figure = plot_drives.render(spectra, labels, args, fine)
         else:
             figure = render(spectra, labels, args, fine)
-        save_atomically(figure, args.out, args.dpi)
     except InputError as error:
         print(f"plot_spectra: {error}", file=sys.stderr)
         return 2
     except OSError as error:
-        print(f"plot_spectra: {args.out}: cannot write: {error.strerror or error}",
+        print(f"plot_spectra: {error.filename or ''}: cannot read: {error.strerror or error}",
               file=sys.stderr)
         return 2
+    # The inputs were good: a figure that cannot be written is a failure, not bad input.
+    try:
+        save_atomically(figure, args.out, args.dpi)
+    except OSError as error:
+        print(f"plot_spectra: {args.out}: cannot write: {error.strerror or error}",
+              file=sys.stderr)
+        return 1
     return 0
 
 

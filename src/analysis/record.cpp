@@ -119,8 +119,12 @@ std::pair<double, std::string> number_and_unit(const std::string& text, const st
   const auto [stop, error] = std::from_chars(begin, end, value);
   std::string unit(stop, end);
   unit.erase(0, unit.find_first_not_of(' '));
-  if (error != std::errc() || stop == begin || !std::isfinite(value))
+  if (error != std::errc() || stop == begin || !std::isfinite(value)) {
+    std::string problem;
+    if (stop != begin && !util::parse_decimal(std::string(begin, stop), problem))
+      throw InputError(option + ": " + problem);
     throw InputError(option + ": '" + text + "' is not a number with an optional unit (e.g. " + example + ")");
+  }
   return {value, unit};
 }
 
@@ -359,6 +363,11 @@ std::string without_bracket(const std::string& name) {
     if (start != std::string::npos && start > 0 && n.back() == close) return trim(n.substr(0, start));
   }
   return n;
+}
+
+std::string hex_byte(int byte) {
+  constexpr char kDigits[] = "0123456789abcdef";
+  return {kDigits[(byte >> 4) & 0xf], kDigits[byte & 0xf]};
 }
 
 std::string column_list(const std::vector<std::string>& names) {
@@ -645,6 +654,11 @@ class RecordReader {
       if (static_cast<std::streamsize>(line.size()) == kLongestRecordLine)
         throw InputError(source_ + ": line " + std::to_string(line_number) + ": longer than " +
                          std::to_string(kLongestRecordLine) + " characters: not a record of numbers");
+      // Text records hold no control bytes but tab; a NUL is a binary file, whose bytes
+      // would otherwise be echoed back as a header of columns.
+      if (c == '\0' || (c < 0x20 && c != '\t' && c != '\f' && c != '\v'))
+        throw InputError(source_ + ": line " + std::to_string(line_number) + ": a control byte (0x" + hex_byte(c) +
+                         ") at character " + std::to_string(line.size() + 1) + ": not a text record (binary data?)");
       line.push_back(static_cast<char>(c));
     }
     bytes_ += line.size() + 1;

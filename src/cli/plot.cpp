@@ -256,7 +256,8 @@ int plot(const std::vector<std::string>& tables, const std::string& out, const s
     std::cerr << "slidespec: the plotter was killed by signal " << status - 128 << "\n";
   } else if (status != 0 && status != 2) {  // 2: plot_spectra.py refused its input and said why
     std::cerr << "slidespec: the plotter " << plotter.script << " failed (exit status " << status
-              << ") under the interpreter " << plotter.python << source << "; does it have matplotlib?\n";
+              << ") under the interpreter " << plotter.python << source
+              << "; unless it said why above, does that interpreter have matplotlib?\n";
   }
   std::error_code unreadable;
   if (status == 0 && std::filesystem::file_size(out, unreadable) == 0) {

@@ -143,10 +143,11 @@ class TheoryCommand final : public Command {
       std::replace(line.begin(), line.end(), ',', ' ');
       std::istringstream words(line);
       for (std::string word; words >> word;) {
-        const double omega = util::parse_number(word).value_or(0);
-        if (!(omega > 0))
-          throw InputError(source + (from_file ? ": line " + std::to_string(line_number) : std::string()) + ": '" +
-                           word + "' is not a positive omega in rad/s");
+        std::string problem;
+        const double omega = util::parse_decimal(word, problem).value_or(0);
+        const std::string where = source + (from_file ? ": line " + std::to_string(line_number) : std::string());
+        if (!problem.empty()) throw InputError(where + ": " + problem + ", not an omega in rad/s");
+        if (!(omega > 0)) throw InputError(where + ": '" + word + "' is not a positive omega in rad/s");
         omegas.push_back(omega);
       }
     }

@@ -506,15 +506,17 @@ Parameters ParameterBuilder::build() const {
   for (int l = 1; l <= p.levels; ++l)
     if (p.touches(l)) touching_mass += static_cast<double>(p.blocks(l)) * p.level(l).m;
   if (!(p.F_drive > p.F_kin))
-    throw InputError("parameters F_drive, F_kin: F_drive must exceed F_kin for steady sliding (got " +
-                     std::to_string(p.F_drive) + " <= " + std::to_string(p.F_kin) + ")");
+    throw InputError("parameters F_drive, F_kin: F_drive must exceed F_kin for steady sliding (got " + text(p.F_drive) +
+                     " <= " + text(p.F_kin) + ")");
   if (given("eta1"))
     p.v = (p.F_drive - p.F_kin) / (touching_mass * p.eta1);
   else
     p.eta1 = (p.F_drive - p.F_kin) / (touching_mass * p.v);
   if (!std::isfinite(p.v) || !std::isfinite(p.eta1) || !(p.v > 0) || !(p.eta1 > 0))
     throw InputError("parameters v, eta1: the derived value is not a finite positive number");
-  check_magnitude(derived == "v" ? "v (derived from eta1)" : "eta1 (derived from v)", derived == "v" ? p.v : p.eta1);
+  check_magnitude(derived == "v" ? "v (derived: (F_drive - F_kin) / (touching mass x eta1))"
+                                 : "eta1 (derived: (F_drive - F_kin) / (touching mass x v))",
+                  derived == "v" ? p.v : p.eta1);
   check_magnitude("F_drive - F_kin", p.F_drive - p.F_kin);
   check_derived(p);
   return p;

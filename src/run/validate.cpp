@@ -162,8 +162,11 @@ void check_request_fields(const RunRequest& r) {
                      std::to_string(r.threads) + ")");
   if (!(r.work_budget >= 0) || !std::isfinite(r.work_budget))
     throw InputError("{work_budget}: must be a finite positive number of realization-steps");
-  if (r.realizations > (std::uint64_t{1} << 52) || r.first_realization > (std::uint64_t{1} << 52))
+  if (r.realizations > (std::uint64_t{1} << 52))
     throw InputError("{realizations}: " + std::to_string(r.realizations) + " is not a plannable count");
+  if (r.first_realization > (std::uint64_t{1} << 52))
+    throw InputError("{realizations_range}: the first realization " + std::to_string(r.first_realization) +
+                     " is beyond the 2^52 a run can number");
 }
 
 void check_plan(const Parameters& p, const std::vector<SubBand>& plan) {

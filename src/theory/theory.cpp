@@ -77,7 +77,7 @@ std::vector<double> log_spaced_omegas(double omega_min, double omega_max, int po
                      std::to_string(points_per_decade) + ")");
   const double decades = std::log10(omega_max / omega_min);
   if (!(decades * points_per_decade < kMostPoints))
-    throw InputError("points: omega-min to omega-max at " + std::to_string(points_per_decade) +
+    throw InputError("{points}: {omega_min} to {omega_max} at " + std::to_string(points_per_decade) +
                      " per decade is more than " + std::to_string(kMostPoints) + " points");
   // Round so that 0.1..1e5 at 8 per decade gives exactly 49 points, both ends included.
   const long steps = std::lround(std::floor(decades * points_per_decade + 1e-9));

@@ -243,6 +243,16 @@ TEST(ReadRecord, RefusesEachMalformedFileNamingTheLine) {
   EXPECT_PRED2(names, refusal("t,x\n\n0,1\n"), "line 3: the only sample");
   EXPECT_PRED2(names, refusal("t,x\n"), "no data lines");
   EXPECT_PRED2(names, refusal("a,b,c\n0,1,2\n"), "line 1: no time column");
+  // A binary file is named as such, its bytes not echoed back as a header.
+  EXPECT_PRED2(names,
+               refusal(std::string("\x7f"
+                                   "ELF\x02\x01\x00\x00,x\n0,1\n",
+                                   14)),
+               "line 1: a control byte (0x02) at character 5: not a text record");
+  EXPECT_PRED2(names,
+               refusal("t,x\n0,1\n1,\x1b"
+                       "2\n"),
+               "line 3: a control byte (0x1b)");
   // A slow drift of the clock: refused with --resample off, interpolated (and said so) by default.
   std::string drifting = "t,x\n";
   for (int n = 0; n < 200; ++n) drifting += std::to_string(n * (1 + 0.0002 * n)) + ",0\n";

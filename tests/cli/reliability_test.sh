@@ -177,6 +177,16 @@ grep -q "^# measured_mean_speed = .*+- [1-9].* (from 12 blocks)" short.tsv \
   || fail "a 100-sample record's speed has no error: $(grep measured_mean_speed short.tsv)"
 expect_refused "theory of no random force" "alpha: 0 gives no random force" theory --set alpha=0 --omega 1
 expect_refused "a subnormal parameter" "below the smallest normal double" theory --set alpha=1e-310 --omega 1
+printf '1e-400\n1\n' > tiny_omega.txt
+expect_refused "a subnormal omega in a file" "tiny_omega.txt: line 1: '1e-400' is below the smallest normal double" \
+  theory --omega-file tiny_omega.txt
+expect_refused "a subnormal resolution" "--resolution: '1e-400' is below the smallest normal double" \
+  analyze rec.csv --resolution 1e-400 --out out --no-plot
+expect_refused "a part's first realization beyond 2^52" "--realizations-range: the first realization 18446744073709551608" \
+  run --omega-min 1 --omega-max 10 --realizations-range 18446744073709551608:8 --save-state far.state --out far --no-plot
+expect_refused "a derived eta1 out of range" "parameter eta1 (derived: (F_drive - F_kin) / (touching mass x v))" \
+  theory --set m=1e-100 --omega 1
+expect_refused "F_drive a hair above F_kin" "(got 5 <= 5)" theory --set F_drive=5.0000000000000001 --omega 1
 expect_refused "a window short of samples" "fewer than the 64 a spectrum needs" analyze rec.csv --window 0:0.5 \
   --out out --no-plot
 # Positions near 1e-154 m give C_x near 1e-310 m^2 s, whose squares (the error bars) no

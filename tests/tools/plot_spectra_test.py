@@ -432,6 +432,15 @@ class ErrorTest(unittest.TestCase):
                          ["plot_spectra: nothing to plot: no positive values in the omega range"])
         self.assertFalse(png.exists())
 
+    def test_a_figure_that_cannot_be_written_is_a_failure(self):
+        """Good inputs whose figure cannot be saved exit 1 (a failure), not 2 (bad input)."""
+        png = self.path / "absent_folder" / "out.png"
+        result = run_tool(self.good, "-o", png)
+        self.assertEqual(result.returncode, 1, result.stderr)
+        self.assertEqual(len(result.stderr.splitlines()), 1, result.stderr)
+        self.assertIn("cannot write", result.stderr)
+        self.assertIn(str(png), result.stderr)
+
     def test_force_without_mass(self):
         png = self.path / "out.png"
         result = run_tool(self.good, "-o", png, "--kind", "force")
