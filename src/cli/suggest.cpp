@@ -103,6 +103,13 @@ std::string unknown_argument(const CLI::App& app, int argc, const char* const* a
       if (std::find(known.begin(), known.end(), word) != known.end()) continue;
       // A model parameter typed as an option: it goes with --set where the command has one.
       const std::string key = word.substr(word.find_first_not_of('-'));
+      std::string lower_key = key;
+      for (char& c : lower_key) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      if (lower_key == "inf" || lower_key == "infinity" || lower_key == "nan") {
+        const std::string after = k > 1 && argv[k - 1][0] == '-' ? std::string(argv[k - 1]) + ": " : "";
+        return (chosen ? chosen->get_name() + ": " : std::string()) + after + "'" + argv[k] +
+               "' is not a finite number";
+      }
       const auto& keys = parameter_keys();
       if (std::find(keys.begin(), keys.end(), key) != keys.end() &&
           std::find(known.begin(), known.end(), "--set") != known.end())

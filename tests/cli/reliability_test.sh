@@ -177,6 +177,8 @@ grep -q "^# measured_mean_speed = .*+- [1-9].* (from 12 blocks)" short.tsv \
   || fail "a 100-sample record's speed has no error: $(grep measured_mean_speed short.tsv)"
 expect_refused "theory of no random force" "alpha: 0 gives no random force" theory --set alpha=0 --omega 1
 expect_refused "a subnormal parameter" "below the smallest normal double" theory --set alpha=1e-310 --omega 1
+expect_refused "-inf as an option's value" "theory: --omega-min: '-inf' is not a finite number" \
+  theory --omega-min -inf --omega-max 10
 printf '1e-400\n1\n' > tiny_omega.txt
 expect_refused "a subnormal omega in a file" "tiny_omega.txt: line 1: '1e-400' is below the smallest normal double" \
   theory --omega-file tiny_omega.txt
