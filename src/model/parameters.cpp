@@ -201,8 +201,10 @@ double parse_real(const std::string& key, const std::string& text) {
 
 int parse_count(const std::string& key, const std::string& text) {
   const double value = parse_real(key, text);
-  if (value != std::floor(value) || std::fabs(value) > 1e9)
-    throw InputError("parameter " + key + ": '" + text + "' is not a whole number");
+  if (value != std::floor(value)) throw InputError("parameter " + key + ": '" + text + "' is not a whole number");
+  // Counts beyond an int are far past every count's own range, which names the limit.
+  if (std::fabs(value) > 1e9)
+    throw InputError("parameter " + key + ": '" + text + "' is far beyond any count the model holds");
   return static_cast<int>(value);
 }
 
