@@ -306,7 +306,7 @@ record-times-1e300|1e+300 s is beyond 1e+30 s|analyze huge_t.csv --out x --no-pl
 synth-forces-can-stall|the random forces can stall the slider|synth --set alpha=100 --duration 10 --out x
 record-displacement-in-seconds|column time (s) is in s, a time unit|analyze two_clocks.csv --out x --no-plot
 analyze-dt-1e300|--dt: 1e+300 s is beyond|analyze untimed.csv --dt 1e300 --out x --no-plot
-record-nul-in-a-quoted-field|'2\x003' is not a number|analyze nul.csv --out x --no-plot
+record-nul-in-a-quoted-field|nul.csv: line 3: a control byte (0x00) at character 8: not a text record|analyze nul.csv --out x --no-plot
 synth-resolution-huge|--resolution: 1e+308 m is no less than the whole distance slid|synth --resolution 1e308
 synth-resolution-the-distance|--resolution|synth --duration 5 --resolution 2.5mm
 sweep-log-rounds-twice|gives the value 10 more than once (10, 10, 11, 11, 12): N is a whole number|sweep "N=10..12 log 5" --no-plot
