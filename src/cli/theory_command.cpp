@@ -146,7 +146,8 @@ class TheoryCommand final : public Command {
         std::string problem;
         const double omega = util::parse_decimal(word, problem).value_or(0);
         const std::string where = source + (from_file ? ": line " + std::to_string(line_number) : std::string());
-        if (!problem.empty()) throw InputError(where + ": " + problem + ", not an omega in rad/s");
+        if (problem.find("smallest normal") != std::string::npos)
+          throw InputError(where + ": " + problem + ", not an omega in rad/s");
         if (!(omega > 0)) throw InputError(where + ": '" + word + "' is not a positive omega in rad/s");
         omegas.push_back(omega);
       }

@@ -100,7 +100,11 @@ std::uint64_t run_detail::first_round_realizations(const Parameters& p, const Ru
   const double wanted = std::max(static_cast<double>(kInitialRealizations) * reach * reach,
                                  renewals > 0 ? kFirstRoundRenewals / renewals : 0.0);
   const double batches = std::ceil(std::min(wanted, static_cast<double>(kInitialRealizations)) / kBatchRealizations);
-  return std::max(kFewestFirstRound, static_cast<std::uint64_t>(batches) * kBatchRealizations);
+  const std::uint64_t first = std::max(kFewestFirstRound, static_cast<std::uint64_t>(batches) * kBatchRealizations);
+  if (!(renewals > 0) || static_cast<double>(first) * renewals >= kLeastBandRenewals) return first;
+  // Beyond any sub-band's cap, which validate_request refuses before work.
+  const double least = std::min(std::ceil(kLeastBandRenewals / renewals / kBatchRealizations), 0x1p52);
+  return static_cast<std::uint64_t>(least) * kBatchRealizations;
 }
 
 namespace {

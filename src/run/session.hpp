@@ -28,13 +28,19 @@ constexpr std::uint64_t kInitialRealizations = 64;
 constexpr std::uint64_t kFewestFirstRound = 32;
 constexpr double kFirstRoundRenewals = 32 * 15;
 constexpr double kInitialRoundReach = 0.025;
+// Above v/a a sub-band's spectrum is the energy of its renewals' jumps: where its
+// realizations together pass only a handful, most realizations hold none, the regression
+// on the forcing has nothing to work with and their scatter says nothing (a band of
+// 1e7..1e8 rad/s on the reference passed about one renewal in 64 realizations and
+// reported standard errors of exactly 0). Every sub-band's first round passes this many.
+constexpr double kLeastBandRenewals = 64;
 /// Renewals of one realization per second of steady sliding: every touching contact's v/a.
 double renewals_per_second(const Parameters& params);
 /// The first round's realizations of a sub-band of `params` under `request`.
 std::uint64_t first_round_realizations(const Parameters& params, const RunRequest& request, const SubBand& band);
 // Bump whenever a change alters any number a run produces (stepper, renewal, estimator):
 // saved states of other numerics are refused on resume and merge, which are bitwise.
-constexpr int kNumericsVersion = 8;
+constexpr int kNumericsVersion = 9;
 // A precision-driven sub-band stops growing here (see run.cpp).
 constexpr std::uint64_t kMaxRealizationsPerBand = std::uint64_t{1} << 16;
 // ... or at this many realization-steps (see run.cpp).

@@ -269,6 +269,39 @@ void check_realizations_give_segments(const RunRequest& r, const std::vector<Sub
                    (r.duration > 0 ? ", or a longer {duration}" : ""));
 }
 
+/// A sub-band whose realizations together pass fewer than kLeastBandRenewals renewals has
+/// no error bar (session.hpp): refused with the count that would pass them, or, where that
+/// count is beyond what a sub-band may spend, with the band.
+void check_band_renewals(const Parameters& p, const RunRequest& r, const std::vector<SubBand>& plan) {
+  if (r.part) return;
+  for (const SubBand& band : plan) {
+    const double each = renewals_per_second(p) * band.duration;
+    const double realizations = static_cast<double>(first_round_realizations(p, r, band));
+    const double least = std::ceil(kLeastBandRenewals / each);
+    const std::string where = "sub-band " + text(band.omega_low) + ".." + text(band.omega_high) +
+                              " rad/s: its realizations of " + text(band.duration) + " s each pass about " +
+                              text(each) + " renewals (v/a per touching block)";
+    if (r.realizations > 0) {
+      if (realizations * each >= kLeastBandRenewals) continue;
+      throw InputError("{realizations} " + std::to_string(r.realizations) + ": " + where + ", " +
+                       text(realizations * each) + " in all, fewer than the " + text(kLeastBandRenewals) +
+                       " a sub-band's error bars need; give {realizations} " + text(least) +
+                       " or more, or lower {omega_max}");
+    }
+    // Where the rule raises no count, the work checks below name what drives the work.
+    if (least <= static_cast<double>(kInitialRealizations)) continue;
+    const double steps =
+        std::ceil(band.duration / band.dt) + (band.warm_up > 0 ? std::ceil(band.warm_up / band.warm_up_dt) : 0.0);
+    if (realizations <= static_cast<double>(kMaxRealizationsPerBand) && realizations * steps <= kMaxStepsPerBand)
+      continue;
+    throw InputError("{omega_max}: " + where + "; the " + text(kLeastBandRenewals) +
+                     " renewals its error bars need take " + text(realizations) + " realizations (" +
+                     text(realizations * steps) + " realization-steps), beyond the " +
+                     std::to_string(kMaxRealizationsPerBand) + " realizations or " + text(kMaxStepsPerBand) +
+                     " realization-steps a sub-band may spend; lower {omega_max}");
+  }
+}
+
 /// Why a block near the stall passes far more renewals than its plan foresaw, over the
 /// realizations of `band`: the start of a refusal.
 std::string coasting(const Parameters& p, const SubBand& band) {
@@ -358,6 +391,7 @@ void validate_request(const Parameters& p, const RunRequest& r) {
   check_duration_not_raised(r, plan);
   check_realizations_give_segments(r, plan);
   check_coasting_band_can_finish(p, r, plan);
+  check_band_renewals(p, r, plan);
   const FirstRoundWork each = first_round(p, r, plan);
   const double work = each.steps + each.renewals;
   const double budget = r.work_budget > 0 ? r.work_budget : kDefaultWorkBudget;

@@ -32,16 +32,22 @@ printf 't,x\n0,1\n0.001,1e158\n0.002,3\n' > "$work/huge.csv"
 expect_refused huge-values "line 3: 1e+158 m is beyond 1e+30 m" analyze "$work/huge.csv" $out
 # Endless streams end, with a message: a stream without newlines at its first long line,
 # from a pipe and from a named pipe (a stream of lines ends at the 1 GiB record cap).
-timeout 60 bash -c "cat /dev/zero | '$bin' analyze - --out '$work/endless'" 2> "$work/stream.err"
+timeout 60 bash -c "yes 1 | tr -d '\n' | '$bin' analyze - --out '$work/endless'" 2> "$work/stream.err"
 status=$?
-[ $status -eq 2 ] || fail "analyze of /dev/zero through a pipe exited $status, expected 2"
+[ $status -eq 2 ] || fail "analyze of an endless line through a pipe exited $status, expected 2"
 grep -q "line 1: longer than 65536 characters" "$work/stream.err" || fail "no cap named: $(cat "$work/stream.err")"
 mkfifo "$work/fifo"
-( cat /dev/zero > "$work/fifo" 2> /dev/null & )
+( yes 1 | tr -d '\n' > "$work/fifo" 2> /dev/null & )
 timeout 60 "$bin" analyze "$work/fifo" --out "$work/endless" 2> "$work/stream.err"
 status=$?
 [ $status -eq 2 ] || fail "analyze of an endless named pipe exited $status, expected 2"
 grep -q "longer than 65536 characters" "$work/stream.err" || fail "no cap named: $(cat "$work/stream.err")"
+# A binary stream ends at its first byte that no text holds.
+timeout 60 bash -c "cat /dev/zero | '$bin' analyze - --out '$work/endless'" 2> "$work/stream.err"
+status=$?
+[ $status -eq 2 ] || fail "analyze of /dev/zero through a pipe exited $status, expected 2"
+grep -q "stdin: line 1: a control byte (0x00) at character 1: not a text record" "$work/stream.err" \
+  || fail "/dev/zero not named binary: $(cat "$work/stream.err")"
 ls "$work" | grep -q "^endless\." && fail "a refused endless read wrote outputs"
 expect_refused bad-units furlong analyze "$work/rec.csv" --units furlong $out
 expect_refused fit-beta "not a model parameter a fit can vary" analyze "$work/rec.csv" --fit beta --compare-case reference $out

@@ -188,6 +188,12 @@ expect_refused "a part's first realization beyond 2^52" "--realizations-range: t
   run --omega-min 1 --omega-max 10 --realizations-range 18446744073709551608:8 --save-state far.state --out far --no-plot
 expect_refused "a derived eta1 out of range" "parameter eta1 (derived: (F_drive - F_kin) / (touching mass x v))" \
   theory --set m=1e-100 --omega 1
+# A band whose realizations pass too few renewals for an error bar (there its points held
+# standard errors of exactly 0): refused, naming the count or the band that would do.
+expect_refused "a fixed count passing 9 renewals" "--realizations 64: sub-band 1e+06..1e+07 rad/s: .* give --realizations 435 or more" \
+  run --omega-min 1e6 --omega-max 1e7 --realizations 64 --out out --no-plot
+expect_refused "a band whose renewals cannot be passed" "--omega-max: sub-band 1e+08..1e+09 rad/s: .* 64 renewals its error bars need" \
+  run --omega-min 1e8 --omega-max 1e9 --precision 0.1 --out out --no-plot
 expect_refused "F_drive a hair above F_kin" "(got 5 <= 5)" theory --set F_drive=5.0000000000000001 --omega 1
 expect_refused "a window short of samples" "fewer than the 64 a spectrum needs" analyze rec.csv --window 0:0.5 \
   --out out --no-plot
