@@ -242,6 +242,12 @@ void check_files(const Files& files) {
     if (fs::is_directory(prefix.path, error))
       throw InputError(prefix.option + " " + prefix.path + ": is a directory; give a prefix such as " + prefix.path +
                        "/spectrum");
+  for (std::size_t k = 0; k < files.outputs.size(); ++k)
+    for (std::size_t j = 0; j < k; ++j)
+      if (same_file(files.outputs[k].path, files.outputs[j].path))
+        throw InputError(files.outputs[k].option + ": the output " + files.outputs[k].path + " is also " +
+                         files.outputs[j].option + "'s output " + files.outputs[j].path +
+                         ": one would replace the other; choose another name");
   for (const File& out : files.outputs)
     for (const File& in : files.inputs)
       if (in.path != "-" && same_file(out.path, in.path))

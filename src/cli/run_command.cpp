@@ -79,7 +79,8 @@ class RunCommand final : public Command {
     const std::string out = out_prefix();
     files.outputs_of(out, "--out", {".tsv", ".json", "." + options_.figure.format});
     // A resumed run saves its progress over the state it continues: that is its purpose.
-    if (resume.empty() || out != resume) files.output(out + ".state", "--out");
+    const bool own_state = given("--save-state") && options_.save_state == out + ".state";
+    if ((resume.empty() || out != resume) && !own_state) files.output(out + ".state", "--out");
     // Resuming a part whose --save-state was its PREFIX.state names that state twice.
     if (given("--save-state") && (resume.empty() || options_.save_state != resume + ".state"))
       files.output(options_.save_state, "--save-state");

@@ -188,6 +188,8 @@ expect_refused "a part's first realization beyond 2^52" "--realizations-range: t
   run --omega-min 1 --omega-max 10 --realizations-range 18446744073709551608:8 --save-state far.state --out far --no-plot
 expect_refused "a derived eta1 out of range" "parameter eta1 (derived: (F_drive - F_kin) / (touching mass x v))" \
   theory --set m=1e-100 --omega 1
+expect_refused "--save-state naming the run's own table" "--save-state: the output pe.tsv is also --out's output pe.tsv" \
+  run --omega-min 1 --omega-max 100 --realizations-range 0:8 --save-state pe.tsv --out pe --no-plot
 # A band whose realizations pass too few renewals for an error bar (there its points held
 # standard errors of exactly 0): refused, naming the count or the band that would do.
 expect_refused "a fixed count passing 9 renewals" "--realizations 64: sub-band 1e+06..1e+07 rad/s: .* give --realizations 435 or more" \
