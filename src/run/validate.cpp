@@ -110,11 +110,12 @@ void check_step(const Parameters& p, const SubBand& band) {
   const std::string sub_band = "sub-band " + text(band.omega_low) + ".." + text(band.omega_high) + " rad/s";
   if (std::isnormal(band.dt) && band.dt >= finest) {
     const double factor = coarsest_band_reach / (band.omega_low * band.dt);
-    throw InputError("parameter v: " + text(p.v) + " m/s renews the forces every a/v = " + text(renewal_time) +
-                     " s, and the time step " + text(band.dt) +
-                     " s that resolves that puts pi/dt more than 60 "
-                     "octaves above " +
-                     sub_band + ", beyond the estimator's reach; give v at most " + text(p.v / factor) +
+    throw InputError("{omega_min}: " + sub_band +
+                     " lies more than 60 octaves below pi/dt, beyond the estimator's "
+                     "reach, for the time step " +
+                     text(band.dt) + " s that resolves the renewals (every a/v = " + text(renewal_time) +
+                     " s at v = " + text(p.v) + " m/s); raise the sub-band to at least " +
+                     text(band.omega_low * factor) + " rad/s, or give v at most " + text(p.v / factor) +
                      " m/s (or a at least " + text(p.a * factor) + " m)");
   }
   const std::string why = " is below " + text(kFinestStepOfRenewalTime) +

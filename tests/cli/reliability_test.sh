@@ -190,6 +190,8 @@ expect_refused "a derived eta1 out of range" "parameter eta1 (derived: (F_drive 
   theory --set m=1e-100 --omega 1
 expect_refused "--save-state naming the run's own table" "--save-state: the output pe.tsv is also --out's output pe.tsv" \
   run --omega-min 1 --omega-max 100 --realizations-range 0:8 --save-state pe.tsv --out pe --no-plot
+expect_refused "a band far below v/a" "--omega-min: sub-band 1e-30..1e-29 rad/s lies more than 60 octaves below pi/dt" \
+  run --omega-min 1e-30 --omega-max 1e-29 --out out --no-plot
 # A band whose realizations pass too few renewals for an error bar (there its points held
 # standard errors of exactly 0): refused, naming the count or the band that would do.
 expect_refused "a fixed count passing 9 renewals" "--realizations 64: sub-band 1e+06..1e+07 rad/s: .* give --realizations 435 or more" \
