@@ -35,6 +35,7 @@ constexpr double kMostSteps = 1e15;
 // A time step below this fraction of the renewal time a/v moves the block by less than
 // the rounding of its position: the stepped process would no longer be the model's.
 constexpr double kFinestStepOfRenewalTime = 1e-12;
+constexpr double kFastestPlausibleRenewal = 1e-9;  // [s]
 
 std::string text(double x) {
   std::ostringstream out;
@@ -110,6 +111,12 @@ void check_step(const Parameters& p, const SubBand& band) {
   const std::string sub_band = "sub-band " + text(band.omega_low) + ".." + text(band.omega_high) + " rad/s";
   if (std::isnormal(band.dt) && band.dt >= finest) {
     const double factor = coarsest_band_reach / (band.omega_low * band.dt);
+    // Renewals faster than a nanosecond are the parameters' doing; slower ones, the band's.
+    if (renewal_time < kFastestPlausibleRenewal)
+      throw InputError("parameter v: " + text(p.v) + " m/s renews the forces every a/v = " + text(renewal_time) +
+                       " s, and the time step " + text(band.dt) + " s that resolves that puts pi/dt more than 60 " +
+                       "octaves above " + sub_band + ", beyond the estimator's reach; give v at most " +
+                       text(p.v / factor) + " m/s (or a at least " + text(p.a * factor) + " m)");
     throw InputError("{omega_min}: " + sub_band +
                      " lies more than 60 octaves below pi/dt, beyond the estimator's "
                      "reach, for the time step " +
