@@ -102,6 +102,19 @@ TEST(Theory, ChainSpringsDoNotReachTheBlock) {
   for (size_t k = 0; k < omegas.size(); ++k) EXPECT_NEAR(stiff[k] / base[k], 1.0, 1e-8);
 }
 
+TEST(Theory, ChainSpringsUpToTheStiffestAllowedStillDoNotReachTheBlock) {
+  // The solve in doubles lost digits with the stiffness contrast (4e-6 at k1 = 1e12 k0,
+  // a failed lumping at 1e15 k0, a wrong C_x beyond): the contrast allowed keeps 1e-8.
+  const auto omegas = log_spaced_omegas(0.1, 1e7, 8);
+  const auto base = exact_spectrum(ParameterBuilder().build(), omegas);
+  for (const char* chain : {"chain=open", "chain=ring"}) {
+    const auto stiffest = exact_spectrum(ParameterBuilder().set("k1=1e13").set(chain).build(), omegas);
+    for (size_t k = 0; k < omegas.size(); ++k) EXPECT_NEAR(stiffest[k] / base[k], 1.0, 1e-8) << chain << omegas[k];
+  }
+  for (const char* beyond : {"k1=1.01e13", "k1=1e19", "k1=1e30"})
+    EXPECT_THROW(ParameterBuilder().set(beyond).build(), InputError) << beyond;
+}
+
 TEST(Theory, StaysFastForAThousandMiniblocks) {
   // Not a timing assertion: the structured solve must simply complete for large N.
   const Parameters p = ParameterBuilder().set("N=1000").build();
