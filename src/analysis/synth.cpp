@@ -211,6 +211,12 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
             << "well below it";
     throw InputError(message.str());
   }
+  if (sensor.sensor_noise >= slid) {
+    std::ostringstream message;
+    message << "{sensor_noise}: " << sensor.sensor_noise << " m is no less than the whole distance slid, " << slid
+            << " m: the record would be the noise, no spectrum of the slider; give a noise well below it";
+    throw InputError(message.str());
+  }
   const double samples = starts.size() == program.size() + 1 ? double(starts.back()) + 1 : kMaxSamples + 1;
   if (samples < 2 || samples > kMaxSamples) {
     std::ostringstream message;

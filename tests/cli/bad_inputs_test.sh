@@ -332,6 +332,7 @@ analyze-no-record|analyze: no file given; give a record to analyze|analyze
 sweep-no-values-at-all|sweep: no values given|sweep
 not-expected|theory: '2' was not expected|theory --omega-min 1 2
 not-a-whole-number|--order: '1.5' is not a whole number|theory --order 1.5
+synth-noise-beyond-the-slide|--sensor-noise: 1e+300 m is no less than the whole distance slid|synth --sensor-noise 1e300 --duration 10 --out out
 chain-beyond-the-theory|parameter k1: 1e+19 N/m is 1e+15 times k0, beyond the 1e+09|theory --set k1=1e19 --omega 1
 count-beyond-any|parameter N: '1180591620717411303424' is far beyond any count|theory --set N=1180591620717411303424 --omega 1
 not-a-number|--omega-min: 'abc' is not a number|run --omega-min abc --no-plot
