@@ -46,7 +46,11 @@ std::string tools_directory() {
 class ScratchDirectory {
  public:
   ScratchDirectory() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "slidespec-plot-XXXXXX").string();
+    // A TMPDIR that is no directory must not fail a figure after the work: /tmp serves.
+    std::error_code unusable;
+    std::filesystem::path root = std::filesystem::temp_directory_path(unusable);
+    if (unusable) root = "/tmp";
+    std::string pattern = (root / "slidespec-plot-XXXXXX").string();
     if (mkdtemp(pattern.data()) == nullptr) return;
     path_ = pattern;
     io::remove_on_signals(path_);

@@ -223,10 +223,13 @@ void parse(const std::string& key, const std::string& text, double& value) { val
 void parse(const std::string& key, const std::string& text, int& value) { value = parse_count(key, text); }
 void parse(const std::string& key, const std::string& text, LevelList& levels) {
   levels.clear();
+  if (trim(text).empty() || trim(text).back() == ',')
+    throw InputError("parameter " + key + ": '" + text + "' is not a list of levels (e.g. 1,2)");
   std::stringstream list(text);
   for (std::string item; std::getline(list, item, ',');) levels.push_back(parse_count(key, item));
   std::sort(levels.begin(), levels.end());
-  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  if (std::adjacent_find(levels.begin(), levels.end()) != levels.end())
+    throw InputError("parameter " + key + ": '" + text + "' names a level twice");
 }
 template <class Word>  // the word types of parameters.def
 void parse(const std::string& key, const std::string& text, Word& value) {
@@ -465,13 +468,13 @@ constexpr double kStiffestChainContrast = 1e9;
 constexpr double kStickiestDampingContrast = 1e6;
 
 void check_contrast(const std::string& key, double value, const std::string& other, double other_value, double most,
-                    const std::string& unit) {
+                    const std::string& unit, const std::string& other_note = "") {
   if (!(value > most * other_value)) return;
   throw InputError("parameter " + key + ": " + bound(value) + " " + unit + " is " + bound(value / other_value) +
                    " times " + other + ", beyond the " + bound(most) +
                    " the exact theory resolves (and far past where raising it changes C_x): give " + key + " at most " +
                    bound(most * other_value) + " " + unit + ", or " + other + " at least " + bound(value / most) + " " +
-                   unit);
+                   unit + other_note);
 }
 
 /// Every derived rate and landmark a run or the theory uses must be a normal number.
@@ -494,7 +497,10 @@ void check_derived(const Parameters& p) {
     normal("k1 / m", b.k1 / b.m, true);
     const std::string suffix = level == 1 ? "" : level_suffix(level);
     check_contrast("k1" + suffix, b.k1, "k0" + suffix, b.k0, kStiffestChainContrast, "N/m");
-    if (p.touches(level)) check_contrast("eta0" + suffix, b.eta0, "eta1", p.eta1, kStickiestDampingContrast, "1/s");
+    if (p.touches(level))
+      check_contrast("eta0" + suffix, b.eta0, "eta1", p.eta1, kStickiestDampingContrast, "1/s",
+                     " (eta1 = (F_drive - F_kin) / (touching mass x v): v at most " +
+                         bound(p.v * p.eta1 * kStickiestDampingContrast / b.eta0) + " m/s)");
     normal("random force variance", p.random_force_variance(level), true);
   }
 }

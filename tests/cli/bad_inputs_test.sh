@@ -129,7 +129,7 @@ sweep-work-budget-zero|--work-budget|sweep alpha=1 --work-budget 0 --no-plot
 analyze-dt-zero|--dt|analyze rec.tsv --dt 0 --no-plot --out x
 analyze-dt-subnormal|--dt|analyze rec.tsv --dt 1e-320 --no-plot --out x
 run-spectrum-squares-underflow|whose squares|run --omega-min 1 --omega-max 10 --set alpha=1e-80 --no-plot
-run-spectrum-squares-underflow-eta0|whose squares|run --omega-min 1 --omega-max 10 --set eta0=1e100 --no-plot
+run-spectrum-squares-underflow-mass|whose squares|run --omega-min 1 --omega-max 10 --set M=1e100 --no-plot
 analyze-size-hexadecimal|--size|analyze rec.tsv --out x --size 0x10x5
 analyze-size-exponent|--size|analyze rec.tsv --out x --size 1e1x5
 # options that would be ignored, repeated or conflicting
@@ -333,6 +333,9 @@ sweep-no-values-at-all|sweep: no values given|sweep
 not-expected|theory: '2' was not expected|theory --omega-min 1 2
 not-a-whole-number|--order: '1.5' is not a whole number|theory --order 1.5
 synth-noise-beyond-the-slide|--sensor-noise: 1e+300 m is no less than the whole distance slid|synth --sensor-noise 1e300 --duration 10 --out out
+touching-empty|parameter touching: '' is not a list of levels|theory --case hierarchical --set touching= --omega 1
+touching-trailing-comma|parameter touching: '1,' is not a list of levels|theory --case hierarchical --set touching=1, --omega 1
+touching-twice|parameter touching: '1,1' names a level twice|theory --case hierarchical --set touching=1,1 --omega 1
 chain-beyond-the-theory|parameter k1: 1e+19 N/m is 1e+15 times k0, beyond the 1e+09|theory --set k1=1e19 --omega 1
 count-beyond-any|parameter N: '1180591620717411303424' is far beyond any count|theory --set N=1180591620717411303424 --omega 1
 not-a-number|--omega-min: 'abc' is not a number|run --omega-min abc --no-plot
@@ -347,7 +350,7 @@ resume-another-case|a resumed run takes its case and parameters from its state|r
 resume-state-file-another-case|part.state holds a run of case 'reference'|run --resume part.state --case fast --no-plot
 N-beyond-memory|parameter N: the tree would have 1000000000 blocks|run --set N=1e9 --no-plot
 a-renewal-time-beyond-the-step|parameter a: 1e+90 m makes the renewal time a/v = 2e+93 s|run --set a=1e90 --omega-min 1 --omega-max 100 --no-plot
-v-step-beyond-the-estimator|parameter v: 1e+90 m/s renews the forces|run --set v=1e90 --omega-min 1 --omega-max 100 --no-plot
+v-beyond-the-theory|eta1 = (F_drive - F_kin) / (touching mass x v): v at most 2.08333e+06 m/s|run --set v=1e90 --omega-min 1 --omega-max 100 --no-plot
 # values that would read as "not given" and be ignored
 params-key-beside-its-block|alpha is given outside its "parameters" block|theory --params outer.json
 synth-params-key-beside-its-block|alpha is given outside its "parameters" block|synth --params outer.json
