@@ -177,6 +177,10 @@ grep -q "^# measured_mean_speed = .*+- [1-9].* (from 12 blocks)" short.tsv \
   || fail "a 100-sample record's speed has no error: $(grep measured_mean_speed short.tsv)"
 expect_refused "theory of no random force" "alpha: 0 gives no random force" theory --set alpha=0 --omega 1
 expect_refused "a subnormal parameter" "below the smallest normal double" theory --set alpha=1e-310 --omega 1
+# A TMPDIR that is no directory does not fail the figure after the work.
+TMPDIR=/nonexistent/tmp "$bin" analyze rec.csv --out tmpdir --quiet 2> err \
+  || fail "analyze with TMPDIR=/nonexistent/tmp: $(cat err)"
+[ -s tmpdir.png ] || fail "analyze with TMPDIR=/nonexistent/tmp drew no figure"
 expect_refused "-inf as an option's value" "theory: --omega-min: '-inf' is not a finite number" \
   theory --omega-min -inf --omega-max 10
 printf '1e-400\n1\n' > tiny_omega.txt
