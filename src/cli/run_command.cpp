@@ -87,6 +87,9 @@ class RunCommand final : public Command {
     // A state is an output like the others: F.state is locked as the prefix F, so that no
     // two commands write it at once, nor a part's --save-state the state of a run --out F.
     if (given("--save-state")) files.prefixes.push_back({state_prefix(options_.save_state), "--save-state"});
+    // The state resumed is this run's until it ends: a second command resuming it too
+    // would spend the work twice and remove it under the first.
+    if (!resume.empty() && out != resume) files.prefixes.push_back({resume, "--resume"});
     return files;
   }
 
@@ -198,6 +201,8 @@ class RunCommand final : public Command {
     if (given("--save-state") && options.save_state != options.resume + ".state" &&
         options.save_state != options.out + ".state")
       refuse_state_of_another_run(options.save_state, &session);
+    // Continued under another prefix, the run saves its state there: never over another's.
+    if (options.out != options.resume) refuse_state_left_at(options.out, "--out");
     session.set_execution(options.request.threads, options.request.simd);
     catch_stop_signals();
     return exit_status(run_and_write(context_, session, options, options.out));

@@ -90,9 +90,21 @@ if command -v flock > /dev/null; then
   sleep 0.2
   expect_refused "two writers of one --save-state" "another slidespec is writing" \
     run $band --realizations-range 0:8 --save-state held.state --out pd --no-plot
+  # The state a run resumes is held as its own: a second resume of it under another --out
+  # would spend the work twice and remove the state under the first.
+  cp s.copy held.state
+  expect_refused "a second resume of a state being resumed" "another slidespec is writing" \
+    run --resume held --out pe2 --no-plot
+  rm -f held.state
   kill "$holder"
   wait "$holder" 2> /dev/null
 fi
+
+# A run continued under another prefix never replaces the state there (another run's).
+cp s.copy other.state
+expect_refused "a resume onto another run's PREFIX.state" "--out: other.state holds a finished part" \
+  run --resume pa --out other --no-plot
+cmp -s other.state s.copy || fail "a resume under another prefix replaced that prefix's state"
 
 # --- A sweep interrupted in its last run is interrupted (130), as in an earlier one.
 # Each run takes a second or more: the interrupt lands 0.3 s into the second.
