@@ -1,8 +1,10 @@
 // `slidespec paper`: the runs of one of the paper's figures (and the drives figure), and
 // the figure; fig6 analyzes a record instead (cli/analyze_command.cpp).
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -108,10 +110,12 @@ class PaperCommand final : public Command {
     io::check_output_prefix(directory_ + "/" + figure_);
     std::vector<Parameters> params;
     std::vector<double> work;
+    std::vector<std::optional<RunSession>> continued;
     for (const PaperRun& run : cases) {
       params.push_back(build_case(run.case_name, run.changes));
       validate_request(params.back(), options.request);
       work.push_back(planned_work(params.back(), options.request));
+      continued.push_back(state_left(directory_ + "/" + figure_ + "_" + run.name, params.back(), options.request));
     }
     catch_stop_signals();
     const bool writes = context_.writes_outputs();
@@ -124,7 +128,9 @@ class PaperCommand final : public Command {
     for (std::size_t k = 0; k < params.size(); ++k) {
       const std::string out = directory_ + "/" + figure_ + "_" + cases[k].name;
       singles[k].no_plot = true;
-      RunSession session(params[k], singles[k].request, cases[k].case_name);
+      RunSession session =
+          continued[k] ? std::move(*continued[k]) : RunSession(params[k], singles[k].request, cases[k].case_name);
+      session.set_execution(singles[k].request.threads, singles[k].request.simd);
       const RunOutcome outcome = run_and_write(context_, session, singles[k], out);
       tables.push_back(out + ".tsv");
       written = written && outcome.written;
@@ -145,6 +151,23 @@ class PaperCommand final : public Command {
   }
 
  private:
+  /// The run an interrupted `paper` left in PREFIX.state, continued where it is this run;
+  /// another run's state is refused before any work rather than replaced.
+  static std::optional<RunSession> state_left(const std::string& prefix, const Parameters& p,
+                                              const RunRequest& request) {
+    const std::string path = prefix + ".state";
+    if (std::error_code ignored; !std::filesystem::exists(path, ignored)) return std::nullopt;
+    std::string differs = "not a run state";
+    try {
+      RunSession left = RunSession::load(io::read_file(path, "--out-dir"));
+      differs = left.difference(p, request);
+      if (differs.empty()) return left;
+    } catch (const InputError&) {
+    }
+    throw InputError("--out-dir: " + path + " holds another run (" + differs +
+                     "); continue it with slidespec run --resume " + prefix + ", or remove it");
+  }
+
   using Figures = std::vector<std::pair<std::string, std::vector<PaperRun>>>;
   Figures::const_iterator found() const {
     const auto& figures = paper_figures();

@@ -100,6 +100,32 @@ if command -v flock > /dev/null; then
   wait "$holder" 2> /dev/null
 fi
 
+# An interrupted `paper` continues where it stopped when given again, bitwise; given with
+# other options it refuses to replace the state it told the user to resume.
+if [ "${SLIDESPEC_TEST_SAMPLE:-1}" -le 1 ]; then
+  mkdir -p paper_cut paper_whole
+  "$bin" paper fig2 --precision 0.01 --out-dir paper_whole --quiet || fail "paper fig2 at 1%"
+  start_in_background paper fig2 --precision 0.01 --out-dir paper_cut --quiet
+  for _ in $(seq 400); do [ -e paper_cut/fig2_reference.json ] && break; sleep 0.05; done
+  sleep 0.3
+  kill -INT $pid
+  wait $pid
+  [ $? -eq 130 ] || fail "paper interrupted: exit status, expected 130"
+  left=$(ls paper_cut/*.state 2> /dev/null | head -1)
+  if [ -n "$left" ]; then
+    cp "$left" left.copy
+    expect_refused "paper again with another precision" "--out-dir: $left holds another run (precision" \
+      paper fig2 --precision 0.05 --out-dir paper_cut
+    cmp -s "$left" left.copy || fail "paper with other options replaced $left"
+    "$bin" paper fig2 --precision 0.01 --out-dir paper_cut --quiet || fail "paper continued"
+    for table in paper_whole/*.tsv; do
+      cmp -s "$table" "paper_cut/${table#paper_whole/}" || fail "paper continued: ${table#paper_whole/} differs"
+    done
+  else
+    fail "paper interrupted left no state"
+  fi
+fi
+
 # A run continued under another prefix never replaces the state there (another run's).
 cp s.copy other.state
 expect_refused "a resume onto another run's PREFIX.state" "--out: other.state holds a finished part" \
