@@ -86,6 +86,9 @@ def _read_table(text, path):
         else:
             data[key] = _number(value)
     rows = [dict(zip(table.names, row)) for row in table.rows]
+    if "rows" in data and len(rows) != data.pop("rows"):
+        raise ValueError(f"{path}: {len(rows)} point rows where its header counts {int(table.values['rows'])}: "
+                         "the table was cut short or edited")
     if parameters:
         data["parameters"] = parameters
     if landmarks:
@@ -108,14 +111,15 @@ def _read_table(text, path):
 _MOST_TABLE_BYTES = 1 << 30
 
 
-_SWEEP_RUN = _re.compile(r"^# run_\d+ = .*  # (.+)$")
+_SWEEP_RUN = _re.compile(r"^# run_\d+ = (.*)  # (.+)$")
 
 
 def _sweep_runs(text, path):
-    """The files of a sweep's runs, beside the sweep's own table; None for any other file."""
+    """The files of a sweep's runs, beside the sweep's own table, each with the label the
+    sweep gives its run; None for any other file."""
     directory = _os.path.dirname(_os.fspath(path))
     if text.startswith("# slidespec ") and " sweep: " in text.split("\n", 1)[0]:
-        return [_os.path.join(directory, m.group(1)) for line in text.splitlines()
+        return [(_os.path.join(directory, m.group(2)), m.group(1)) for line in text.splitlines()
                 if (m := _SWEEP_RUN.match(line))]
     if text.lstrip().startswith("{"):
         try:
@@ -123,8 +127,17 @@ def _sweep_runs(text, path):
         except _json.JSONDecodeError:
             return None
         if isinstance(data, dict) and "runs" in data and "points" not in data:
-            return [_os.path.join(directory, run["table"]) for run in data["runs"]]
+            return [(_os.path.join(directory, run["table"]), run.get("label")) for run in data["runs"]]
     return None
+
+
+def _sweep_member(sweep, index, path, label):
+    """Run `index` of a sweep, read from its own file, which must still hold that run."""
+    result = read(path)
+    if label is not None and result.label != label:
+        raise ValueError(f"{sweep}: run_{index} is '{label}', but {path} holds '{result.label}': "
+                         "the sweep's files no longer agree")
+    return result
 
 
 def read(path):
@@ -153,7 +166,7 @@ def read(path):
     except UnicodeDecodeError as e:
         raise ValueError(f"{path}: not UTF-8 text ({e.reason} at byte {e.start}): not a slidespec table") from None
     if runs := _sweep_runs(text, path):
-        return [read(run) for run in runs]
+        return [_sweep_member(path, k, run, label) for k, (run, label) in enumerate(runs)]
     if text.lstrip().startswith("{"):
         try:
             data = _json.loads(text)

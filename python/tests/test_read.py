@@ -69,3 +69,29 @@ def test_parameters_and_landmarks_are_numbers_under_the_jsons_keys(run):
         a, b = getattr(table, column), getattr(exact, column)
         assert (a == b) if isinstance(a, list) else a.tobytes() == b.tobytes(), column
     assert math.isnan(table.theory2[0]) == spring
+
+
+def test_a_table_cut_short_is_refused(tmp_path):
+    """A run's table whose last rows are gone (a copy cut short) is not a shorter result."""
+    out = tmp_path / "whole"
+    done = subprocess.run([CLI, "run", "--omega-min", "1", "--omega-max", "100", "--precision", "0.2",
+                           "--out", str(out), "--no-plot", "--quiet"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    lines = (tmp_path / "whole.tsv").read_text().splitlines(keepends=True)
+    (tmp_path / "cut.tsv").write_text("".join(lines[:-5]))
+    with pytest.raises(ValueError, match=r"12 point rows where its header counts 17: the table was cut short"):
+        ss.read(tmp_path / "cut.tsv")
+
+
+def test_a_sweep_whose_run_files_were_swapped_is_refused(tmp_path):
+    """A sweep's combined table names each run: a run file replaced by another run's is found."""
+    out = tmp_path / "sw"
+    done = subprocess.run([CLI, "sweep", "alpha=1,0.6", "--omega-min", "1", "--omega-max", "10", "--precision",
+                           "0.2", "--out", str(out), "--no-plot", "--quiet"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert [r.label for r in ss.read(f"{out}.tsv")] == ["reference", "reference + alpha=0.6"]
+    (tmp_path / "sw_alpha=1.tsv").write_bytes((tmp_path / "sw_alpha=0.6.tsv").read_bytes())
+    for combined in ("sw.tsv", "sw.json"):
+        with pytest.raises(ValueError, match=r"run_0 is 'reference', but .*sw_alpha=1.tsv holds 'reference \+ "
+                                             r"alpha=0.6': the sweep's files no longer agree"):
+            ss.read(tmp_path / combined)

@@ -208,6 +208,7 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
                                    : "target " + util::format_number(request.precision))
       << ")\n"
       << "# complete = " << (result.complete ? "true" : "false") << "\n"
+      << "# rows = " << result.points.size() << "  # the point rows below, to tell a table cut short\n"
       << "# stationary = " << (result.stationary ? "true" : "false  # " + worded(result.stationarity, reader)) << "\n"
       << "# versions = " << versions() << "\n";
   for (std::size_t b = 0; b < result.sub_bands.size(); ++b) {
