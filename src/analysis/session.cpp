@@ -18,6 +18,8 @@ using Kind = AnalysisMessage::Kind;
 
 // A window more than this share of which the whole record calls a hold is a hold.
 constexpr double kMostHoldShare = 0.5;
+// A mean speed within this many standard errors of 0 is no sliding (a 3-sigma departure).
+constexpr double kStillSpeedErrors = 3;
 
 bool fits_model(const std::string& fit) { return !fit.empty() && fit != "alpha" && fit != "power-law"; }
 
@@ -288,6 +290,15 @@ AnalysisReport analyze(Record record, const AnalysisPlan& plan) {
                                      short_number(100 * r.record.window_hold_share) +
                                      "% of it; the whole record's segments, " + named(Option::segments) +
                                      "): the record does not slide there, so its spectrum is no sliding noise"};
+  // A record whose mean speed is 0 within its error does not slide at all: its spectrum
+  // is the sensor's noise at rest (a record of white noise read as "sliding" at 2e-10 m/s).
+  const SlidingFit& sliding = r.spectrum.sliding;
+  if (!strokes && r.spectrum.observable != Observable::force && r.spectrum_verdict.ok && sliding.v_error > 0 &&
+      std::abs(sliding.v) < kStillSpeedErrors * sliding.v_error)
+    r.spectrum_verdict = {false, "the record does not slide: its mean speed " + short_number(sliding.v) + " +- " +
+                                     short_number(sliding.v_error) + " m/s is 0 within " +
+                                     short_number(kStillSpeedErrors) +
+                                     " standard errors, so its spectrum is no sliding noise"};
   hear_stop(plan.request.stop);
   fit_power_and_slope(plan, r);
   if (!plan.compare_case.empty()) compare_model(plan, r, steps);

@@ -255,6 +255,12 @@ for interval in 1e-300 1e-9 100; do
     --out out --no-plot
 done
 
+# A record that does not move (white noise about a fixed point) is no sliding: exit 3.
+awk 'BEGIN { print "t,x (um)"; srand(5); for (k = 0; k < 20000; ++k) printf "%g,%.6f\n", k * 0.001, rand() - 0.5 }' > still.csv
+"$bin" analyze still.csv --out still --no-plot --quiet 2> err
+status=$?
+[ $status -eq 3 ] && grep -q "the record does not slide: its mean speed .* is 0 within 3 standard errors" err \
+  || fail "a record at rest: exit status $status: $(cat err)"
 # A fit on a spectrum of nothing says why, not "chi2/dof -nan".
 "$bin" analyze flat.csv --fit-slope 1 10 --out flat --no-plot --quiet 2> err
 grep -q "slope fit FAILED: chi2/dof is not a number" err && ! grep -q "nan" err \
