@@ -612,6 +612,11 @@ std::vector<std::string> read_parameter_file(const std::string& path) {
                          " is given outside its \"parameters\" block, the one read; give it inside the block");
     doc = nlohmann::json(doc["parameters"]);
   }
+  // analyze's JSON holds a record's spectrum and no "parameters" block: its keys are no model's.
+  if (doc.contains("usable_band") || doc.contains("record"))
+    throw InputError("parameter file '" + path +
+                     "': an analyze output, which holds no model parameters; give a run's JSON or an object of "
+                     "parameters");
   if (doc.contains("v") && doc.contains("eta1")) doc.erase("eta1");
   std::vector<std::string> assignments;
   for (const auto& [key, value] : doc.items()) {

@@ -255,6 +255,10 @@ for interval in 1e-300 1e-9 100; do
     --out out --no-plot
 done
 
+# analyze's JSON given as a parameter file is named as such.
+"$bin" analyze rec.csv --out an --no-plot --quiet 2> /dev/null || fail "analyze rec.csv"
+expect_refused "analyze's JSON as --params" "parameter file 'an.json': an analyze output, which holds no model" \
+  run --params an.json --omega-min 1 --omega-max 10 --out out --no-plot
 # A record that does not move (white noise about a fixed point) is no sliding: exit 3.
 awk 'BEGIN { print "t,x (um)"; srand(5); for (k = 0; k < 20000; ++k) printf "%g,%.6f\n", k * 0.001, rand() - 0.5 }' > still.csv
 "$bin" analyze still.csv --out still --no-plot --quiet 2> err
