@@ -373,8 +373,9 @@ void check_spectrum_squares(const Parameters& p, const RunRequest& r) {
   if (lowest >= kLeastSpectrum || !std::isfinite(lowest)) return;
   throw InputError("parameters: C_x falls to " + text(lowest) + " m^2 s in {omega_min}..{omega_max} = " +
                    text(r.omega_min) + ".." + text(r.omega_max) + " rad/s, below the " + text(kLeastSpectrum) +
-                   " m^2 s whose squares (a point's error bar) a double holds; the random forces (alpha F_kin) "
-                   "are too weak for this band: raise them or lower {omega_max}");
+                   " m^2 s whose squares (a point's error bar) a double holds: the random forces (alpha F_kin) "
+                   "move the block too little in this band against its masses, springs and damping (M, m, k0, "
+                   "eta0, eta1): raise them, bring those nearer the case's, or lower {omega_max}");
 }
 
 }  // namespace
