@@ -14,6 +14,7 @@ DT = 0.1  # [s]
 N = 3900
 STEP_SD = 0.2  # [um] random-walk step
 FLOOR_SD = 0.3  # [um] white sensor noise
+SPEED = 5.0  # [um/s] the slide the walk rides on: analyze removes its line, and a record at rest is no slide
 
 
 def numpy_welch(x, length):
@@ -41,7 +42,7 @@ def main():
     failures = []
     with tempfile.TemporaryDirectory() as work:
         record = os.path.join(work, "walk.csv")
-        np.savetxt(record, np.column_stack([t, x]), delimiter=",", header="t (s),x (um)", comments="")
+        np.savetxt(record, np.column_stack([t, x + SPEED * t]), delimiter=",", header="t (s),x (um)", comments="")
         subprocess.run([os.environ["SLIDESPEC"], "analyze", record, "--no-plot", "--quiet", "--out",
                         os.path.join(work, "an")], check=True)
         with open(os.path.join(work, "an.json")) as f:
