@@ -51,6 +51,7 @@ printf '{"alpha": 1e999}' > inf.json
 head -c 2000000 /dev/zero | tr '\0' ' ' > big.json
 printf 'garbage' > junk.state
 head -c 1876 /dev/urandom > random.state
+"$bin" analyze rec.csv --out an --no-plot --quiet 2> /dev/null
 printf '1\n10\n' > om.tsv
 printf '1\n-1\n' > om_bad.tsv
 printf '# nothing\n' > om_empty.tsv
@@ -215,6 +216,23 @@ attack refuse "theory above the doubles" theory --omega 1,1e45
 attack refuse "synth unknown unit" synth --resolution 5furlong
 attack refuse "synth negative noise" synth --sensor-noise -1um
 attack refuse "tree too big" run --case hierarchical --set N_2=100000 --no-plot
+# Bands and parameters beyond what the estimator or the exact theory resolve, level lists,
+# two outputs on one file, analyze's JSON as parameters (the second outsider sweep).
+attack refuse "band of too few renewals" run --omega-min 1e8 --omega-max 1e9 --precision 0.1 --no-plot
+attack refuse "band far above the doubles' reach" run --omega-min 1e10 --omega-max 1e11 --precision 0.1 --no-plot
+attack refuse "fixed count passing 9 renewals" run --omega-min 1e6 --omega-max 1e7 --realizations 64 --no-plot
+attack refuse "band 60 octaves below the step" run --omega-min 1e-30 --omega-max 1e-29 --no-plot
+for stiff in k1=1e19 k1=1e30 eta0=8e21 eta0=8e25 k0=1e-8 v=1e90; do
+  attack refuse "theory beyond its contrast $stiff" theory --set $stiff --omega 1
+  attack refuse "run beyond its contrast $stiff" run --set $stiff --omega-min 1 --omega-max 100 --no-plot
+done
+for touching in '' 1, 1,1; do
+  attack refuse "touching='$touching'" theory --case hierarchical --set "touching=$touching" --omega 1
+done
+attack refuse "synth noise beyond the slide" synth --sensor-noise 1e300 --duration 10 --out syn2
+attack refuse "save-state onto the run's table" run --realizations-range 0:8 --save-state x.tsv --out x --no-plot
+attack refuse "analyze's JSON as parameters" run --params ../an.json --no-plot
+attack refuse "resume onto another run's state" run --resume ../part --out ../part8 --no-plot
 
 # 5. Things that must work (and leave the inputs alone).
 attack work-keep "theory" theory --out t
@@ -404,6 +422,8 @@ attack refuse "theory --omega-min 1e-100" theory --omega-min 1e-100 --omega-max 
 for omega in 1e-79 1e-40 1e-20 1e-14 1e-13; do attack work-keep "theory --omega $omega" theory --omega "$omega"; done
 printf 't,x\n0,1\n0.001,1e158\n0.002,3\n' > huge.csv
 attack refuse "analyze huge values" analyze ../huge.csv --no-plot
+awk 'BEGIN { print "t,x (um)"; srand(5); for (k = 0; k < 20000; ++k) printf "%g,%.6f\n", k * 0.001, rand() - 0.5 }' > still.csv
+not_claimed "a record at rest" analyze ../still.csv --no-plot --quiet
 for stream in "cat /dev/zero" "cat /dev/urandom" "head -c 100000000 /dev/zero" "yes 1"; do
   attacks=$((attacks + 1))
   timeout 60 bash -c "$stream 2> /dev/null | '$bin' analyze - --out s --no-plot" > /dev/null 2> "$logs/stderr"
@@ -612,7 +632,8 @@ if in_part refusals; then
   refuse_naming "F_drive=5.000001, default band" "parameter F_drive: 5.000001 N" run --set F_drive=5.000001 --no-plot
   refuse_naming "F_drive=5.000001 at 10..100, a budget" "parameter F_drive: 5.000001 N" \
     run --set F_drive=5.000001 --omega-min 10 --omega-max 100 --realizations 8 --work-budget 1e9 --no-plot
-  refuse_naming "F_drive=5+1e-12, default band" "parameter F_drive" run --set F_drive=5.000000000001 --no-plot
+  refuse_naming "F_drive=5+1e-12, default band" "parameters F_drive, v: .* give F_drive at least" \
+    run --set F_drive=5.000000000001 --no-plot
   refuse_naming "F_drive=5.000001 at 1..10" "parameter F_drive" run --set F_drive=5.000001 --omega-min 1 --omega-max 10 \
     --no-plot
   # A spring's omega_s sets the step: the messages name k_drive (and omega_s), not an omega option.
@@ -635,7 +656,7 @@ if in_part refusals; then
   awk 'BEGIN { print "t,x,x"; for (k = 0; k < 400; ++k) print k * 0.01 "," k * 1e-6 "," k * 2e-6 }' > xx.csv
   refuse_naming "x,x with --column x" "2 columns 'x'" analyze ../xx.csv --column x --out a --no-plot
   printf 't,x\n0,1\n0.01,"2\0003"\n0.02,4\n' > nul.csv
-  refuse_naming "a NUL in a quoted field" "'2\\\\x003' is not a number" analyze ../nul.csv --out a --no-plot
+  refuse_naming "a NUL in a quoted field" "line 3: a control byte (0x00)" analyze ../nul.csv --out a --no-plot
   refuse_naming "synth --resolution 1e308" "resolution" synth --resolution 1e308 --out s
   refuse_naming "sweep N=10..12 log 5" "more than once" sweep "N=10..12 log 5" --no-plot
   # 11. Accepted without effect, or refused in words that name the wrong thing or are CLI11's.
@@ -666,7 +687,7 @@ if in_part refusals; then
   refuse_naming "plot a table of commas" "line 1: '1,2,3' is not a number" plot ../commas.tsv -o x.png
   refuse_naming "N=1e9" "parameter N: the tree would have" run --set N=1e9 --no-plot
   refuse_naming "a=1e90" "parameter a: 1e+90 m makes the renewal time" run --set a=1e90 --omega-min 1 --omega-max 100 --no-plot
-  refuse_naming "v=1e90" "parameter v: 1e+90 m/s renews the forces" run --set v=1e90 --omega-min 1 --omega-max 100 --no-plot
+  refuse_naming "v=1e90" "v at most 2.08333e+06 m/s" run --set v=1e90 --omega-min 1 --omega-max 100 --no-plot
   refuse_naming "synth --strokes 0" "--strokes: must be a whole number" synth --strokes 0 --stroke-length 1mm --out s
   printf '{"parameters": {"alpha": 0.5}, "alpha": 0.7}' > outer.json
   refuse_naming "a parameter beside the parameters block" "alpha is given outside" run --params ../outer.json --no-plot

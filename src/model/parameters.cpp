@@ -1,6 +1,7 @@
 #include "slidespec/parameters.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <charconv>
 #include <cfloat>
 #include <cmath>
@@ -467,14 +468,37 @@ namespace {
 constexpr double kStiffestChainContrast = 1e9;
 constexpr double kStickiestDampingContrast = 1e6;
 
+/// eta0 of a touching level against the substrate's eta1 = (F_drive - F_kin) / (touching
+/// mass x v): where eta1 is derived, the drive and the speed are the likelier cause.
+void check_damping_contrast(const Parameters& p, bool eta1_derived,
+                            const std::function<bool(const std::string&)>& given) {
+  for (int level = 1; level <= p.levels; ++level) {
+    const double eta0 = p.level(level).eta0;
+    if (!p.touches(level) || !(eta0 > kStickiestDampingContrast * p.eta1)) continue;
+    const std::string key = "eta0" + (level == 1 ? std::string() : level_suffix(level));
+    const double factor = eta0 / (kStickiestDampingContrast * p.eta1);  // > 1
+    const std::string beyond = ", beyond the " + bound(kStickiestDampingContrast) +
+                               " the exact theory resolves (and far past where raising it changes C_x)";
+    if (!eta1_derived || given(key))
+      throw InputError("parameter " + key + ": " + bound(eta0) + " 1/s is " + bound(eta0 / p.eta1) + " times eta1" +
+                       beyond + ": give " + key + " at most " + bound(eta0 / factor) + " 1/s, or eta1 at least " +
+                       bound(p.eta1 * factor) + " 1/s");
+    throw InputError("parameters F_drive, v: eta1 = (F_drive - F_kin) / (touching mass x v) = " + bound(p.eta1) +
+                     " 1/s lies " + bound(eta0 / p.eta1) + " times below " + key + " = " + bound(eta0) + " 1/s" +
+                     beyond + ": give F_drive at least " + text(p.F_kin + (p.F_drive - p.F_kin) * factor) +
+                     " N, v at most " + bound(p.v / factor) + " m/s, or " + key + " at most " + bound(eta0 / factor) +
+                     " 1/s");
+  }
+}
+
 void check_contrast(const std::string& key, double value, const std::string& other, double other_value, double most,
-                    const std::string& unit, const std::string& other_note = "") {
+                    const std::string& unit) {
   if (!(value > most * other_value)) return;
   throw InputError("parameter " + key + ": " + bound(value) + " " + unit + " is " + bound(value / other_value) +
                    " times " + other + ", beyond the " + bound(most) +
                    " the exact theory resolves (and far past where raising it changes C_x): give " + key + " at most " +
                    bound(most * other_value) + " " + unit + ", or " + other + " at least " + bound(value / most) + " " +
-                   unit + other_note);
+                   unit);
 }
 
 /// Every derived rate and landmark a run or the theory uses must be a normal number.
@@ -497,10 +521,6 @@ void check_derived(const Parameters& p) {
     normal("k1 / m", b.k1 / b.m, true);
     const std::string suffix = level == 1 ? "" : level_suffix(level);
     check_contrast("k1" + suffix, b.k1, "k0" + suffix, b.k0, kStiffestChainContrast, "N/m");
-    if (p.touches(level))
-      check_contrast("eta0" + suffix, b.eta0, "eta1", p.eta1, kStickiestDampingContrast, "1/s",
-                     " (eta1 = (F_drive - F_kin) / (touching mass x v): v at most " +
-                         bound(p.v * p.eta1 * kStickiestDampingContrast / b.eta0) + " m/s)");
     normal("random force variance", p.random_force_variance(level), true);
   }
 }
@@ -550,6 +570,7 @@ Parameters ParameterBuilder::build() const {
                   derived == "v" ? p.v : p.eta1);
   check_magnitude("F_drive - F_kin", p.F_drive - p.F_kin);
   check_derived(p);
+  check_damping_contrast(p, derived == "eta1", [this](const std::string& key) { return given(key); });
   return p;
 }
 

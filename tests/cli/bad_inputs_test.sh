@@ -350,7 +350,8 @@ resume-another-case|a resumed run takes its case and parameters from its state|r
 resume-state-file-another-case|part.state holds a run of case 'reference'|run --resume part.state --case fast --no-plot
 N-beyond-memory|parameter N: the tree would have 1000000000 blocks|run --set N=1e9 --no-plot
 a-renewal-time-beyond-the-step|parameter a: 1e+90 m makes the renewal time a/v = 2e+93 s|run --set a=1e90 --omega-min 1 --omega-max 100 --no-plot
-v-beyond-the-theory|eta1 = (F_drive - F_kin) / (touching mass x v): v at most 2.08333e+06 m/s|run --set v=1e90 --omega-min 1 --omega-max 100 --no-plot
+stall-beyond-the-theory|parameters F_drive, v: eta1 = (F_drive - F_kin) / (touching mass x v) = 6.66726e-06 1/s|run --set F_drive=5.000000000001 --no-plot
+v-beyond-the-theory|v at most 2.08333e+06 m/s|run --set v=1e90 --omega-min 1 --omega-max 100 --no-plot
 # values that would read as "not given" and be ignored
 params-key-beside-its-block|alpha is given outside its "parameters" block|theory --params outer.json
 synth-params-key-beside-its-block|alpha is given outside its "parameters" block|synth --params outer.json
