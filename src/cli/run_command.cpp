@@ -115,7 +115,8 @@ class RunCommand final : public Command {
     if (given("--save-state") && options.save_state != options.out + ".state")
       refuse_state_of_another_run(options.save_state, nullptr);
     if (context_.writes_outputs()) refuse_state_beyond_free_space(p, options.request, options.out);
-    if (!options.quiet && context_.writes_outputs()) warn_if_no_theory_holds(p);
+    // A warning, not progress: --quiet keeps it, as it keeps a run's stationarity warning.
+    if (context_.writes_outputs()) warn_if_no_theory_holds(p);
     catch_stop_signals();
     return exit_status(run_and_write(context_, session, options, options.out));
   }

@@ -150,6 +150,10 @@ grep -q '^# theory_kind = second_order  # the best theory that holds here' "$wor
 grep -q '^# theory_kind = none .*eps = 0.3: the second order holds to eps 0.15 for poisson renewal' "$work/kind.tsv" \
   || fail "eps 0.3 table does not say that no theory holds"
 grep -q "no theory holds here" "$work/kind.err" || fail "no warning at eps 0.3"
+# --quiet leaves out progress and the summary, not a warning.
+"$bin" run --set N=2 --set alpha=1.04 --omega-min 1 --omega-max 10 --realizations 8 --quiet --no-plot \
+  --out "$work/kindrun" 2> "$work/kind.err"
+grep -q "no theory holds here" "$work/kind.err" || fail "--quiet dropped the warning that no theory holds"
 
 # Where no theory holds (stalling forces): a warning, without refusing.
 "$bin" run --set N=7 --set F_drive=8 --set F_kin=6 --set a=3e-4 --omega-min 30 --omega-max 300 \
