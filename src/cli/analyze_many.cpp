@@ -65,6 +65,9 @@ std::vector<std::string> record_prefixes(const std::string& out, const std::vect
     if (record == "-") throw InputError("analyze: standard input ('-') is one record alone, not one of many");
     prefixes.push_back(out + "_" + std::filesystem::path(record).stem().string());
     const auto [other, fresh] = by_prefix.emplace(prefixes.back(), record);
+    std::error_code unknown;
+    if (!fresh && std::filesystem::equivalent(other->second, record, unknown))
+      throw InputError("analyze: " + record + " is given twice; give each record once");
     if (!fresh)
       throw InputError("analyze: " + other->second + " and " + record + " would both write " + prefixes.back() +
                        ".tsv; give records of different names");

@@ -255,6 +255,7 @@ for interval in 1e-300 1e-9 100; do
     --out out --no-plot
 done
 
+expect_refused "one record given twice" "analyze: rec.csv is given twice" analyze rec.csv rec.csv --out twice --no-plot
 # analyze's JSON given as a parameter file is named as such.
 "$bin" analyze rec.csv --out an --no-plot --quiet 2> /dev/null || fail "analyze rec.csv"
 expect_refused "analyze's JSON as --params" "parameter file 'an.json': an analyze output, which holds no model" \
