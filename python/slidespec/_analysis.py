@@ -107,8 +107,10 @@ def analyze(t, x=None, *, dt=None, units="m", force=None, force_units=None, norm
         raise TypeError(f"t: expected the sample times [s] (an array) or None, got the path {t!r}; analyze takes "
                         "arrays: load the record first (numpy.loadtxt), or run `slidespec analyze FILE`")
     if x is None and force is None:
-        raise ValueError("x: no positions given; give x [units], or force= (with force_units=) for a record "
-                         "of a force alone")
+        shape = _np.shape(t) if t is not None else None
+        given = f" (the one array given is t, the sample times, of shape {shape})" if shape else ""
+        raise ValueError("x: no positions given" + given + "; give analyze(t, x) with x [units] a 1-D array, "
+                         "or force= (with force_units=) for a record of a force alone")
     options = {name: value for name, value in locals().items() if name not in ("t", "x")}
     record, plan = _format_and_plan(**options)
     if t is None and not record["dt"] > 0:

@@ -279,3 +279,10 @@ def test_a_channel_that_is_not_one_column_of_numbers_is_refused_naming_it(argume
     with pytest.raises(error) as refused:
         ss.analyze(call.pop("t"), call.pop("x"), **call)
     assert words in str(refused.value)
+
+
+def test_one_array_alone_is_named_as_the_times():
+    """analyze(a) with one array takes it for t: the message says so, with its shape."""
+    with pytest.raises(ValueError, match=r"x: no positions given \(the one array given is t, the sample times, "
+                                         r"of shape \(3, 3, 3\)\)"):
+        ss.analyze(np.ones((3, 3, 3)))

@@ -304,10 +304,13 @@ void choose_estimator(const AnalysisRequest& request, bool strokes, RecordSpectr
 
 /// The spectrum of `record`, or of its `strokes` (records of their own) as pieces of one.
 RecordSpectrum analyze(const Record& record, const std::vector<Record>& strokes, const AnalysisRequest& request) {
-  if (request.resolution < 0 || !std::isfinite(request.resolution))
-    throw InputError("{resolution}: must be a length >= 0 in metres");
-  if (request.sensor_noise < 0 || !std::isfinite(request.sensor_noise))
-    throw InputError("{sensor_noise}: must be a length >= 0 in metres");
+  // A record's values stay within 1e30 m (record.cpp): a sensor's floor beyond them has a
+  // square beyond the doubles (an inf floor reported ok).
+  constexpr double kLargestSensorLength = 1e30;
+  if (request.resolution < 0 || !(request.resolution <= kLargestSensorLength))
+    throw InputError("{resolution}: must be a length from 0 to 1e30 m");
+  if (request.sensor_noise < 0 || !(request.sensor_noise <= kLargestSensorLength))
+    throw InputError("{sensor_noise}: must be a length from 0 to 1e30 m");
   check_band(request);
   if (record.observable == Observable::force && request.resolution + request.sensor_noise > 0)
     throw InputError(std::string(request.resolution > 0 ? "{resolution}" : "{sensor_noise}") +

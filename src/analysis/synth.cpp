@@ -217,7 +217,10 @@ Record synthesize_record(const Parameters& params, const SensorRequest& sensor) 
             << " m: the record would be the noise, no spectrum of the slider; give a noise well below it";
     throw InputError(message.str());
   }
-  const double samples = starts.size() == program.size() + 1 ? double(starts.back()) + 1 : kMaxSamples + 1;
+  double asked = 0;  // the samples asked for, also where stretch_starts stopped counting
+  for (const DriveStretch& stretch : program) asked += stretch.duration;
+  asked = asked / sensor.sample_interval + 1;
+  const double samples = starts.size() == program.size() + 1 ? double(starts.back()) + 1 : asked;
   if (samples < 2 || samples > kMaxSamples) {
     std::ostringstream message;
     message << (sensor.program.empty() ? "{duration}" : "{program}") << " / {sample_interval}: " << samples

@@ -16,7 +16,8 @@ void Progress::update(double fraction, const std::string& what) {
   if (!lock.owns_lock()) return;  // another worker is printing: skip, never wait
   const auto now = Clock::now();
   const double since_last = std::chrono::duration<double>(now - last_).count();
-  if (since_last < (terminal_ ? 0.25 : 60.0)) return;
+  // A log gets a line a minute, the first after ten seconds: a long run is not silent for a minute.
+  if (since_last < (terminal_ ? 0.25 : printed_ ? 60.0 : 10.0)) return;
   last_ = now;
   printed_ = true;
   fraction = std::clamp(fraction, 0.0, 1.0);

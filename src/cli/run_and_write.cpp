@@ -122,9 +122,11 @@ bool write_outputs(const Context& context, const RunSession& session, const RunR
                 : result.stationary ? "interrupted; wrote what accumulated to "
                                     : "stopped; wrote what accumulated to ")
             << out << ".tsv, .json" << (options.no_plot ? "" : ", ." + options.figure.format) << " ("
-            << result.points.size() << " points, largest relative error "
-            << util::format_number(result.reached_precision) << ", measured mean speed "
-            << util::format_number(result.mean_speed) << " m/s, " << result.wall_seconds << " s)\n";
+            << result.points.size() << " points, "
+            << (result.points.empty() ? std::string("none measured yet")
+                                      : "largest relative error " + util::format_number(result.reached_precision) +
+                                            ", measured mean speed " + util::format_number(result.mean_speed) + " m/s")
+            << ", " << result.wall_seconds << " s)\n";
   const RunRequest& request = session.request();
   if (result.complete && result.reached_precision > request.precision && request.duration == 0 &&
       request.realizations == 0)

@@ -202,7 +202,8 @@ std::string run_table(const Parameters& p, const std::string& case_name, const R
       << "# simulated_time = " << util::format_number(result.simulated_time) << "  # [s], all realizations\n"
       << "# measured_mean_speed = " << util::format_number(result.mean_speed) << "  # [m/s] +- "
       << util::format_number(result.mean_speed_error) << "\n"
-      << "# reached_precision = " << util::format_number(result.reached_precision) << "  # largest stderr/C_x ("
+      << "# reached_precision = " << util::format_number(result.reached_precision) << "  # largest stderr/C_x"
+      << (result.points.empty() ? ", of no point: none was measured" : "") << " ("
       << (request.realizations > 0 ? std::string("a fixed realization count: no target")
           : request.duration > 0   ? std::string("a fixed duration: no target")
                                    : "target " + util::format_number(request.precision))

@@ -38,6 +38,10 @@ void check_theory_omegas(const Parameters& p, const std::vector<double>& omegas)
   // touching level (alpha = 0) there is no fluctuation at all.
   bool noise = false;
   for (int l = 1; l <= p.levels; ++l) noise = noise || (p.touches(l) && p.level(l).alpha > 0);
+  if (highest == 0 && p.F_kin == 0)
+    throw InputError(
+        "parameter F_kin: 0 gives no random force (its size is alpha F_kin), so C_x is zero at every "
+        "omega and there is no spectrum to compute");
   if (highest == 0)
     throw InputError(noise ? "C_x lies below the smallest double at every omega: no spectrum to compute"
                            : "alpha: 0 gives no random force, so C_x is zero at every omega and there is no spectrum "

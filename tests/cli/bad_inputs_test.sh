@@ -337,6 +337,10 @@ touching-empty|parameter touching: '' is not a list of levels|theory --case hier
 touching-trailing-comma|parameter touching: '1,' is not a list of levels|theory --case hierarchical --set touching=1, --omega 1
 touching-twice|parameter touching: '1,1' names a level twice|theory --case hierarchical --set touching=1,1 --omega 1
 chain-beyond-the-theory|parameter k1: 1e+19 N/m is 1e+15 times k0, beyond the 1e+09|theory --set k1=1e19 --omega 1
+theory-no-friction|parameter F_kin: 0 gives no random force|theory --set F_kin=0 --omega 1,10
+synth-samples-asked|--duration / --sample-interval: 1e+09 samples|synth --duration 1000 --sample-interval 1e-6 --out out
+analyze-noise-beyond-a-record|--sensor-noise: must be a length from 0 to 1e30 m|analyze rec.tsv --sensor-noise 1e200 --out x --no-plot
+analyze-resolution-beyond-a-record|--resolution: must be a length from 0 to 1e30 m|analyze rec.tsv --resolution 1e200 --out x --no-plot
 count-beyond-any|parameter N: '1180591620717411303424' is far beyond any count|theory --set N=1180591620717411303424 --omega 1
 not-a-number|--omega-min: 'abc' is not a number|run --omega-min abc --no-plot
 excludes-worded|--no-plot and --format cannot be given together|run --no-plot --format pdf

@@ -126,6 +126,24 @@ if [ "${SLIDESPEC_TEST_SAMPLE:-1}" -le 1 ]; then
   fi
 fi
 
+# A long run writing to a log says how far it is after ten seconds, not after a minute; cut
+# before any point, it says none was measured (not a largest relative error of 0).
+if [ "${SLIDESPEC_TEST_SAMPLE:-1}" -le 1 ]; then
+  ( exec "$bin" run --omega-min 1e-5 --omega-max 1e-4 --precision 0.1 --threads 1 --no-plot --out lowband \
+    2> lowband.err ) &
+  pid=$!
+  for _ in $(seq 250); do grep -q "elapsed" lowband.err && break; sleep 0.1; done
+  kill -INT $pid
+  wait $pid
+  # The first line comes after ten seconds (a busy machine may add one or two).
+  grep -q "^slidespec: .*% sub-band 1/1, round 1, 1[0-2] s elapsed" lowband.err \
+    || fail "a long run said nothing for its first ten seconds: $(cat lowband.err)"
+  grep -q "(0 points, none measured yet" lowband.err || fail "a run cut before any point: $(cat lowband.err)"
+  grep -q "^# reached_precision = 0  # largest stderr/C_x, of no point: none was measured" lowband.tsv \
+    || fail "a table of no point: $(grep reached_precision lowband.tsv)"
+  rm -f lowband.*
+fi
+
 # A run continued under another prefix never replaces the state there (another run's).
 cp s.copy other.state
 expect_refused "a resume onto another run's PREFIX.state" "--out: other.state holds a finished part" \
