@@ -75,9 +75,8 @@ class TheoryCommand final : public Command {
     warn_if_no_theory_holds(p);
     // A solve over millions of blocks takes a minute per 10^7 with nothing to show meanwhile.
     if (const double bytes = exact_spectrum_bytes(p); bytes > 1e9)
-      std::cerr << "slidespec: theory: solving the full structure of " << util::format_number(bytes / 1.9e3)
-                << " blocks (about " << util::format_number(std::ceil(bytes / 1e8) / 10)
-                << " GB and a minute per 10^7 blocks)\n";
+      std::cerr << "slidespec: theory: solving the full structure over every block (about "
+                << util::format_number(std::ceil(bytes / 1e8) / 10) << " GB and a minute per 10^7 blocks)\n";
     const std::vector<double> spectrum = exact_spectrum(p, omegas);
 
     std::ostringstream table;

@@ -468,6 +468,16 @@ namespace {
 constexpr double kStiffestChainContrast = 1e9;
 constexpr double kStickiestDampingContrast = 1e6;
 
+void check_contrast(const std::string& key, double value, const std::string& other, double other_value, double most,
+                    const std::string& unit) {
+  if (!(value > most * other_value)) return;
+  throw InputError("parameter " + key + ": " + bound(value) + " " + unit + " is " + bound(value / other_value) +
+                   " times " + other + ", beyond the " + bound(most) +
+                   " the exact theory resolves (and far past where raising it changes C_x): give " + key + " at most " +
+                   bound(most * other_value) + " " + unit + ", or " + other + " at least " + bound(value / most) + " " +
+                   unit);
+}
+
 /// eta0 of a touching level against the substrate's eta1 = (F_drive - F_kin) / (touching
 /// mass x v): where eta1 is derived, the drive and the speed are the likelier cause.
 void check_damping_contrast(const Parameters& p, bool eta1_derived,
@@ -479,10 +489,7 @@ void check_damping_contrast(const Parameters& p, bool eta1_derived,
     const double factor = eta0 / (kStickiestDampingContrast * p.eta1);  // > 1
     const std::string beyond = ", beyond the " + bound(kStickiestDampingContrast) +
                                " the exact theory resolves (and far past where raising it changes C_x)";
-    if (!eta1_derived || given(key))
-      throw InputError("parameter " + key + ": " + bound(eta0) + " 1/s is " + bound(eta0 / p.eta1) + " times eta1" +
-                       beyond + ": give " + key + " at most " + bound(eta0 / factor) + " 1/s, or eta1 at least " +
-                       bound(p.eta1 * factor) + " 1/s");
+    if (!eta1_derived || given(key)) check_contrast(key, eta0, "eta1", p.eta1, kStickiestDampingContrast, "1/s");
     throw InputError("parameters F_drive, v: eta1 = (F_drive - F_kin) / (touching mass x v) = " + bound(p.eta1) +
                      " 1/s lies " + bound(eta0 / p.eta1) + " times below " + key + " = " + bound(eta0) + " 1/s" +
                      beyond + ": give F_drive at least " + text(p.F_kin + (p.F_drive - p.F_kin) * factor) +
@@ -491,18 +498,7 @@ void check_damping_contrast(const Parameters& p, bool eta1_derived,
   }
 }
 
-void check_contrast(const std::string& key, double value, const std::string& other, double other_value, double most,
-                    const std::string& unit) {
-  if (!(value > most * other_value)) return;
-  throw InputError("parameter " + key + ": " + bound(value) + " " + unit + " is " + bound(value / other_value) +
-                   " times " + other + ", beyond the " + bound(most) +
-                   " the exact theory resolves (and far past where raising it changes C_x): give " + key + " at most " +
-                   bound(most * other_value) + " " + unit + ", or " + other + " at least " + bound(value / most) + " " +
-                   unit);
-}
-
 /// Every derived rate and landmark a run or the theory uses must be a normal number.
-
 void check_derived(const Parameters& p) {
   const Landmarks l = landmarks(p);
   auto normal = [](const char* what, double value, bool zero_allowed) {

@@ -211,12 +211,18 @@ double translation_corner(const model::LinearStructure& s) {
 }
 }  // namespace
 
+namespace {
+double tree_blocks(const Parameters& p) {
+  double blocks = 0;
+  for (int l = 1; l <= p.levels; ++l) blocks += static_cast<double>(p.blocks(l));
+  return blocks;
+}
+}  // namespace
+
 double exact_spectrum_bytes(const Parameters& p) {
   // Measured: 1.84 GB peak at 10^6 blocks, 17.2 GB at 10^7 (the sparse LU and its fill).
   constexpr double kBytesPerBlock = 1.9e3;
-  double blocks = 0;
-  for (int l = 1; l <= p.levels; ++l) blocks += static_cast<double>(p.blocks(l));
-  return kBytesPerBlock * blocks;
+  return kBytesPerBlock * tree_blocks(p);
 }
 
 std::vector<double> exact_spectrum(const Parameters& p, const std::vector<double>& omegas) {
@@ -226,7 +232,7 @@ std::vector<double> exact_spectrum(const Parameters& p, const std::vector<double
     std::snprintf(message, sizeof message,
                   "parameter N: the exact theory solves the full structure of its %.3g blocks, about %.3g GB, more "
                   "than 80%% of this machine's %.3g GB; give fewer blocks",
-                  exact_spectrum_bytes(p) / 1.9e3, exact_spectrum_bytes(p) / 1e9, machine / 1e9);
+                  tree_blocks(p), exact_spectrum_bytes(p) / 1e9, machine / 1e9);
     throw InputError(message);
   }
   const model::LinearStructure s = model::tree_structure(p);
